@@ -1,0 +1,178 @@
+// Streaming G-Port frame decoder: a pure, byte-fed state machine.
+//
+// Feed it bytes in any chunking; it calls the sink once per valid frame, in
+// order. It owns no I/O, logs nothing and allocates nothing: its state is a
+// fixed buffer of at most one partial frame.
+//
+// A candidate frame starts at an 0xAE byte. It is rejected when its version
+// is not 0x01, its header sum is wrong, or (last) its CRC is wrong. A
+// rejected candidate is re-scanned from its SECOND byte, so no valid frame is
+// lost because of what came before it — a false 0xAE whose claimed length
+// swallows a real frame only delays that frame until the claim is disproved.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <span>
+
+#include "gport/protocol/crc32.hpp"
+#include "gport/protocol/frame.hpp"
+
+namespace gport::protocol {
+
+struct DecoderStats {
+    std::uint64_t bytes = 0;          // bytes fed
+    std::uint64_t frames = 0;         // valid frames delivered
+    std::uint64_t garbage_bytes = 0;  // bytes discarded (not part of a delivered frame)
+    std::uint64_t header_errors = 0;  // candidates rejected: bad version or header sum
+    std::uint64_t crc_errors = 0;     // candidates rejected: bad CRC
+    std::uint64_t resyncs = 0;        // valid frames that ended a run of discarded bytes
+};
+
+class Decoder {
+  public:
+    // Feeds bytes; calls sink(const FrameView&) for every complete valid frame.
+    template <typename Sink>
+    void feed(std::span<const std::uint8_t> input, Sink&& sink);
+
+    const DecoderStats& stats() const { return stats_; }
+    // Bytes held back as the start of a possible frame (at most kMaxFrameSize - 1).
+    std::size_t pending() const { return held_; }
+    // Forgets any partial frame (e.g. after the device was reopened); keeps stats.
+    void reset();
+
+  private:
+    enum class Verdict { kFrame, kReject, kNeedMore };
+    static Verdict check(const std::uint8_t* p, std::size_t n, std::size_t& size, bool& crc_bad);
+
+    template <typename Sink>
+    std::size_t scan(const std::uint8_t* p, std::size_t n, Sink& sink);
+    void discard(std::size_t count);
+
+    static constexpr std::size_t kBufferSize = 2 * kMaxFrameSize;
+    std::array<std::uint8_t, kBufferSize> buffer_{};
+    std::size_t held_ = 0;
+    bool in_garbage_ = false;
+    DecoderStats stats_{};
+};
+
+// ---- implementation --------------------------------------------------------
+
+inline void Decoder::reset() {
+    discard(held_);
+    held_ = 0;
+}
+
+inline void Decoder::discard(std::size_t count) {
+    stats_.garbage_bytes += count;
+    if (count > 0) {
+        in_garbage_ = true;
+    }
+}
+
+// Judges the candidate at p[0] == 0xAE with n bytes available.
+inline Decoder::Verdict Decoder::check(const std::uint8_t* p, std::size_t n, std::size_t& size,
+                                       bool& crc_bad) {
+    crc_bad = false;
+    if (n < 2) {
+        return Verdict::kNeedMore;
+    }
+    if (p[1] != kProtocolVersion) {
+        return Verdict::kReject;
+    }
+    if (n < kHeaderSize) {
+        return Verdict::kNeedMore;
+    }
+    const std::uint8_t len = p[2];
+    if (header_sum(p[1], len, p[3]) != p[4]) {
+        return Verdict::kReject;
+    }
+    size = frame_size(len);
+    if (n < size) {
+        return Verdict::kNeedMore;
+    }
+    if (len > 0) {
+        const std::uint8_t* c = p + kHeaderSize + len;
+        const std::uint32_t wire =
+            static_cast<std::uint32_t>(c[0]) | static_cast<std::uint32_t>(c[1]) << 8 |
+            static_cast<std::uint32_t>(c[2]) << 16 | static_cast<std::uint32_t>(c[3]) << 24;
+        if (crc32({p + kHeaderSize, len}) != wire) {
+            crc_bad = true;
+            return Verdict::kReject;
+        }
+    }
+    return Verdict::kFrame;
+}
+
+// Scans p[0..n): delivers frames, discards garbage, and returns how many bytes
+// were consumed; the rest (an incomplete candidate) must be offered again
+// with more bytes after it.
+template <typename Sink>
+std::size_t Decoder::scan(const std::uint8_t* p, std::size_t n, Sink& sink) {
+    std::size_t i = 0;
+    while (i < n) {
+        if (p[i] != kFrameHeader) {
+            const void* hit = std::memchr(p + i, kFrameHeader, n - i);
+            const std::size_t next =
+                hit == nullptr
+                    ? n
+                    : static_cast<std::size_t>(static_cast<const std::uint8_t*>(hit) - p);
+            discard(next - i);
+            i = next;
+            continue;
+        }
+        std::size_t size = 0;
+        bool crc_bad = false;
+        switch (check(p + i, n - i, size, crc_bad)) {
+            case Verdict::kNeedMore:
+                return i;
+            case Verdict::kReject:
+                ++(crc_bad ? stats_.crc_errors : stats_.header_errors);
+                discard(1);  // re-scan from the candidate's second byte
+                ++i;
+                break;
+            case Verdict::kFrame: {
+                ++stats_.frames;
+                if (in_garbage_) {
+                    ++stats_.resyncs;
+                    in_garbage_ = false;
+                }
+                sink(FrameView{p[i + 3], {p + i + kHeaderSize, p[i + 2]}});
+                i += size;
+                break;
+            }
+        }
+    }
+    return i;
+}
+
+template <typename Sink>
+void Decoder::feed(std::span<const std::uint8_t> input, Sink&& sink) {
+    stats_.bytes += input.size();
+    const std::uint8_t* in = input.data();
+    std::size_t left = input.size();
+    // A held partial frame is completed in the buffer; once the buffer is
+    // empty, the input is scanned in place and only its tail is copied. A
+    // held tail is always shorter than a frame, so every pass consumes bytes.
+    while (left > 0) {
+        if (held_ == 0) {
+            const std::size_t used = scan(in, left, sink);
+            held_ = left - used;
+            std::memcpy(buffer_.data(), in + used, held_);
+            return;
+        }
+        const std::size_t take = std::min(left, kBufferSize - held_);
+        std::memcpy(buffer_.data() + held_, in, take);
+        in += take;
+        left -= take;
+        const std::size_t total = held_ + take;
+        const std::size_t used = scan(buffer_.data(), total, sink);
+        held_ = total - used;
+        std::memmove(buffer_.data(), buffer_.data() + used, held_);
+    }
+}
+
+}  // namespace gport::protocol
