@@ -1,0 +1,74 @@
+// gportd's configuration: every setting, its default, and its JSON key.
+//
+// The file is JSON with comments allowed (default /etc/gportd/gportd.json);
+// see config/gportd.json for the annotated example and docs/configuration.md
+// for the reference. Command-line options override the file.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gport::config {
+
+using Millis = std::chrono::milliseconds;
+
+struct SerialConfig {          // "serial"
+    std::string device = "/dev/gimbal";  // "device"
+    unsigned baud = 115200;              // "baud": one of the standard termios rates
+};
+
+struct SocketConfig {                       // "socket"
+    std::string path = "/run/gportd.sock";  // "path"
+    unsigned mode = 0660;                   // "mode": octal string such as "0660"
+    std::string group;                      // "group": name; empty keeps the daemon's group
+    std::size_t line_limit = 64 * 1024;     // "line_limit": bytes per request line
+    std::size_t max_clients = 128;          // "max_clients"
+    std::size_t queue_limit = 256;          // "queue_limit": outbound lines per client
+};
+
+struct KeepaliveConfig {                 // "keepalive"
+    double rate_hz = 10.0;               // "rate_hz": re-send rate of speed commands
+    Millis default_duration{1000};       // "default_duration_ms"
+    Millis max_duration{60000};          // "max_duration_ms"
+};
+
+struct LinkConfig {                      // "link"
+    Millis stale_after{500};             // "stale_ms": no attitude this long -> stale
+    Millis reconnect_initial{250};       // "reconnect_initial_ms": first reopen delay
+    Millis reconnect_max{5000};          // "reconnect_max_ms": backoff cap
+};
+
+struct RequestConfig {                   // "requests": settings requests to the gimbal
+    Millis timeout{300};                 // "timeout_ms": per attempt
+    unsigned retries = 2;                // "retries": attempts after the first
+};
+
+struct AccessConfig {                    // "access"
+    // Peers allowed to command the gimbal. Both empty: every peer that can
+    // connect may command (the socket's mode is the only gate). Root and the
+    // daemon's own uid may always command.
+    std::vector<uid_t> control_uids;     // "control_uids"
+    std::vector<gid_t> control_gids;     // "control_gids"
+};
+
+struct LogConfig {                       // "log"
+    std::string level = "info";          // "level": trace, debug, info, warn, error, critical, off
+};
+
+struct Config {
+    SerialConfig serial;
+    SocketConfig socket;
+    KeepaliveConfig keepalive;
+    LinkConfig link;
+    RequestConfig requests;
+    AccessConfig access;
+    LogConfig log;
+    bool simulate = false;               // command line only: --simulate
+};
+
+}  // namespace gport::config

@@ -1,0 +1,113 @@
+// gport::daemon::Api — what the daemon core offers its clients. The IPC layer
+// calls these methods with the client's identity and turns the results and
+// events into JSON; it never touches the serial port. Core implements it;
+// tests and fuzzers may implement it with a fake.
+//
+// Every method runs on the event loop's thread. Commands are checked in this
+// order: parameters (kInvalidParams), access (kPermission), arbitration
+// (kBusy), device open (kLinkDown).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "gport/daemon/events.hpp"
+#include "gport/daemon/outcome.hpp"
+
+namespace gport::daemon {
+
+struct Settings {
+    std::uint8_t dead_zone = 0;
+    std::uint8_t follow_speed = 0;
+    bool inverted = false;
+};
+
+// The fields a set_settings request changes; the rest stay as the gimbal has them.
+struct SettingsChange {
+    std::optional<std::uint8_t> dead_zone;
+    std::optional<std::uint8_t> follow_speed;
+    std::optional<bool> inverted;
+};
+
+struct SpeedStarted {
+    Millis duration{0};
+    WallTime ends_at{};
+};
+
+struct Counters {
+    std::uint64_t frames_in = 0;
+    std::uint64_t bytes_in = 0;
+    std::uint64_t frames_out = 0;
+    std::uint64_t bytes_out = 0;
+    std::uint64_t attitude_frames = 0;
+    std::uint64_t crc_errors = 0;
+    std::uint64_t header_errors = 0;
+    std::uint64_t garbage_bytes = 0;
+    std::uint64_t resyncs = 0;
+    std::uint64_t bad_messages = 0;     // valid frames whose content made no sense
+    std::uint64_t device_opens = 0;
+    std::uint64_t device_failures = 0;  // failed opens and lost devices
+    std::uint64_t keepalive_frames = 0;
+    std::uint64_t stops_sent = 0;
+    std::uint64_t settings_timeouts = 0;
+};
+
+struct MotionStatus {
+    MotionMode mode = MotionMode::kSpeed;
+    std::optional<ClientInfo> owner;
+    protocol::Axes speed;
+    Millis time_left{0};  // speed motions only
+};
+
+struct Status {
+    LinkState link = LinkState::kDown;
+    std::string link_reason;
+    std::string device;
+    bool device_open = false;
+    Millis uptime{0};
+    std::optional<Millis> attitude_age;
+    Counters counters;
+    std::optional<MotionStatus> motion;  // a speed motion under keepalive
+    std::optional<ClientInfo> controller;  // holder of acquire(), if any
+};
+
+class Api {
+public:
+    virtual ~Api() = default;
+
+    virtual void set_observer(CoreObserver* observer) = 0;  // nullptr to detach
+
+    // ---- queries (any client) ----
+    virtual Status status() const = 0;
+    virtual std::optional<AttitudeSample> latest_attitude() const = 0;
+    virtual bool may_command(const ClientInfo& client) const = 0;
+
+    // ---- commands ----
+    // Speed in 0.01°/s; duration empty means the configured default. A
+    // duration above the configured maximum is refused (kInvalidParams).
+    virtual Outcome<SpeedStarted> speed(const ClientInfo& client, protocol::Axes speed,
+                                        std::optional<Millis> duration) = 0;
+    virtual Outcome<Done> stop(const ClientInfo& client) = 0;
+    virtual Outcome<Done> angle(const ClientInfo& client, protocol::Axes angle) = 0;
+    virtual Outcome<Done> center(const ClientInfo& client) = 0;
+    virtual Outcome<Done> lock(const ClientInfo& client) = 0;
+    virtual Outcome<Done> photo(const ClientInfo& client) = 0;
+    virtual Outcome<Done> record(const ClientInfo& client) = 0;
+
+    // Control arbitration: returns the holder after the call.
+    virtual Outcome<std::optional<ClientInfo>> acquire(const ClientInfo& client) = 0;
+    virtual Outcome<std::optional<ClientInfo>> release(const ClientInfo& client) = 0;
+
+    // Asynchronous: the callback runs later on the loop, exactly once.
+    using SettingsCallback = std::function<void(Outcome<Settings>)>;
+    virtual void get_settings(const ClientInfo& client, SettingsCallback done) = 0;
+    virtual void set_settings(const ClientInfo& client, SettingsChange change,
+                              SettingsCallback done) = 0;
+
+    // The client's connection closed: stop its motion, release its control.
+    virtual void client_gone(const ClientInfo& client) = 0;
+};
+
+}  // namespace gport::daemon
