@@ -27,6 +27,8 @@ public:
     // Stops any running motion with a zero-speed frame, waits (bounded) for it
     // to reach the device, closes the device, then calls done.
     void shutdown(std::function<void()> done);
+    // Also told of every link change (e.g. for the service manager's status).
+    void add_link_listener(std::function<void(const LinkEvent&)> listener);
 
     void set_observer(CoreObserver* observer) override;
     Status status() const override;

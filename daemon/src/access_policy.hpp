@@ -1,0 +1,35 @@
+// Who may command the gimbal (SPEC section 4, "Access"). With no control
+// uids or gids configured, every peer that can connect may: the socket's
+// mode is the gate. Otherwise a peer may command when its uid is listed, or
+// its primary or supplementary groups include a listed gid. Root and the
+// daemon's own user always may.
+#pragma once
+
+#include <sys/types.h>
+
+#include <unordered_map>
+#include <vector>
+
+#include "gport/config/config.hpp"
+#include "gport/daemon/events.hpp"
+
+namespace gport::daemon {
+
+class AccessPolicy {
+public:
+    explicit AccessPolicy(const config::AccessConfig& config);
+
+    bool may_command(const ClientInfo& client) const;
+    void forget(const ClientInfo& client) { cache_.erase(client.id); }
+
+private:
+    bool decide(const ClientInfo& client) const;
+    bool listed_gid(gid_t gid) const;
+
+    std::vector<uid_t> uids_;
+    std::vector<gid_t> gids_;
+    uid_t self_;
+    mutable std::unordered_map<std::uint64_t, bool> cache_;  // per connection
+};
+
+}  // namespace gport::daemon

@@ -1,0 +1,87 @@
+// The serial device: opened raw at the configured baud, read continuously,
+// written through a queue with one write in flight (the loop never blocks),
+// and reopened with capped exponential backoff whenever it fails or vanishes.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/serial_port.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <spdlog/logger.h>
+
+#include "gport/config/config.hpp"
+#include "gport/protocol/frame.hpp"
+#include "repeat_limiter.hpp"
+
+namespace gport::daemon {
+
+class SerialLink {
+public:
+    struct Handlers {
+        std::function<void(std::span<const std::uint8_t>)> on_bytes;
+        std::function<void()> on_open;
+        std::function<void(const std::string& reason)> on_close;
+    };
+
+    struct Stats {
+        std::uint64_t bytes_out = 0;
+        std::uint64_t frames_out = 0;
+        std::uint64_t opens = 0;
+        std::uint64_t failures = 0;         // failed opens and lost devices
+        std::uint64_t queue_overflows = 0;  // frames refused: the device took nothing
+    };
+
+    // At most this many frames wait for the device; more means it is stuck.
+    static constexpr std::size_t kMaxQueuedFrames = 64;
+
+    SerialLink(boost::asio::io_context& io, const config::SerialConfig& serial,
+               const config::LinkConfig& link, Handlers handlers,
+               std::shared_ptr<spdlog::logger> log);
+
+    void start();  // opens now, or keeps retrying in the background
+    void stop();   // closes, and stops retrying
+
+    bool is_open() const { return port_.is_open(); }
+    const std::string& device() const { return device_; }
+    const Stats& stats() const { return stats_; }
+
+    // Queues a frame for the device. False when the device is closed or stuck.
+    bool send(const protocol::Frame& frame);
+    // Calls done once every queued frame is written or the device is closed.
+    void when_drained(std::function<void()> done);
+
+private:
+    void try_open();
+    bool configure(std::string& error);
+    void schedule_reopen();
+    void read_more();
+    void write_next();
+    void fail(const std::string& reason);
+    void notify_drained();
+
+    boost::asio::serial_port port_;
+    boost::asio::steady_timer reopen_timer_;
+    std::string device_;
+    unsigned baud_;
+    config::Millis backoff_initial_;
+    config::Millis backoff_max_;
+    config::Millis backoff_;
+    Handlers handlers_;
+    std::shared_ptr<spdlog::logger> log_;
+    RepeatLimiter open_failures_log_;
+    std::array<std::uint8_t, 4096> read_buffer_{};
+    std::deque<protocol::Frame> queue_;
+    bool writing_ = false;
+    bool stopped_ = true;
+    bool healthy_ = false;  // bytes arrived since the last open
+    std::vector<std::function<void()>> drained_waiters_;
+    Stats stats_;
+};
+
+}  // namespace gport::daemon
