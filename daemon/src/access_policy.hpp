@@ -16,13 +16,13 @@
 namespace gport::daemon {
 
 class AccessPolicy {
-public:
+  public:
     explicit AccessPolicy(const config::AccessConfig& config);
 
     bool may_command(const ClientInfo& client) const;
     void forget(const ClientInfo& client) { cache_.erase(client.id); }
 
-private:
+  private:
     bool decide(const ClientInfo& client) const;
     bool listed_gid(gid_t gid) const;
 

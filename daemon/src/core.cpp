@@ -15,22 +15,36 @@ Core::Core(boost::asio::io_context& io, const config::Config& config,
 
 Core::~Core() = default;
 
-void Core::start() { impl_->start(); }
-void Core::shutdown(std::function<void()> done) { impl_->shutdown(std::move(done)); }
+void Core::start() {
+    impl_->start();
+}
+void Core::shutdown(std::function<void()> done) {
+    impl_->shutdown(std::move(done));
+}
 void Core::add_link_listener(std::function<void(const LinkEvent&)> listener) {
     impl_->link_listeners.push_back(std::move(listener));
 }
-void Core::set_observer(CoreObserver* observer) { impl_->observer = observer; }
-Status Core::status() const { return impl_->status(); }
-std::optional<AttitudeSample> Core::latest_attitude() const { return impl_->latest; }
-bool Core::may_command(const ClientInfo& client) const { return impl_->access.may_command(client); }
+void Core::set_observer(CoreObserver* observer) {
+    impl_->observer = observer;
+}
+Status Core::status() const {
+    return impl_->status();
+}
+std::optional<AttitudeSample> Core::latest_attitude() const {
+    return impl_->latest;
+}
+bool Core::may_command(const ClientInfo& client) const {
+    return impl_->access.may_command(client);
+}
 
 Outcome<SpeedStarted> Core::speed(const ClientInfo& client, protocol::Axes speed,
                                   std::optional<Millis> duration) {
     return impl_->speed(client, speed, duration);
 }
 
-Outcome<Done> Core::stop(const ClientInfo& client) { return impl_->stop(client); }
+Outcome<Done> Core::stop(const ClientInfo& client) {
+    return impl_->stop(client);
+}
 
 Outcome<Done> Core::angle(const ClientInfo& client, protocol::Axes angle) {
     return impl_->position(client, protocol::Control::angle_of(angle), MotionMode::kAngle);
@@ -68,6 +82,8 @@ void Core::set_settings(const ClientInfo& client, SettingsChange change, Setting
     impl_->settings(client, change, std::move(done));
 }
 
-void Core::client_gone(const ClientInfo& client) { impl_->client_gone(client); }
+void Core::client_gone(const ClientInfo& client) {
+    impl_->client_gone(client);
+}
 
 }  // namespace gport::daemon

@@ -33,15 +33,14 @@ Core::Impl::Impl(asio::io_context& io, const config::Config& config,
       log_(std::move(log)),
       started_(std::chrono::steady_clock::now()),
       link_(io, config.serial, config.link,
-            SerialLink::Handlers{
-                [this](std::span<const std::uint8_t> bytes) { on_bytes(bytes); },
-                [this] {
-                    decoder_.reset();
-                    monitor_.device_opened();
-                },
-                [this](const std::string& reason) {
-                    monitor_.device_closed("device closed: " + reason);
-                }},
+            SerialLink::Handlers{[this](std::span<const std::uint8_t> bytes) { on_bytes(bytes); },
+                                 [this] {
+                                     decoder_.reset();
+                                     monitor_.device_opened();
+                                 },
+                                 [this](const std::string& reason) {
+                                     monitor_.device_closed("device closed: " + reason);
+                                 }},
             log_),
       monitor_(io, config.link.stale_after, [this](const LinkEvent& e) { on_link(e); }),
       keepalive_(
@@ -69,19 +68,21 @@ std::optional<CommandError> Core::Impl::check_command(const ClientInfo& client) 
                                         client.uid)};
     }
     if (controller_ && controller_->id != client.id) {
-        return CommandError{ErrorCode::kBusy,
-                            fmt::format("control is held by another client (pid {})",
-                                        controller_->pid)};
+        return CommandError{
+            ErrorCode::kBusy,
+            fmt::format("control is held by another client (pid {})", controller_->pid)};
     }
     if (!link_.is_open() || stopping_) {
-        return CommandError{ErrorCode::kLinkDown,
-                            fmt::format("gimbal link down: serial device {} is not open",
-                                        config_.serial.device)};
+        return CommandError{
+            ErrorCode::kLinkDown,
+            fmt::format("gimbal link down: serial device {} is not open", config_.serial.device)};
     }
     return std::nullopt;
 }
 
-bool Core::Impl::send(const gp::Frame& frame) { return !stopping_ && link_.send(frame); }
+bool Core::Impl::send(const gp::Frame& frame) {
+    return !stopping_ && link_.send(frame);
+}
 
 bool Core::Impl::send_control(const gp::Control& control) {
     if (!link_.send(gp::encode(control))) {
@@ -157,9 +158,9 @@ Outcome<std::optional<ClientInfo>> Core::Impl::acquire(const ClientInfo& client)
         return *check_command(client);
     }
     if (controller_ && controller_->id != client.id) {
-        return CommandError{ErrorCode::kBusy,
-                            fmt::format("control is held by another client (pid {})",
-                                        controller_->pid)};
+        return CommandError{
+            ErrorCode::kBusy,
+            fmt::format("control is held by another client (pid {})", controller_->pid)};
     }
     if (!controller_) {
         log_->info("control acquired by pid {}", client.pid);
@@ -298,10 +299,11 @@ void Core::Impl::report_line_quality() {
     const auto header = now.header_errors - reported_.header_errors;
     const auto garbage = now.garbage_bytes - reported_.garbage_bytes;
     if (crc + header + garbage > 0) {
-        log_->warn("noisy line on {}: {} CRC errors, {} header errors, {} garbage bytes in the "
-                   "last {} s",
-                   config_.serial.device, crc, header, garbage,
-                   std::chrono::duration_cast<std::chrono::seconds>(kLineQualityInterval).count());
+        log_->warn(
+            "noisy line on {}: {} CRC errors, {} header errors, {} garbage bytes in the "
+            "last {} s",
+            config_.serial.device, crc, header, garbage,
+            std::chrono::duration_cast<std::chrono::seconds>(kLineQualityInterval).count());
     }
     reported_ = now;
 }

@@ -1,14 +1,14 @@
 // Core's private state and the logic that ties its parts together.
 #pragma once
 
+#include <spdlog/logger.h>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
-
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/steady_timer.hpp>
-#include <spdlog/logger.h>
 
 #include "access_policy.hpp"
 #include "gport/daemon/core.hpp"
@@ -21,7 +21,7 @@
 namespace gport::daemon {
 
 class Core::Impl {
-public:
+  public:
     Impl(boost::asio::io_context& io, const config::Config& config,
          std::shared_ptr<spdlog::logger> log);
 
@@ -46,7 +46,7 @@ public:
     std::optional<AttitudeSample> latest;
     AccessPolicy access;
 
-private:
+  private:
     std::optional<CommandError> check_command(const ClientInfo& client) const;
     bool send(const protocol::Frame& frame);
     bool send_control(const protocol::Control& control);

@@ -5,18 +5,17 @@
 // from "now", so the period does not drift.
 #pragma once
 
-#include <functional>
-#include <optional>
-
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
+#include <functional>
+#include <optional>
 
 #include "gport/daemon/api.hpp"
 
 namespace gport::daemon {
 
 class Keepalive {
-public:
+  public:
     // Puts a control frame on the wire; false when it could not be queued.
     using Send = std::function<bool(const protocol::Control&)>;
     using Emit = std::function<void(const MotionEvent&)>;
@@ -33,7 +32,7 @@ public:
     std::optional<MotionStatus> status() const;
     std::uint64_t frames_sent() const { return frames_sent_; }
 
-private:
+  private:
     struct Motion {
         ClientInfo owner;
         protocol::Axes speed;

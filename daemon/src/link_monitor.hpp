@@ -4,18 +4,17 @@
 // so 500 frames/s cost no timer operations.
 #pragma once
 
-#include <functional>
-#include <string>
-
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
+#include <functional>
+#include <string>
 
 #include "gport/daemon/events.hpp"
 
 namespace gport::daemon {
 
 class LinkMonitor {
-public:
+  public:
     using OnChange = std::function<void(const LinkEvent&)>;
 
     LinkMonitor(boost::asio::io_context& io, Millis stale_after, OnChange on_change);
@@ -28,7 +27,7 @@ public:
     LinkState state() const { return current_.state; }
     const std::string& reason() const { return current_.reason; }
 
-private:
+  private:
     void arm(SteadyTime deadline);
     void on_timer();
     void change(LinkState state, std::string reason);

@@ -10,7 +10,7 @@
 namespace gport::daemon {
 
 class RepeatLimiter {
-public:
+  public:
     using Clock = std::chrono::steady_clock;
 
     explicit RepeatLimiter(Clock::duration interval) : interval_(interval) {}
@@ -36,7 +36,7 @@ public:
         pending_ = 0;
     }
 
-private:
+  private:
     Clock::duration interval_;
     Clock::time_point last_report_{};
     std::uint64_t pending_ = 0;

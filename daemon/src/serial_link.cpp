@@ -4,9 +4,8 @@
 #include <termios.h>
 
 #include <algorithm>
-#include <utility>
-
 #include <boost/asio/write.hpp>
+#include <utility>
 
 namespace gport::daemon {
 
@@ -89,8 +88,8 @@ bool SerialLink::configure(std::string& error) {
         port_.set_option(asio::serial_port::stop_bits(asio::serial_port::stop_bits::one), ec);
     }
     if (!ec) {
-        port_.set_option(
-            asio::serial_port::flow_control(asio::serial_port::flow_control::none), ec);
+        port_.set_option(asio::serial_port::flow_control(asio::serial_port::flow_control::none),
+                         ec);
     }
     if (ec) {
         error = "cannot configure " + std::to_string(baud_) + " 8N1: " + ec.message();

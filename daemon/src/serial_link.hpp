@@ -3,17 +3,17 @@
 // and reopened with capped exponential backoff whenever it fails or vanishes.
 #pragma once
 
+#include <spdlog/logger.h>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/serial_port.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <cstdint>
 #include <deque>
 #include <functional>
 #include <memory>
 #include <span>
 #include <string>
-
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/serial_port.hpp>
-#include <boost/asio/steady_timer.hpp>
-#include <spdlog/logger.h>
 
 #include "gport/config/config.hpp"
 #include "gport/protocol/frame.hpp"
@@ -22,7 +22,7 @@
 namespace gport::daemon {
 
 class SerialLink {
-public:
+  public:
     struct Handlers {
         std::function<void(std::span<const std::uint8_t>)> on_bytes;
         std::function<void()> on_open;
@@ -56,7 +56,7 @@ public:
     // Calls done once every queued frame is written or the device is closed.
     void when_drained(std::function<void()> done);
 
-private:
+  private:
     void try_open();
     bool configure(std::string& error);
     void schedule_reopen();

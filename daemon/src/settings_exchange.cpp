@@ -6,8 +6,8 @@ namespace gport::daemon {
 
 namespace gp = gport::protocol;
 
-SettingsExchange::SettingsExchange(boost::asio::io_context& io,
-                                   const config::RequestConfig& config, Send send)
+SettingsExchange::SettingsExchange(boost::asio::io_context& io, const config::RequestConfig& config,
+                                   Send send)
     : timer_(io), config_(config), send_(std::move(send)) {}
 
 void SettingsExchange::get(Done done) {

@@ -6,12 +6,11 @@
 // number of times; a gimbal that never answers gives kNoAnswer.
 #pragma once
 
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <deque>
 #include <functional>
 #include <optional>
-
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/steady_timer.hpp>
 
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
@@ -20,12 +19,11 @@
 namespace gport::daemon {
 
 class SettingsExchange {
-public:
+  public:
     using Send = std::function<bool(const protocol::Frame&)>;
     using Done = std::function<void(Outcome<protocol::SettingsBlock>)>;
 
-    SettingsExchange(boost::asio::io_context& io, const config::RequestConfig& config,
-                     Send send);
+    SettingsExchange(boost::asio::io_context& io, const config::RequestConfig& config, Send send);
 
     void get(Done done);
     void set(SettingsChange change, Done done);
@@ -37,7 +35,7 @@ public:
 
     std::uint64_t timeouts() const { return timeouts_; }
 
-private:
+  private:
     enum class Step { kRead, kWrite, kReadBack };
     struct Job {
         std::optional<SettingsChange> change;  // empty: a get

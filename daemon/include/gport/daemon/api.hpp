@@ -46,7 +46,7 @@ struct Counters {
     std::uint64_t header_errors = 0;
     std::uint64_t garbage_bytes = 0;
     std::uint64_t resyncs = 0;
-    std::uint64_t bad_messages = 0;     // valid frames whose content made no sense
+    std::uint64_t bad_messages = 0;  // valid frames whose content made no sense
     std::uint64_t device_opens = 0;
     std::uint64_t device_failures = 0;  // failed opens and lost devices
     std::uint64_t keepalive_frames = 0;
@@ -69,12 +69,12 @@ struct Status {
     Millis uptime{0};
     std::optional<Millis> attitude_age;
     Counters counters;
-    std::optional<MotionStatus> motion;  // a speed motion under keepalive
+    std::optional<MotionStatus> motion;    // a speed motion under keepalive
     std::optional<ClientInfo> controller;  // holder of acquire(), if any
 };
 
 class Api {
-public:
+  public:
     virtual ~Api() = default;
 
     virtual void set_observer(CoreObserver* observer) = 0;  // nullptr to detach

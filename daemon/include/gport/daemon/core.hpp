@@ -3,11 +3,11 @@
 // keepalive and deadman, settings requests, control arbitration, counters.
 #pragma once
 
-#include <functional>
-#include <memory>
+#include <spdlog/logger.h>
 
 #include <boost/asio/io_context.hpp>
-#include <spdlog/logger.h>
+#include <functional>
+#include <memory>
 
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
@@ -15,7 +15,7 @@
 namespace gport::daemon {
 
 class Core final : public Api {
-public:
+  public:
     Core(boost::asio::io_context& io, const config::Config& config,
          std::shared_ptr<spdlog::logger> log);
     ~Core() override;
@@ -49,7 +49,7 @@ public:
                       SettingsCallback done) override;
     void client_gone(const ClientInfo& client) override;
 
-private:
+  private:
     class Impl;
     std::unique_ptr<Impl> impl_;
 };

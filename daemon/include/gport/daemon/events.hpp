@@ -56,16 +56,16 @@ std::string_view to_string(EndReason reason);
 struct MotionEvent {
     MotionChange change = MotionChange::kStarted;
     MotionMode mode = MotionMode::kSpeed;
-    std::optional<ClientInfo> owner;     // who commanded it
-    protocol::Axes speed;                // 0.01°/s, for speed motions
-    protocol::Axes angle;                // 0.01°, for angle motions
-    Millis duration{0};                  // asked duration of a speed motion
-    std::optional<EndReason> reason;     // set when change == kEnded
+    std::optional<ClientInfo> owner;  // who commanded it
+    protocol::Axes speed;             // 0.01°/s, for speed motions
+    protocol::Axes angle;             // 0.01°, for angle motions
+    Millis duration{0};               // asked duration of a speed motion
+    std::optional<EndReason> reason;  // set when change == kEnded
 };
 
 // Implemented by whoever listens to the core. Called on the event loop.
 class CoreObserver {
-public:
+  public:
     virtual ~CoreObserver() = default;
     virtual void on_attitude(const AttitudeSample& sample) = 0;
     virtual void on_link(const LinkEvent& event) = 0;

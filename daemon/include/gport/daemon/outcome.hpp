@@ -25,8 +25,8 @@ struct Done {};
 
 template <typename T>
 class [[nodiscard]] Outcome {
-public:
-    Outcome(T value) : v_(std::move(value)) {}         // NOLINT: implicit by design
+  public:
+    Outcome(T value) : v_(std::move(value)) {}             // NOLINT: implicit by design
     Outcome(CommandError error) : v_(std::move(error)) {}  // NOLINT: implicit by design
 
     bool ok() const { return std::holds_alternative<T>(v_); }
@@ -35,7 +35,7 @@ public:
     const T* operator->() const { return &value(); }
     const CommandError& error() const { return std::get<CommandError>(v_); }
 
-private:
+  private:
     std::variant<T, CommandError> v_;
 };
 

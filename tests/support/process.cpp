@@ -1,0 +1,159 @@
+#include "process.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+
+namespace gport::testing {
+
+Process::Process(std::vector<std::string> argv) {
+    int fds[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0) {
+        throw std::system_error(errno, std::generic_category(), "pipe2");
+    }
+    std::vector<char*> args;
+    for (auto& a : argv) {
+        args.push_back(a.data());
+    }
+    args.push_back(nullptr);
+    pid_ = ::fork();
+    if (pid_ < 0) {
+        throw std::system_error(errno, std::generic_category(), "fork");
+    }
+    if (pid_ == 0) {
+        ::dup2(fds[1], STDOUT_FILENO);
+        ::execv(args[0], args.data());
+        ::_exit(127);
+    }
+    ::close(fds[1]);
+    reader_ = std::thread([this, fd = fds[0]] { read_loop(fd); });
+}
+
+Process::~Process() {
+    if (running()) {
+        signal(SIGKILL);
+        wait(5s);
+    }
+    if (reader_.joinable()) {
+        reader_.join();
+    }
+}
+
+void Process::read_loop(int fd) {
+    std::string partial;
+    char buf[4096];
+    for (;;) {
+        const ssize_t n = ::read(fd, buf, sizeof buf);
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n <= 0) {
+            break;
+        }
+        partial.append(buf, static_cast<std::size_t>(n));
+        std::size_t pos;
+        while ((pos = partial.find('\n')) != std::string::npos) {
+            std::lock_guard lock(mutex_);
+            lines_.push_back(partial.substr(0, pos));
+            partial.erase(0, pos + 1);
+            cv_.notify_all();
+        }
+    }
+    ::close(fd);
+    std::lock_guard lock(mutex_);
+    eof_ = true;
+    cv_.notify_all();
+}
+
+bool Process::running() {
+    if (status_) {
+        return false;
+    }
+    int status = 0;
+    const pid_t r = ::waitpid(pid_, &status, WNOHANG);
+    if (r == pid_) {
+        status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        return false;
+    }
+    return true;
+}
+
+void Process::signal(int sig) {
+    if (running()) {
+        ::kill(pid_, sig);
+    }
+}
+
+std::optional<int> Process::wait(std::chrono::milliseconds timeout) {
+    eventually([this] { return !running(); }, timeout);
+    return status_;
+}
+
+std::optional<std::string> Process::next_line(std::chrono::milliseconds timeout) {
+    std::unique_lock lock(mutex_);
+    if (!cv_.wait_for(lock, timeout, [this] { return !lines_.empty() || eof_; }) ||
+        lines_.empty()) {
+        return std::nullopt;
+    }
+    std::string line = std::move(lines_.front());
+    lines_.pop_front();
+    return line;
+}
+
+std::optional<std::string> Process::wait_line(const std::function<bool(const std::string&)>& pred,
+                                              std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+            deadline - std::chrono::steady_clock::now());
+        if (left.count() <= 0) {
+            return std::nullopt;
+        }
+        auto line = next_line(left);
+        if (!line) {
+            return std::nullopt;
+        }
+        if (pred(*line)) {
+            return line;
+        }
+    }
+}
+
+std::vector<std::string> Process::drain() {
+    std::lock_guard lock(mutex_);
+    std::vector<std::string> out(lines_.begin(), lines_.end());
+    lines_.clear();
+    return out;
+}
+
+TempDir::TempDir() {
+    std::string templ = (std::filesystem::temp_directory_path() / "gport-test-XXXXXX").string();
+    if (::mkdtemp(templ.data()) == nullptr) {
+        throw std::system_error(errno, std::generic_category(), "mkdtemp");
+    }
+    path_ = templ;
+}
+
+TempDir::~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+}
+
+bool eventually(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (!pred()) {
+        if (std::chrono::steady_clock::now() >= deadline) {
+            return false;
+        }
+        std::this_thread::sleep_for(10ms);
+    }
+    return true;
+}
+
+}  // namespace gport::testing
