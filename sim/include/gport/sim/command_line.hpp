@@ -1,0 +1,29 @@
+// gport-sim's command line: parsing into SimOptions, and the --help text.
+#pragma once
+
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "gport/protocol/result.hpp"
+#include "gport/sim/simulator.hpp"
+
+namespace gport::sim {
+
+inline constexpr int kExitUsage = 64;    // EX_USAGE: bad command line
+inline constexpr int kExitOsError = 71;  // EX_OSERR: pty or link could not be made
+inline constexpr int kExitNoInput = 66;  // EX_NOINPUT: recording unreadable
+
+struct CommandLine {
+    SimOptions options;  // options.trace is left empty: the tool decides where it goes
+    bool trace = false;
+    bool help = false;
+};
+
+// Parses the arguments after the program name. Accepts "--opt value" and
+// "--opt=value". The error names the option and what it allows.
+protocol::Result<CommandLine> parse_command_line(std::span<const std::string_view> args);
+
+std::string help_text();
+
+}  // namespace gport::sim

@@ -1,0 +1,47 @@
+// Pseudo-terminal plumbing for the simulator: the master side it serves,
+// the slave path a client opens, and the stable symlink to it.
+#pragma once
+
+#include <string>
+
+namespace gport::sim {
+
+struct PtyMaster {
+    int fd = -1;             // non-blocking, close-on-exec; the caller owns it
+    std::string slave_path;  // e.g. /dev/pts/7
+};
+
+// Creates a pty whose slave is already raw (no echo, no line editing, no
+// CR/LF translation): the slave is opened once here, set with cfmakeraw and
+// closed again before anyone else can open it. Leaving it closed also makes
+// the master report POLLHUP until a client opens it, which is how the
+// simulator knows nobody is listening. Throws std::system_error naming the
+// failed call.
+PtyMaster open_pty();
+
+// True while some process has the slave open (the master has no POLLHUP).
+bool peer_present(int master_fd);
+
+// A symlink at a fixed path to the current slave, as udev keeps
+// /dev/serial/by-id/... for a USB adapter.
+class SlaveLink {
+  public:
+    SlaveLink() = default;
+    explicit SlaveLink(std::string path) : path_(std::move(path)) {}
+    SlaveLink(const SlaveLink&) = delete;
+    SlaveLink& operator=(const SlaveLink&) = delete;
+    ~SlaveLink() { remove(); }
+
+    const std::string& path() const { return path_; }
+    // Points the link at `target`, replacing an older symlink atomically.
+    // Refuses (std::system_error) to replace anything that is not a symlink.
+    void point_to(const std::string& target);
+    // Removes the link if it still points where we put it.
+    void remove() noexcept;
+
+  private:
+    std::string path_;
+    std::string target_;
+};
+
+}  // namespace gport::sim

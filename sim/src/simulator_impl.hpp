@@ -1,0 +1,94 @@
+// PtySimulator's internals, shared by simulator.cpp (time, device, model)
+// and simulator_output.cpp (writing, pacing, recording).
+#pragma once
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/posix/stream_descriptor.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <chrono>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gport/sim/faults.hpp"
+#include "gport/sim/model.hpp"
+#include "gport/sim/pty.hpp"
+#include "gport/sim/recording.hpp"
+#include "gport/sim/simulator.hpp"
+
+namespace gport::sim {
+
+class PtySimulator::Impl : public std::enable_shared_from_this<PtySimulator::Impl> {
+  public:
+    using Clock = std::chrono::steady_clock;
+
+    Impl(boost::asio::io_context& io, SimOptions options);
+    void start();
+    void stop();
+
+    const std::string& device_path() const;
+    const std::string& slave_path() const { return slave_path_; }
+    bool stopped() const { return stopped_; }
+    bool peer_connected() const { return peer_; }
+    SimStats stats() const;
+    const GimbalModel& model() const { return model_; }
+
+  private:
+    // --- time and the tick (simulator.cpp)
+    Duration elapsed() const { return Clock::now() - start_; }
+    void trace(const std::string& line) const;
+    void event(std::string_view name, std::string_view path = {}, std::string_view error = {});
+    void schedule_tick(Duration now);
+    void on_tick();
+    void apply_schedule(Duration now);
+    void produce(Duration now);
+    void replay(Duration now);
+
+    // --- the device (simulator.cpp)
+    void open_device();
+    void close_device();
+    void check_peer();
+    void arm_read();
+    void on_readable();
+    void handle_input(std::span<const std::uint8_t> bytes);
+    void peer_gone();
+
+    // --- output (simulator_output.cpp)
+    bool can_send() const;
+    void send(std::vector<Chunk> chunks);
+    void send_frames(const GimbalModel::Frames& frames, Duration now);
+    void write_now(const Chunk& chunk);
+    void pump();
+    void record(Direction direction, std::span<const std::uint8_t> bytes);
+
+    SimOptions options_;
+    Clock::time_point start_;
+    GimbalModel model_;
+    FaultInjector faults_;
+    FaultSchedule schedule_;
+    std::optional<Recorder> recorder_;
+
+    std::vector<RecordEntry> replay_;  // tx entries only
+    std::size_t replay_next_ = 0;
+    std::optional<Duration> replay_start_;
+
+    boost::asio::posix::stream_descriptor device_;
+    std::string slave_path_;
+    SlaveLink link_;
+    boost::asio::steady_timer tick_timer_;
+    boost::asio::steady_timer pace_timer_;
+    bool peer_ = false;
+    bool reading_ = false;
+    bool pacing_ = false;
+    bool stopped_ = false;
+
+    std::deque<Chunk> queue_;  // paced output waiting for the wire
+    std::size_t queued_bytes_ = 0;
+    Clock::time_point line_free_;  // paced: when the last queued byte has left
+
+    SimStats stats_;
+};
+
+}  // namespace gport::sim
