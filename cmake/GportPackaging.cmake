@@ -1,0 +1,106 @@
+# Installation layout and the Debian package (CPack).
+#
+# Include once from the top-level CMakeLists.txt, after project() and before
+# the parts are added: the parts read the GPORT_*DIR variables defined here.
+#
+# Where the system files go. The unit, sysusers.d and udev directories are
+# decided at *install* time, from the prefix actually used (cmake --install
+# --prefix, or /usr when CPack stages the .deb):
+#   prefix /usr  -> the directories the system's pkg-config files name
+#                   (systemd.pc, udev.pc), e.g. /lib/systemd/system on
+#                   Debian 12, with /usr/lib/... fallbacks when absent;
+#   other prefix -> <prefix>/lib/systemd/system, <prefix>/lib/sysusers.d,
+#                   <prefix>/lib/udev/rules.d; systemd and udev search
+#                   /usr/local/lib/... too, so the default prefix just works.
+# Setting GPORT_SYSTEMD_UNITDIR, GPORT_SYSUSERSDIR or GPORT_UDEV_RULESDIR
+# forces a directory whatever the prefix.
+#
+# The configuration directory is always /etc/gportd: the daemon's built-in
+# default path is /etc/gportd/gportd.json, whatever the prefix.
+
+include_guard(GLOBAL)
+include(GNUInstallDirs)
+find_package(PkgConfig QUIET)
+
+set(GPORT_SYSTEMD_UNITDIR "" CACHE PATH "systemd system unit directory (empty: automatic)")
+set(GPORT_SYSUSERSDIR "" CACHE PATH "sysusers.d directory (empty: automatic)")
+set(GPORT_UDEV_RULESDIR "" CACHE PATH "udev rules directory (empty: automatic)")
+set(GPORT_CONFDIR "/etc/gportd" CACHE PATH "Configuration directory (absolute)")
+
+# _gport_pkg_var(<out> <module> <variable> <fallback>): a pkg-config variable
+# of an installed .pc file, or the fallback when pkg-config or the file is
+# missing.
+function(_gport_pkg_var out module variable fallback)
+  set(value "")
+  if(PKG_CONFIG_FOUND)
+    pkg_get_variable(value ${module} ${variable})
+  endif()
+  if(value STREQUAL "")
+    set(value "${fallback}")
+  endif()
+  set(${out} "${value}" PARENT_SCOPE)
+endfunction()
+
+# The system's own directories, used when installing to /usr.
+_gport_pkg_var(_gport_root_prefix systemd root_prefix "/usr")
+_gport_pkg_var(GPORT_SYSTEM_UNITDIR systemd systemdsystemunitdir /usr/lib/systemd/system)
+_gport_pkg_var(GPORT_SYSTEM_SYSUSERSDIR systemd sysusersdir /usr/lib/sysusers.d)
+_gport_pkg_var(_gport_udevdir udev udevdir "${_gport_root_prefix}/lib/udev")
+set(GPORT_SYSTEM_UDEV_RULESDIR "${_gport_udevdir}/rules.d")
+unset(_gport_root_prefix)
+unset(_gport_udevdir)
+
+# The programs. Installed here, in one place, once every part has declared
+# its targets (a deferred call at the end of the top-level directory); a part
+# that is not built yet is simply not installed.
+function(_gport_install_programs)
+  foreach(program gportd gportctl gport-sim)
+    if(TARGET ${program})
+      install(TARGETS ${program} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+    endif()
+  endforeach()
+  if(EXISTS ${CMAKE_SOURCE_DIR}/docs)
+    install(DIRECTORY ${CMAKE_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}
+            FILES_MATCHING PATTERN "*.md")
+  endif()
+endfunction()
+cmake_language(DEFER DIRECTORY ${CMAKE_SOURCE_DIR} CALL _gport_install_programs)
+
+# ---- Debian package: cpack -G DEB -----------------------------------------
+set(CPACK_PACKAGE_NAME "gportd")
+set(CPACK_PACKAGE_VENDOR "gportd project")
+set(CPACK_PACKAGE_CONTACT "gportd maintainers <gportd@localhost>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Shared, safe, observable G-Port gimbal service")
+set(CPACK_PACKAGE_DESCRIPTION
+    "gportd owns the UART of a HEQUAV G-Port camera gimbal and serves it to any number of local \
+processes over a Unix socket (newline-delimited JSON-RPC). Includes gportctl, the command-line \
+client, and gport-sim, a simulated gimbal on a pseudo-terminal.")
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_STRIP_FILES ON)
+set(CPACK_PACKAGING_INSTALL_PREFIX "/usr")
+
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION "misc")
+set(CPACK_DEBIAN_PACKAGE_PRIORITY "optional")
+# Library dependencies come from dpkg-shlibdeps (package dpkg-dev); the rest
+# are the tools the maintainer scripts call: systemd-sysusers and systemctl
+# (systemd), udevadm (udev), deb-systemd-helper/-invoke (init-system-helpers).
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "systemd, udev, init-system-helpers (>= 1.54~)")
+set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+
+# Maintainer scripts, plus a conffiles list generated from what was actually
+# staged under /etc (so a local edit of /etc/gportd/gportd.json survives an
+# upgrade), written by a script CPack runs after staging and before packing.
+set(_gport_debian_dir ${CMAKE_SOURCE_DIR}/systemd/debian)
+set(CPACK_GPORT_CONFFILES ${CMAKE_BINARY_DIR}/cpack/conffiles)
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
+    ${_gport_debian_dir}/postinst ${_gport_debian_dir}/prerm ${_gport_debian_dir}/postrm
+    ${CPACK_GPORT_CONFFILES})
+set(CPACK_PRE_BUILD_SCRIPTS ${_gport_debian_dir}/conffiles.cmake)
+unset(_gport_debian_dir)
+
+set(CPACK_GENERATOR "DEB")
+set(CPACK_SOURCE_GENERATOR "TGZ")
+set(CPACK_SOURCE_IGNORE_FILES "/\\\\.git/" "/build[^/]*/")
+include(CPack)

@@ -1,0 +1,41 @@
+# Runs at install time (install(CODE) in systemd/CMakeLists.txt), so that the
+# paths written into the units and the directories chosen follow the prefix
+# actually used: `cmake --install --prefix ...`, or /usr when CPack stages the
+# .deb. Inputs (set by the caller): GPORT_SRC_DIR, GPORT_STAGE_DIR,
+# GPORT_BINDIR_REL, GPORT_DOCDIR_REL, GPORT_CONFDIR, the forced and the
+# system directories (GPORT_SYSTEMD_UNITDIR / GPORT_SYSTEM_UNITDIR, ...).
+
+# The directory for one kind of file: the forced one if set; the system's own
+# under prefix /usr; else relative to the prefix.
+function(gport_system_dir out forced system relative)
+  if(NOT forced STREQUAL "")
+    set(dir "${forced}")
+  elseif(CMAKE_INSTALL_PREFIX STREQUAL "/usr")
+    set(dir "${system}")
+  else()
+    set(dir "${CMAKE_INSTALL_PREFIX}/${relative}")
+  endif()
+  set(${out} "${dir}" PARENT_SCOPE)
+endfunction()
+
+gport_system_dir(unitdir "${GPORT_SYSTEMD_UNITDIR}" "${GPORT_SYSTEM_UNITDIR}" lib/systemd/system)
+gport_system_dir(sysusersdir "${GPORT_SYSUSERSDIR}" "${GPORT_SYSTEM_SYSUSERSDIR}" lib/sysusers.d)
+gport_system_dir(rulesdir "${GPORT_UDEV_RULESDIR}" "${GPORT_SYSTEM_UDEV_RULESDIR}"
+                 lib/udev/rules.d)
+
+# Units: substitute the installed paths and the shared sandbox.
+file(READ "${GPORT_SRC_DIR}/units/sandbox.conf" GPORT_UNIT_SANDBOX)
+set(GPORT_BINDIR "${CMAKE_INSTALL_PREFIX}/${GPORT_BINDIR_REL}")
+set(GPORT_DOC_DIR "${CMAKE_INSTALL_PREFIX}/${GPORT_DOCDIR_REL}")
+set(units "")
+foreach(unit gportd.service gportd.socket gportd@.service gportd@.socket)
+  configure_file("${GPORT_SRC_DIR}/units/${unit}.in" "${GPORT_STAGE_DIR}/${unit}" @ONLY)
+  list(APPEND units "${GPORT_STAGE_DIR}/${unit}")
+endforeach()
+
+# file(INSTALL) prints and records in install_manifest.txt like install() does.
+file(INSTALL DESTINATION "$ENV{DESTDIR}${unitdir}" TYPE FILE FILES ${units})
+file(INSTALL DESTINATION "$ENV{DESTDIR}${sysusersdir}" TYPE FILE
+     FILES "${GPORT_SRC_DIR}/sysusers/gportd.conf")
+file(INSTALL DESTINATION "$ENV{DESTDIR}${rulesdir}" TYPE FILE
+     FILES "${GPORT_SRC_DIR}/udev/60-gportd.rules")
