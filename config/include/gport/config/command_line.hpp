@@ -1,0 +1,50 @@
+// gportd's command line:
+//
+//   gportd [--config FILE] [--device PATH] [--socket PATH] [--log-level LEVEL]
+//          [--simulate] [--help] [--version]
+//
+// Options with a value accept both "--opt VALUE" and "--opt=VALUE"; when an
+// option is repeated the last one wins. Values given here override the file.
+//
+// Exit statuses the daemon uses (sysexits.h):
+//   kExitUsage  (64, EX_USAGE)  parse_command_line() failed;
+//   kExitConfig (78, EX_CONFIG) load_config() failed.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "gport/config/result.hpp"
+
+namespace gport::config {
+
+inline constexpr int kExitUsage = 64;
+inline constexpr int kExitConfig = 78;
+
+// Read when --config is not given; its absence means built-in defaults.
+inline constexpr std::string_view kDefaultConfigPath = "/etc/gportd/gportd.json";
+
+struct CommandLine {
+    std::optional<std::string> config_path;  // --config; unset: the default file, if any
+    std::optional<std::string> device;       // --device: overrides serial.device
+    std::optional<std::string> socket_path;  // --socket: overrides socket.path
+    std::optional<std::string> log_level;    // --log-level: overrides log.level
+    bool simulate = false;                   // --simulate: use the built-in simulated gimbal
+    bool help = false;                       // --help / -h: print usage() and exit 0
+    bool version = false;                    // --version: print version_text() and exit 0
+};
+
+// `args` is argv as given to main (args[0], the program name, is skipped).
+// Unknown options, missing values and invalid values are usage errors,
+// all reported at once.
+Result<CommandLine> parse_command_line(std::span<const char* const> args);
+
+// The --help text, ending with a newline.
+std::string usage();
+
+// "gportd <version>", ending with a newline.
+std::string version_text();
+
+}  // namespace gport::config

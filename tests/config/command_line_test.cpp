@@ -1,0 +1,127 @@
+// The command line: each option, both value forms, and every usage error.
+#include <gtest/gtest.h>
+
+#include <initializer_list>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace gport::config::test {
+namespace {
+
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+
+Result<CommandLine> parse(std::initializer_list<const char*> options) {
+    std::vector<const char*> argv{"gportd"};
+    argv.insert(argv.end(), options);
+    return parse_command_line(argv);
+}
+
+TEST(CommandLine, NoOptionsLeavesEverythingUnset) {
+    auto c = parse({});
+    ASSERT_TRUE(c.ok()) << c.error_text();
+    EXPECT_FALSE(c->config_path || c->device || c->socket_path || c->log_level);
+    EXPECT_FALSE(c->simulate || c->help || c->version);
+}
+
+TEST(CommandLine, EveryOptionWithSeparateValues) {
+    auto c = parse({"--config", "/tmp/g.json", "--device", "/dev/ttyUSB1", "--socket",
+                    "/tmp/g.sock", "--log-level", "debug", "--simulate"});
+    ASSERT_TRUE(c.ok()) << c.error_text();
+    EXPECT_EQ(c->config_path, "/tmp/g.json");
+    EXPECT_EQ(c->device, "/dev/ttyUSB1");
+    EXPECT_EQ(c->socket_path, "/tmp/g.sock");
+    EXPECT_EQ(c->log_level, "debug");
+    EXPECT_TRUE(c->simulate);
+}
+
+TEST(CommandLine, EveryOptionWithEqualsForm) {
+    auto c = parse({"--config=/tmp/g.json", "--device=/dev/ttyUSB1", "--socket=/tmp/a=b.sock",
+                    "--log-level=warn"});
+    ASSERT_TRUE(c.ok()) << c.error_text();
+    EXPECT_EQ(c->config_path, "/tmp/g.json");
+    EXPECT_EQ(c->device, "/dev/ttyUSB1");
+    EXPECT_EQ(c->socket_path, "/tmp/a=b.sock");  // only the first '=' separates
+    EXPECT_EQ(c->log_level, "warn");
+}
+
+TEST(CommandLine, HelpAndVersionFlags) {
+    EXPECT_TRUE(parse({"--help"})->help);
+    EXPECT_TRUE(parse({"-h"})->help);
+    EXPECT_TRUE(parse({"--version"})->version);
+}
+
+TEST(CommandLine, TheLastOfARepeatedOptionWins) {
+    auto c = parse({"--device", "/dev/a", "--device=/dev/b"});
+    ASSERT_TRUE(c.ok()) << c.error_text();
+    EXPECT_EQ(c->device, "/dev/b");
+}
+
+TEST(CommandLine, MissingValueAtTheEndOrBeforeAnotherOption) {
+    EXPECT_THAT(parse({"--config"}).errors(),
+                ElementsAre("--config: missing value; use --config FILE"));
+    EXPECT_THAT(parse({"--device", "--simulate"}).errors(),
+                ElementsAre("--device: missing value; use --device PATH"));
+}
+
+TEST(CommandLine, EmptyValuesAreRefused) {
+    EXPECT_THAT(parse({"--config="}).errors(),
+                ElementsAre(HasSubstr("--config: must name a file")));
+    EXPECT_THAT(parse({"--socket="}).errors(),
+                ElementsAre(HasSubstr("--socket: must be an absolute path")));
+}
+
+TEST(CommandLine, UnknownOptionListsTheOptions) {
+    EXPECT_THAT(parse({"--verbose"}).errors(),
+                ElementsAre("unknown option \"--verbose\"; the options are --config, --device, "
+                            "--socket, --log-level, --simulate, --help, -h, --version"));
+    EXPECT_THAT(parse({"--devices=/dev/x"}).errors(),
+                ElementsAre(HasSubstr("unknown option \"--devices\"")));
+}
+
+TEST(CommandLine, PositionalArgumentsAreRefused) {
+    EXPECT_THAT(parse({"/dev/ttyUSB0"}).errors(),
+                ElementsAre("unexpected argument \"/dev/ttyUSB0\"; gportd takes only options"));
+}
+
+TEST(CommandLine, FlagsTakeNoValue) {
+    EXPECT_THAT(parse({"--simulate=yes"}).errors(), ElementsAre("--simulate: takes no value"));
+}
+
+TEST(CommandLine, ValuesAreCheckedLikeTheFile) {
+    EXPECT_THAT(parse({"--log-level", "loud"}).errors(),
+                ElementsAre(ErrorWith("--log-level: must be one of trace, debug", "got \"loud\"")));
+    EXPECT_THAT(parse({"--device=ttyUSB0"}).errors(),
+                ElementsAre(ErrorWith("--device: must be an absolute path")));
+    EXPECT_THAT(parse({"--socket", ("/" + std::string(200, 's')).c_str()}).errors(),
+                ElementsAre(ErrorWith("--socket: must be at most 107 bytes")));
+}
+
+TEST(CommandLine, AllUsageErrorsAreReportedTogether) {
+    auto c = parse({"--bogus", "--log-level=loud", "extra", "--config"});
+    EXPECT_THAT(c.errors(), ElementsAre(HasSubstr("--bogus"), HasSubstr("--log-level"),
+                                        HasSubstr("extra"), HasSubstr("--config")));
+}
+
+TEST(CommandLine, UsageNamesEveryOptionAndTheExitStatuses) {
+    const auto text = usage();
+    for (const char* piece :
+         {"--config FILE", "--device PATH", "--socket PATH", "--log-level LEVEL", "--simulate",
+          "--help", "--version", "/etc/gportd/gportd.json", "64", "78"}) {
+        EXPECT_THAT(text, HasSubstr(piece));
+    }
+    EXPECT_EQ(text.back(), '\n');
+}
+
+TEST(CommandLine, VersionText) {
+    EXPECT_THAT(version_text(), testing::MatchesRegex("gportd [0-9]+\\.[0-9]+\\.[0-9]+\n"));
+}
+
+TEST(CommandLine, ExitStatusesFollowSysexits) {
+    EXPECT_EQ(kExitUsage, 64);
+    EXPECT_EQ(kExitConfig, 78);
+}
+
+}  // namespace
+}  // namespace gport::config::test
