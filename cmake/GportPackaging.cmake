@@ -15,8 +15,10 @@
 # Setting GPORT_SYSTEMD_UNITDIR, GPORT_SYSUSERSDIR or GPORT_UDEV_RULESDIR
 # forces a directory whatever the prefix.
 #
-# The configuration directory is always /etc/gportd: the daemon's built-in
-# default path is /etc/gportd/gportd.json, whatever the prefix.
+# The configuration directory is always /etc/gportd (GPORT_CONFDIR, absolute):
+# the daemon's built-in default path is /etc/gportd/gportd.json, whatever the
+# prefix. Install the config with DESTINATION ${GPORT_CONFDIR}, not the
+# relative ${CMAKE_INSTALL_SYSCONFDIR}, which is usr/etc under prefix /usr.
 
 include_guard(GLOBAL)
 include(GNUInstallDirs)
@@ -42,29 +44,23 @@ function(_gport_pkg_var out module variable fallback)
 endfunction()
 
 # The system's own directories, used when installing to /usr.
-_gport_pkg_var(_gport_root_prefix systemd root_prefix "/usr")
+_gport_pkg_var(_gport_utildir systemd systemdutildir /usr/lib/systemd)
 _gport_pkg_var(GPORT_SYSTEM_UNITDIR systemd systemdsystemunitdir /usr/lib/systemd/system)
 _gport_pkg_var(GPORT_SYSTEM_SYSUSERSDIR systemd sysusersdir /usr/lib/sysusers.d)
-_gport_pkg_var(_gport_udevdir udev udevdir "${_gport_root_prefix}/lib/udev")
+# No udev.pc (Debian ships it with libudev-dev only): udev's directory sits
+# beside systemd's (/lib/systemd -> /lib/udev, /usr/lib/systemd -> /usr/lib/udev).
+get_filename_component(_gport_libdir "${_gport_utildir}" DIRECTORY)
+_gport_pkg_var(_gport_udevdir udev udevdir "${_gport_libdir}/udev")
 set(GPORT_SYSTEM_UDEV_RULESDIR "${_gport_udevdir}/rules.d")
-unset(_gport_root_prefix)
+unset(_gport_utildir)
+unset(_gport_libdir)
 unset(_gport_udevdir)
 
-# The programs. Installed here, in one place, once every part has declared
-# its targets (a deferred call at the end of the top-level directory); a part
-# that is not built yet is simply not installed.
-function(_gport_install_programs)
-  foreach(program gportd gportctl gport-sim)
-    if(TARGET ${program})
-      install(TARGETS ${program} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-    endif()
-  endforeach()
-  if(EXISTS ${CMAKE_SOURCE_DIR}/docs)
-    install(DIRECTORY ${CMAKE_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}
-            FILES_MATCHING PATTERN "*.md")
-  endif()
-endfunction()
-cmake_language(DEFER DIRECTORY ${CMAKE_SOURCE_DIR} CALL _gport_install_programs)
+# Each part installs its own program (install(TARGETS ... RUNTIME DESTINATION
+# ${CMAKE_INSTALL_BINDIR})); the documentation is installed from here, to
+# ${CMAKE_INSTALL_DOCDIR}, which the units' Documentation= lines point to.
+install(DIRECTORY ${CMAKE_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}
+        FILES_MATCHING PATTERN "*.md")
 
 # ---- Debian package: cpack -G DEB -----------------------------------------
 set(CPACK_PACKAGE_NAME "gportd")

@@ -33,9 +33,10 @@ foreach(unit gportd.service gportd.socket gportd@.service gportd@.socket)
   list(APPEND units "${GPORT_STAGE_DIR}/${unit}")
 endforeach()
 
-# file(INSTALL) prints and records in install_manifest.txt like install() does.
-file(INSTALL DESTINATION "$ENV{DESTDIR}${unitdir}" TYPE FILE FILES ${units})
-file(INSTALL DESTINATION "$ENV{DESTDIR}${sysusersdir}" TYPE FILE
+# file(INSTALL) prefixes DESTDIR, prints and records in install_manifest.txt
+# like install() does.
+file(INSTALL DESTINATION "${unitdir}" TYPE FILE FILES ${units})
+file(INSTALL DESTINATION "${sysusersdir}" TYPE FILE
      FILES "${GPORT_SRC_DIR}/sysusers/gportd.conf")
-file(INSTALL DESTINATION "$ENV{DESTDIR}${rulesdir}" TYPE FILE
+file(INSTALL DESTINATION "${rulesdir}" TYPE FILE
      FILES "${GPORT_SRC_DIR}/udev/60-gportd.rules")

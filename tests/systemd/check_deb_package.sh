@@ -1,0 +1,59 @@
+#!/bin/sh
+# Builds the Debian package with `cpack -G DEB` (into a temporary directory)
+# and checks what it holds: the programs, units, sysusers.d file, udev rule,
+# default config (as a conffile), the maintainer scripts, and dependencies
+# computed by dpkg-shlibdeps (package dpkg-dev).
+#
+# usage: check_deb_package.sh BUILD_DIR
+set -eu
+
+fail() {
+    echo "FAIL: $*" >&2
+    exit 1
+}
+
+[ $# -eq 1 ] || fail "usage: $0 BUILD_DIR"
+build=$1
+for tool in cpack dpkg-deb dpkg-shlibdeps; do
+    command -v "$tool" >/dev/null || fail "$tool not found (Debian packages: cmake, dpkg-dev)"
+done
+
+work=$(mktemp -d /tmp/gport-deb-XXXXXX)
+trap 'rm -rf "$work"' EXIT
+
+cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work" >"$work/cpack.log" 2>&1 \
+    || { cat "$work/cpack.log" >&2; fail "cpack -G DEB failed"; }
+deb=$(find "$work" -maxdepth 1 -name '*.deb' | head -n 1)
+[ -n "$deb" ] || fail "cpack made no .deb: $(cat "$work/cpack.log")"
+echo "built: $(basename "$deb")"
+
+contents=$(dpkg-deb -c "$deb" | awk '{ print $6 }')
+for pattern in '^\./usr/bin/gportd$' '^\./usr/bin/gportctl$' '^\./usr/bin/gport-sim$' \
+               '/systemd/system/gportd\.service$' '/systemd/system/gportd\.socket$' \
+               '/systemd/system/gportd@\.service$' '/systemd/system/gportd@\.socket$' \
+               '/sysusers\.d/gportd\.conf$' '/udev/rules\.d/60-gportd\.rules$' \
+               '^\./etc/gportd/gportd\.json$' '^\./usr/share/doc/gportd/operations\.md$'; do
+    printf '%s\n' "$contents" | grep -q -- "$pattern" \
+        || fail "the package lacks a file matching $pattern; it holds:
+$contents"
+done
+
+control=$work/control
+dpkg-deb -e "$deb" "$control"
+for script in postinst prerm postrm; do
+    [ -x "$control/$script" ] || fail "the package lacks an executable $script"
+done
+grep -qx /etc/gportd/gportd.json "$control/conffiles" \
+    || fail "/etc/gportd/gportd.json is not a conffile"
+
+depends=$(dpkg-deb -f "$deb" Depends)
+echo "Depends: $depends"
+for dependency in libc6 'libsystemd0' systemd udev init-system-helpers; do
+    printf '%s\n' "$depends" | grep -q "$dependency" \
+        || fail "Depends lacks $dependency (dpkg-shlibdeps adds the libraries)"
+done
+
+unit=$(printf '%s\n' "$contents" | grep '/systemd/system/gportd\.service$')
+dpkg-deb --fsys-tarfile "$deb" | tar -xOf - "$unit" | grep -qx "ExecStart=/usr/bin/gportd" \
+    || fail "the packaged gportd.service does not start /usr/bin/gportd"
+echo "PASS"
