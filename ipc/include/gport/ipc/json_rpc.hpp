@@ -1,0 +1,91 @@
+// The pure JSON-RPC 2.0 layer: one request line in, reply lines out through a
+// sink. No sockets here; the session feeds it lines and queues what it emits,
+// so tests and the fuzzer drive it directly.
+//
+// Decisions (docs/api.md has the user-facing version):
+// - "jsonrpc" is optional on input and must be "2.0" when present; every
+//   reply carries "jsonrpc":"2.0".
+// - A request without "id" is a notification: it runs, nothing is sent back.
+//   "id" may be a number, a string (at most kMaxIdLength bytes) or null.
+// - Batches (a JSON array of requests) are supported as JSON-RPC 2.0 says:
+//   one array of replies, in request order, once every member has been
+//   answered; nothing when all members are notifications; at most
+//   kMaxBatch members.
+// - Nesting deeper than kMaxDepth is refused with -32700 before nlohmann's
+//   recursive parser ever sees it, so no input can exhaust the stack.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "gport/daemon/api.hpp"
+
+namespace gport::ipc {
+
+// JSON-RPC error codes of the client API.
+namespace rpc_error {
+inline constexpr int kParse = -32700;
+inline constexpr int kInvalidRequest = -32600;
+inline constexpr int kUnknownMethod = -32601;
+inline constexpr int kInvalidParams = -32602;
+inline constexpr int kLinkDown = -32000;
+inline constexpr int kPermission = -32001;
+inline constexpr int kNoAnswer = -32002;
+inline constexpr int kBusy = -32003;
+inline constexpr int kServerFull = -32004;  // sent once to a client over max_clients
+}  // namespace rpc_error
+
+int to_rpc_code(daemon::ErrorCode code);
+
+inline constexpr std::size_t kMaxDepth = 64;
+inline constexpr std::size_t kMaxBatch = 32;
+inline constexpr std::size_t kMaxIdLength = 128;
+inline constexpr double kMaxRateHz = 1000.0;
+
+// What one client has asked to receive.
+struct Subscriptions {
+    bool attitude = false;
+    bool link = false;
+    bool motion = false;
+    std::optional<double> max_rate_hz;  // attitude only; empty = every sample
+};
+
+// Per-connection state the methods read and change.
+struct ClientState {
+    daemon::ClientInfo info;
+    Subscriptions subscriptions;
+    std::uint64_t dropped = 0;  // attitude notifications dropped for this client
+};
+
+// Figures only the transport knows, added to the status result.
+struct ServerStats {
+    std::size_t clients = 0;
+    std::uint64_t dropped_notifications = 0;  // over all clients since start
+};
+
+// Receives complete reply lines, each ending in '\n'. May be called after
+// handle_line returned (settings requests answer later).
+using ReplySink = std::function<void(std::string line)>;
+
+class Dispatcher {
+  public:
+    Dispatcher(daemon::Api& api, std::function<ServerStats()> stats);
+
+    // Handles one line (without its '\n'). Replies go to `sink`, zero or
+    // more times: never for notifications, once for a request or a batch.
+    void handle_line(std::string_view line, ClientState& client, const ReplySink& sink);
+
+  private:
+    daemon::Api& api_;
+    std::function<ServerStats()> stats_;
+};
+
+// Builds an error reply line ("id" null), for the transport's own errors:
+// line too long, too many clients.
+std::string error_line(int code, std::string_view message);
+
+}  // namespace gport::ipc

@@ -1,0 +1,62 @@
+// One client's bounded outbound queue of whole lines (SPEC section 3: slow
+// clients never slow anyone else, memory stays bounded).
+//
+// - Replies and link/motion notifications must not be lost: when the queue
+//   is full, the oldest queued attitude line is dropped to make room; if
+//   there is none, push() fails and the caller disconnects the client.
+// - Attitude lines are the ones dropped: when full, the oldest queued
+//   attitude goes so the newest is kept (or, with no attitude queued, the
+//   new one is dropped). Drops are counted, and the next attitude line queued
+//   after a drop carries "dropped":<count so far> for this client.
+// - take() moves lines out for one write; the writer holds them until the
+//   write completes, so lines are never split or interleaved.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+#include "gport/ipc/event_json.hpp"
+
+namespace gport::ipc {
+
+class Outbox {
+  public:
+    static constexpr std::size_t kDefaultByteLimit = 4 * 1024 * 1024;
+
+    // `line_limit`: lines queued; `byte_limit`: their total size.
+    explicit Outbox(std::size_t line_limit, std::size_t byte_limit = kDefaultByteLimit);
+
+    // A reply or a link/motion notification. False: it cannot be queued.
+    [[nodiscard]] bool push(Line line);
+    // An attitude notification; returns how many attitude lines were dropped.
+    std::size_t push_attitude(const Line& line);
+
+    // Moves up to `max_lines` queued lines (oldest first) to the end of `out`.
+    void take(std::vector<Line>& out, std::size_t max_lines);
+
+    bool empty() const { return queue_.empty(); }
+    std::size_t size() const { return queue_.size(); }
+    std::size_t bytes() const { return bytes_; }
+    std::uint64_t dropped() const { return dropped_; }
+
+  private:
+    struct Entry {
+        Line line;
+        bool attitude = false;
+    };
+
+    bool fits(std::size_t size) const;
+    bool drop_oldest_attitude();
+    void append(Line line, bool attitude);
+
+    std::deque<Entry> queue_;
+    std::size_t line_limit_;
+    std::size_t byte_limit_;
+    std::size_t bytes_ = 0;
+    std::uint64_t dropped_ = 0;
+    bool report_drops_ = false;  // the next attitude line carries the count
+};
+
+}  // namespace gport::ipc

@@ -1,0 +1,181 @@
+#include "gport/ipc/event_json.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <iterator>
+
+namespace gport::ipc {
+namespace {
+
+using nlohmann::json;
+
+// Degrees from 0.01 units. The division is correctly rounded, so fmt's
+// shortest round-trip output prints exactly two decimals at most ("-39.29").
+double degrees(std::int16_t centi) {
+    return protocol::from_centi(centi);
+}
+
+void append_axes(fmt::memory_buffer& out, const protocol::Axes& axes) {
+    fmt::format_to(std::back_inserter(out), R"({{"roll":{},"pitch":{},"yaw":{}}})",
+                   degrees(axes.roll), degrees(axes.pitch), degrees(axes.yaw));
+}
+
+// "t" is printed from integer microseconds so that it is exact, whatever a
+// double would round it to.
+void append_time(fmt::memory_buffer& out, daemon::WallTime time) {
+    const auto us =
+        std::chrono::duration_cast<std::chrono::microseconds>(time.time_since_epoch()).count();
+    const auto seconds = us / 1'000'000;
+    const auto fraction = us % 1'000'000;
+    if (us < 0) {  // before 1970: a broken clock, still valid JSON
+        fmt::format_to(std::back_inserter(out), "{}", static_cast<double>(us) / 1e6);
+        return;
+    }
+    fmt::format_to(std::back_inserter(out), "{}.{:06}", seconds, fraction);
+}
+
+std::string dump_line(const json& message) {
+    return message.dump(-1, ' ', false, json::error_handler_t::replace) + '\n';
+}
+
+Line notification(std::string_view topic, json params) {
+    json message = {{"jsonrpc", "2.0"}, {"method", topic}, {"params", std::move(params)}};
+    return std::make_shared<const std::string>(dump_line(message));
+}
+
+}  // namespace
+
+std::string attitude_payload(const daemon::AttitudeSample& sample) {
+    fmt::memory_buffer out;
+    const auto& a = sample.attitude;
+    fmt::format_to(std::back_inserter(out), R"({{"seq":{},"t":)", sample.seq);
+    append_time(out, sample.wall);
+    fmt::format_to(std::back_inserter(out), R"(,"imu":)");
+    append_axes(out, a.imu);
+    fmt::format_to(std::back_inserter(out), R"(,"hall":)");
+    append_axes(out, a.hall);
+    if (a.rates) {
+        fmt::format_to(std::back_inserter(out), R"(,"rates":{{"hall":)");
+        append_axes(out, a.rates->hall);
+        fmt::format_to(std::back_inserter(out), R"(,"imu":{{"x":{},"y":{},"z":{}}}}})",
+                       degrees(a.rates->imu_x), degrees(a.rates->imu_y), degrees(a.rates->imu_z));
+    }
+    out.push_back('}');
+    return fmt::to_string(out);
+}
+
+Line attitude_line(const daemon::AttitudeSample& sample) {
+    std::string line = R"({"jsonrpc":"2.0","method":"attitude","params":)";
+    line += attitude_payload(sample);
+    line += "}\n";
+    return std::make_shared<const std::string>(std::move(line));
+}
+
+Line with_dropped(const std::string& attitude_notification, std::uint64_t dropped) {
+    // The line ends with the payload's '}', the message's '}' and '\n'.
+    std::string line = attitude_notification;
+    if (line.size() < 3) {
+        return std::make_shared<const std::string>(std::move(line));
+    }
+    line.insert(line.size() - 3, fmt::format(R"(,"dropped":{})", dropped));
+    return std::make_shared<const std::string>(std::move(line));
+}
+
+Line link_line(const daemon::LinkEvent& event) {
+    return notification("link", {{"state", link_name(event.state)}, {"reason", event.reason}});
+}
+
+Line motion_line(const daemon::MotionEvent& event) {
+    json params = {{"change", change_name(event.change)},
+                   {"mode", mode_name(event.mode)},
+                   {"owner", event.owner ? client_json(*event.owner) : json(nullptr)}};
+    if (event.mode == daemon::MotionMode::kSpeed) {
+        params["speed"] = axes_json(event.speed);
+        params["duration_ms"] = event.duration.count();
+    } else if (event.mode == daemon::MotionMode::kAngle) {
+        params["angle"] = axes_json(event.angle);
+    }
+    if (event.reason) {
+        params["reason"] = reason_name(*event.reason);
+    }
+    return notification("motion", std::move(params));
+}
+
+std::string_view link_name(daemon::LinkState state) {
+    switch (state) {
+        case daemon::LinkState::kUp:
+            return "up";
+        case daemon::LinkState::kStale:
+            return "stale";
+        case daemon::LinkState::kDown:
+            break;
+    }
+    return "down";
+}
+
+std::string_view mode_name(daemon::MotionMode mode) {
+    switch (mode) {
+        case daemon::MotionMode::kAngle:
+            return "angle";
+        case daemon::MotionMode::kCenter:
+            return "center";
+        case daemon::MotionMode::kLock:
+            return "lock";
+        case daemon::MotionMode::kSpeed:
+            break;
+    }
+    return "speed";
+}
+
+std::string_view change_name(daemon::MotionChange change) {
+    switch (change) {
+        case daemon::MotionChange::kReplaced:
+            return "replaced";
+        case daemon::MotionChange::kEnded:
+            return "ended";
+        case daemon::MotionChange::kStarted:
+            break;
+    }
+    return "started";
+}
+
+std::string_view reason_name(daemon::EndReason reason) {
+    switch (reason) {
+        case daemon::EndReason::kStop:
+            return "stop";
+        case daemon::EndReason::kOwnerGone:
+            return "owner_gone";
+        case daemon::EndReason::kShutdown:
+            return "shutdown";
+        case daemon::EndReason::kSuperseded:
+            return "superseded";
+        case daemon::EndReason::kLinkDown:
+            return "link_down";
+        case daemon::EndReason::kDuration:
+            break;
+    }
+    return "duration";
+}
+
+json client_json(const daemon::ClientInfo& client) {
+    return {{"id", client.id}, {"pid", client.pid}, {"uid", client.uid}, {"gid", client.gid}};
+}
+
+json axes_json(const protocol::Axes& axes) {
+    return {
+        {"roll", degrees(axes.roll)}, {"pitch", degrees(axes.pitch)}, {"yaw", degrees(axes.yaw)}};
+}
+
+double epoch_seconds(daemon::WallTime time) {
+    const auto us =
+        std::chrono::duration_cast<std::chrono::microseconds>(time.time_since_epoch()).count();
+    if (us < 0) {
+        return static_cast<double>(us) / 1e6;
+    }
+    // Through text, so that the double is the one nearest to the printed
+    // microseconds and prints back the same way.
+    return std::stod(fmt::format("{}.{:06}", us / 1'000'000, us % 1'000'000));
+}
+
+}  // namespace gport::ipc

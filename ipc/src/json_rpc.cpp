@@ -1,0 +1,260 @@
+// Request lines to replies: envelope checks, batches, and dispatch through
+// the method table. Everything a client controls is checked here before any
+// method runs.
+#include "gport/ipc/json_rpc.hpp"
+
+#include <fmt/format.h>
+
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "methods.hpp"
+#include "params.hpp"
+
+namespace gport::ipc {
+namespace {
+
+using detail::Reply;
+using detail::RpcError;
+using nlohmann::json;
+
+// A JSON-RPC reply object; `done` receives it, or is not called at all for
+// a notification.
+using ReplyDone = std::function<void(json)>;
+
+std::string dump_line(const json& message) {
+    return message.dump(-1, ' ', false, json::error_handler_t::replace) + '\n';
+}
+
+json error_object(const json& id, int code, std::string_view message) {
+    return {{"jsonrpc", "2.0"},
+            {"id", id},
+            {"error", {{"code", code}, {"message", std::string(message)}}}};
+}
+
+json reply_object(const json& id, Reply reply) {
+    if (auto* error = std::get_if<RpcError>(&reply)) {
+        return error_object(id, error->code, error->message);
+    }
+    return {{"jsonrpc", "2.0"}, {"id", id}, {"result", std::move(std::get<json>(reply))}};
+}
+
+// nlohmann's parser recurses once per nesting level; count levels with a
+// flat scan first so that no input can exhaust the stack.
+bool nested_deeper_than(std::string_view text, std::size_t limit) {
+    std::size_t depth = 0;
+    bool in_string = false;
+    bool escaped = false;
+    for (char c : text) {
+        if (in_string) {
+            if (escaped) {
+                escaped = false;
+            } else if (c == '\\') {
+                escaped = true;
+            } else if (c == '"') {
+                in_string = false;
+            }
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > limit) {
+                return true;
+            }
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return false;
+}
+
+// Checks the envelope; an error is the reply to send (with id null when the
+// id itself was unusable).
+std::optional<json> envelope_error(const json& request) {
+    if (!request.is_object()) {
+        return error_object(nullptr, rpc_error::kInvalidRequest, "a request must be a JSON object");
+    }
+    for (const auto& [key, value] : request.items()) {
+        if (key != "jsonrpc" && key != "id" && key != "method" && key != "params") {
+            return error_object(nullptr, rpc_error::kInvalidRequest,
+                                "unknown request member; allowed: jsonrpc, id, method and params");
+        }
+    }
+    auto id = request.find("id");
+    if (id != request.end()) {
+        if (!id->is_null() && !id->is_number() && !id->is_string()) {
+            return error_object(nullptr, rpc_error::kInvalidRequest,
+                                "id must be a number, a string or null");
+        }
+        if (id->is_string() && id->get_ref<const std::string&>().size() > kMaxIdLength) {
+            return error_object(nullptr, rpc_error::kInvalidRequest,
+                                fmt::format("id strings are limited to {} bytes", kMaxIdLength));
+        }
+    }
+    const json id_value = id == request.end() ? json(nullptr) : *id;
+    auto version = request.find("jsonrpc");
+    if (version != request.end() && *version != "2.0") {
+        return error_object(id_value, rpc_error::kInvalidRequest,
+                            R"(jsonrpc must be "2.0" when given)");
+    }
+    auto method = request.find("method");
+    if (method == request.end() || !method->is_string()) {
+        return error_object(id_value, rpc_error::kInvalidRequest, "method must be a string");
+    }
+    return std::nullopt;
+}
+
+std::string unknown_method(const std::string& name) {
+    std::string shown = name.size() > 64 ? name.substr(0, 64) + "..." : name;
+    return fmt::format("unknown method \"{}\"; methods: {}", shown, detail::method_list());
+}
+
+void run_method(detail::Handler handler, detail::MethodContext& context, const json& params,
+                const detail::Respond& respond) {
+    try {
+        handler(context, params, respond);
+    } catch (const detail::InvalidParams& e) {
+        respond(RpcError{rpc_error::kInvalidParams, e.what()});
+    } catch (const std::exception& e) {
+        // A bug, not bad input: report it rather than drop the connection.
+        respond(RpcError{-32603, fmt::format("internal error: {}", e.what())});
+    }
+}
+
+void run_request(const json& request, detail::MethodContext& context, const ReplyDone& done) {
+    if (auto error = envelope_error(request)) {
+        done(std::move(*error));
+        return;
+    }
+    const auto id_it = request.find("id");
+    const bool notification = id_it == request.end();
+    const json id = notification ? json(nullptr) : *id_it;
+    detail::Respond respond = [done, id, notification](Reply reply) {
+        if (!notification) {
+            done(reply_object(id, std::move(reply)));
+        }
+    };
+    const auto& name = request["method"].get_ref<const std::string&>();
+    auto handler = detail::find_method(name);
+    if (handler == nullptr) {
+        respond(RpcError{rpc_error::kUnknownMethod, unknown_method(name)});
+        return;
+    }
+    auto params = request.find("params");
+    run_method(handler, context, params == request.end() ? json(nullptr) : *params, respond);
+}
+
+// Collects a batch's replies in request order and sends them as one line once
+// the last (possibly asynchronous) member has answered.
+class Batch {
+  public:
+    Batch(std::size_t members, ReplySink sink) : replies_(members), sink_(std::move(sink)) {}
+
+    ReplyDone slot(std::size_t index, const std::shared_ptr<Batch>& self) {
+        ++outstanding_;
+        return [self, index](json reply) { self->fill(index, std::move(reply)); };
+    }
+
+    // Called after every member has been dispatched; members that were
+    // notifications never answer and leave an empty slot.
+    void dispatched() {
+        dispatched_ = true;
+        finish_if_done();
+    }
+
+  private:
+    void fill(std::size_t index, json reply) {
+        replies_[index] = std::move(reply);
+        --outstanding_;
+        finish_if_done();
+    }
+
+    void finish_if_done() {
+        if (!dispatched_ || outstanding_ > 0 || sent_) {
+            return;
+        }
+        sent_ = true;
+        json out = json::array();
+        for (auto& reply : replies_) {
+            if (!reply.is_null()) {
+                out.push_back(std::move(reply));
+            }
+        }
+        if (!out.empty()) {
+            sink_(dump_line(out));
+        }
+    }
+
+    std::vector<json> replies_;
+    ReplySink sink_;
+    std::size_t outstanding_ = 0;
+    bool dispatched_ = false;
+    bool sent_ = false;
+};
+
+// A well-formed request without id: it runs, and its batch slot stays empty.
+bool is_notification(const json& request) {
+    return request.is_object() && !request.contains("id") && !envelope_error(request);
+}
+
+}  // namespace
+
+int to_rpc_code(daemon::ErrorCode code) {
+    switch (code) {
+        case daemon::ErrorCode::kInvalidParams:
+            return rpc_error::kInvalidParams;
+        case daemon::ErrorCode::kLinkDown:
+            return rpc_error::kLinkDown;
+        case daemon::ErrorCode::kPermission:
+            return rpc_error::kPermission;
+        case daemon::ErrorCode::kNoAnswer:
+            return rpc_error::kNoAnswer;
+        case daemon::ErrorCode::kBusy:
+            break;
+    }
+    return rpc_error::kBusy;
+}
+
+std::string error_line(int code, std::string_view message) {
+    return dump_line(error_object(nullptr, code, message));
+}
+
+Dispatcher::Dispatcher(daemon::Api& api, std::function<ServerStats()> stats)
+    : api_(api), stats_(std::move(stats)) {}
+
+void Dispatcher::handle_line(std::string_view line, ClientState& client, const ReplySink& sink) {
+    if (nested_deeper_than(line, kMaxDepth)) {
+        sink(error_line(rpc_error::kParse,
+                        fmt::format("parse error: nesting deeper than {} levels", kMaxDepth)));
+        return;
+    }
+    json request;
+    try {
+        request = json::parse(line);
+    } catch (const json::parse_error& e) {
+        sink(error_line(rpc_error::kParse, fmt::format("parse error: {}", e.what())));
+        return;
+    }
+    detail::MethodContext context{api_, client, stats_};
+    if (!request.is_array()) {
+        // The reply may come after this returns (settings): keep a copy of the sink.
+        run_request(request, context, [sink](json reply) { sink(dump_line(reply)); });
+        return;
+    }
+    if (request.empty() || request.size() > kMaxBatch) {
+        sink(error_line(rpc_error::kInvalidRequest,
+                        fmt::format("a batch must hold 1 to {} requests", kMaxBatch)));
+        return;
+    }
+    auto batch = std::make_shared<Batch>(request.size(), sink);
+    for (std::size_t i = 0; i < request.size(); ++i) {
+        if (is_notification(request[i])) {
+            run_request(request[i], context, [](json) {});
+        } else {
+            run_request(request[i], context, batch->slot(i, batch));
+        }
+    }
+    batch->dispatched();
+}
+
+}  // namespace gport::ipc

@@ -1,0 +1,242 @@
+// One handler per method of the client API (docs/api.md). Each validates its
+// params (Params throws InvalidParams, which becomes -32602), calls the core,
+// and answers with a result object or the core's error.
+#include "methods.hpp"
+
+#include <array>
+#include <chrono>
+#include <utility>
+
+#include "gport/ipc/event_json.hpp"
+#include "params.hpp"
+#include "result_json.hpp"
+
+namespace gport::ipc::detail {
+namespace {
+
+using nlohmann::json;
+
+RpcError error_of(const daemon::CommandError& error) {
+    return {to_rpc_code(error.code), error.message};
+}
+
+// Answers a command whose result is only "the frame went out".
+void answer_sent(const daemon::Outcome<daemon::Done>& outcome, const Respond& respond) {
+    if (!outcome) {
+        respond(error_of(outcome.error()));
+        return;
+    }
+    respond(json{{"sent", true}});
+}
+
+void answer_controller(MethodContext& c,
+                       const daemon::Outcome<std::optional<daemon::ClientInfo>>& outcome,
+                       const Respond& respond) {
+    if (!outcome) {
+        respond(error_of(outcome.error()));
+        return;
+    }
+    respond(controller_json(outcome.value(), c.client.info));
+}
+
+daemon::Api::SettingsCallback settings_answer(Respond respond) {
+    return [respond = std::move(respond)](daemon::Outcome<daemon::Settings> outcome) {
+        if (!outcome) {
+            respond(error_of(outcome.error()));
+            return;
+        }
+        respond(settings_json(outcome.value()));
+    };
+}
+
+// ---- queries ----------------------------------------------------------------
+
+void status(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({});
+    respond(status_json(c.api.status(), c.stats(), c.client));
+}
+
+void attitude(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({});
+    auto sample = c.api.latest_attitude();
+    if (!sample) {
+        respond(RpcError{rpc_error::kLinkDown, "no attitude received from the gimbal yet"});
+        return;
+    }
+    json result = json::parse(attitude_payload(*sample));
+    const auto age = std::chrono::steady_clock::now() - sample->received;
+    result["age_ms"] = std::chrono::duration_cast<std::chrono::milliseconds>(age).count();
+    respond(std::move(result));
+}
+
+const std::initializer_list<std::string_view> kTopics = {"attitude", "link", "motion"};
+
+void set_topics(Subscriptions& subs, const std::vector<std::string>& topics, bool on) {
+    for (const auto& topic : topics) {
+        (topic == "attitude" ? subs.attitude : topic == "link" ? subs.link : subs.motion) = on;
+    }
+}
+
+void subscribe(MethodContext& c, const json& params, Respond respond) {
+    const Params p(params);
+    p.only({"topics", "max_rate_hz"});
+    auto topics = p.names("topics", kTopics);
+    if (!topics) {
+        throw InvalidParams("topics is required: a non-empty array of attitude, link and motion");
+    }
+    auto rate = p.number("max_rate_hz");
+    if (rate && !(*rate > 0.0 && *rate <= kMaxRateHz)) {
+        throw InvalidParams("max_rate_hz must be a number above 0 and at most 1000");
+    }
+    auto& subs = c.client.subscriptions;
+    set_topics(subs, *topics, true);
+    if (std::find(topics->begin(), topics->end(), "attitude") != topics->end()) {
+        subs.max_rate_hz = rate;  // each attitude subscription sets (or clears) the rate
+    }
+    respond(subscriptions_json(subs));
+}
+
+void unsubscribe(MethodContext& c, const json& params, Respond respond) {
+    const Params p(params);
+    p.only({"topics"});
+    auto topics = p.names("topics", kTopics);
+    auto& subs = c.client.subscriptions;
+    set_topics(subs, topics.value_or(std::vector<std::string>{"attitude", "link", "motion"}),
+               false);
+    if (!subs.attitude) {
+        subs.max_rate_hz.reset();
+    }
+    respond(subscriptions_json(subs));
+}
+
+// ---- motion and camera ------------------------------------------------------------
+
+void speed(MethodContext& c, const json& params, Respond respond) {
+    const Params p(params);
+    p.only({"roll", "pitch", "yaw", "duration_ms"});
+    const auto axes = p.axes();
+    std::optional<daemon::Millis> duration;
+    if (auto ms = p.integer("duration_ms", 1, 86'400'000)) {
+        duration = daemon::Millis(*ms);
+    }
+    auto outcome = c.api.speed(c.client.info, axes, duration);
+    if (!outcome) {
+        respond(error_of(outcome.error()));
+        return;
+    }
+    respond(json{{"duration_ms", outcome->duration.count()},
+                 {"ends_at", epoch_seconds(outcome->ends_at)}});
+}
+
+void stop(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({});
+    answer_sent(c.api.stop(c.client.info), respond);
+}
+
+void angle(MethodContext& c, const json& params, Respond respond) {
+    const Params p(params);
+    p.only({"roll", "pitch", "yaw"});
+    answer_sent(c.api.angle(c.client.info, p.axes()), respond);
+}
+
+void center(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({});
+    answer_sent(c.api.center(c.client.info), respond);
+}
+
+void lock(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({});
+    answer_sent(c.api.lock(c.client.info), respond);
+}
+
+void photo(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({});
+    answer_sent(c.api.photo(c.client.info), respond);
+}
+
+void record(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({});
+    answer_sent(c.api.record(c.client.info), respond);
+}
+
+// ---- control and settings -------------------------------------------------------
+
+void acquire(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({});
+    answer_controller(c, c.api.acquire(c.client.info), respond);
+}
+
+void release(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({});
+    answer_controller(c, c.api.release(c.client.info), respond);
+}
+
+void get_settings(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({});
+    c.api.get_settings(c.client.info, settings_answer(std::move(respond)));
+}
+
+void set_settings(MethodContext& c, const json& params, Respond respond) {
+    const Params p(params);
+    p.only({"dead_zone", "follow_speed", "inverted"});
+    daemon::SettingsChange change;
+    if (auto v = p.integer("dead_zone", 0, 255)) {
+        change.dead_zone = static_cast<std::uint8_t>(*v);
+    }
+    if (auto v = p.integer("follow_speed", 0, 255)) {
+        change.follow_speed = static_cast<std::uint8_t>(*v);
+    }
+    change.inverted = p.boolean("inverted");
+    if (!change.dead_zone && !change.follow_speed && !change.inverted) {
+        throw InvalidParams(
+            "set_settings needs at least one of dead_zone, follow_speed and inverted");
+    }
+    c.api.set_settings(c.client.info, change, settings_answer(std::move(respond)));
+}
+
+struct Entry {
+    std::string_view name;
+    Handler handler;
+};
+
+constexpr std::array kMethods{
+    Entry{"status", status},
+    Entry{"attitude", attitude},
+    Entry{"subscribe", subscribe},
+    Entry{"unsubscribe", unsubscribe},
+    Entry{"speed", speed},
+    Entry{"stop", stop},
+    Entry{"angle", angle},
+    Entry{"center", center},
+    Entry{"lock", lock},
+    Entry{"photo", photo},
+    Entry{"record", record},
+    Entry{"acquire", acquire},
+    Entry{"release", release},
+    Entry{"get_settings", get_settings},
+    Entry{"set_settings", set_settings},
+};
+
+}  // namespace
+
+Handler find_method(std::string_view name) {
+    for (const auto& entry : kMethods) {
+        if (entry.name == name) {
+            return entry.handler;
+        }
+    }
+    return nullptr;
+}
+
+std::string method_list() {
+    std::string out;
+    for (const auto& entry : kMethods) {
+        if (!out.empty()) {
+            out += ", ";
+        }
+        out += entry.name;
+    }
+    return out;
+}
+
+}  // namespace gport::ipc::detail

@@ -1,0 +1,37 @@
+// The method table: one short handler per JSON-RPC method, found by name.
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include "gport/ipc/json_rpc.hpp"
+
+namespace gport::ipc::detail {
+
+struct RpcError {
+    int code = 0;
+    std::string message;
+};
+
+// A method's answer: its result, or an error.
+using Reply = std::variant<nlohmann::json, RpcError>;
+// Called exactly once per call, possibly later (settings).
+using Respond = std::function<void(Reply)>;
+
+struct MethodContext {
+    daemon::Api& api;
+    ClientState& client;
+    const std::function<ServerStats()>& stats;
+};
+
+using Handler = void (*)(MethodContext& context, const nlohmann::json& params, Respond respond);
+
+// nullptr for an unknown method.
+Handler find_method(std::string_view name);
+// "status, attitude, ..." for the unknown-method message.
+std::string method_list();
+
+}  // namespace gport::ipc::detail

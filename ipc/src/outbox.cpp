@@ -1,0 +1,66 @@
+#include "gport/ipc/outbox.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace gport::ipc {
+
+Outbox::Outbox(std::size_t line_limit, std::size_t byte_limit)
+    : line_limit_(std::max<std::size_t>(line_limit, 1)), byte_limit_(byte_limit) {}
+
+bool Outbox::fits(std::size_t size) const {
+    return queue_.size() < line_limit_ && bytes_ + size <= byte_limit_;
+}
+
+bool Outbox::drop_oldest_attitude() {
+    auto it = std::find_if(queue_.begin(), queue_.end(), [](const Entry& e) { return e.attitude; });
+    if (it == queue_.end()) {
+        return false;
+    }
+    bytes_ -= it->line->size();
+    queue_.erase(it);
+    ++dropped_;
+    report_drops_ = true;
+    return true;
+}
+
+void Outbox::append(Line line, bool attitude) {
+    bytes_ += line->size();
+    queue_.push_back({std::move(line), attitude});
+}
+
+bool Outbox::push(Line line) {
+    while (!fits(line->size())) {
+        if (!drop_oldest_attitude()) {
+            return false;
+        }
+    }
+    append(std::move(line), false);
+    return true;
+}
+
+std::size_t Outbox::push_attitude(const Line& line) {
+    // Room for the line and a ,"dropped":<count> field it may have to carry.
+    constexpr std::size_t kDropField = 32;
+    const auto before = dropped_;
+    while (!fits(line->size() + kDropField)) {
+        if (!drop_oldest_attitude()) {
+            ++dropped_;  // nothing older to give up: this one goes
+            report_drops_ = true;
+            return static_cast<std::size_t>(dropped_ - before);
+        }
+    }
+    append(report_drops_ ? with_dropped(*line, dropped_) : line, true);
+    report_drops_ = false;
+    return static_cast<std::size_t>(dropped_ - before);
+}
+
+void Outbox::take(std::vector<Line>& out, std::size_t max_lines) {
+    while (!queue_.empty() && max_lines-- > 0) {
+        bytes_ -= queue_.front().line->size();
+        out.push_back(std::move(queue_.front().line));
+        queue_.pop_front();
+    }
+}
+
+}  // namespace gport::ipc

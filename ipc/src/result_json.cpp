@@ -1,0 +1,101 @@
+#include "result_json.hpp"
+
+#include "gport/ipc/event_json.hpp"
+
+#ifndef GPORT_VERSION
+#define GPORT_VERSION "unknown"
+#endif
+
+namespace gport::ipc::detail {
+namespace {
+
+using nlohmann::json;
+
+// Bumped when a method, field or notification changes incompatibly.
+constexpr int kApiVersion = 1;
+
+json counters_json(const daemon::Counters& c, std::uint64_t dropped) {
+    return {{"frames_in", c.frames_in},
+            {"bytes_in", c.bytes_in},
+            {"frames_out", c.frames_out},
+            {"bytes_out", c.bytes_out},
+            {"attitude_frames", c.attitude_frames},
+            {"crc_errors", c.crc_errors},
+            {"header_errors", c.header_errors},
+            {"garbage_bytes", c.garbage_bytes},
+            {"resyncs", c.resyncs},
+            {"bad_messages", c.bad_messages},
+            {"device_opens", c.device_opens},
+            {"device_failures", c.device_failures},
+            {"keepalive_frames", c.keepalive_frames},
+            {"stops_sent", c.stops_sent},
+            {"settings_timeouts", c.settings_timeouts},
+            {"dropped_notifications", dropped}};
+}
+
+json motion_json(const std::optional<daemon::MotionStatus>& motion) {
+    if (!motion) {
+        return nullptr;
+    }
+    return {{"mode", mode_name(motion->mode)},
+            {"owner", motion->owner ? client_json(*motion->owner) : json(nullptr)},
+            {"speed", axes_json(motion->speed)},
+            {"time_left_ms", motion->time_left.count()}};
+}
+
+json optional_client(const std::optional<daemon::ClientInfo>& client) {
+    return client ? client_json(*client) : json(nullptr);
+}
+
+}  // namespace
+
+json status_json(const daemon::Status& status, const ServerStats& stats,
+                 const ClientState& client) {
+    json you = client_json(client.info);
+    you["dropped"] = client.dropped;
+    return {{"api_version", kApiVersion},
+            {"daemon_version", GPORT_VERSION},
+            {"link", {{"state", link_name(status.link)}, {"reason", status.link_reason}}},
+            {"device", status.device},
+            {"device_open", status.device_open},
+            {"uptime_ms", status.uptime.count()},
+            {"attitude_age_ms",
+             status.attitude_age ? json(status.attitude_age->count()) : json(nullptr)},
+            {"counters", counters_json(status.counters, stats.dropped_notifications)},
+            {"clients", stats.clients},
+            {"dropped_notifications", stats.dropped_notifications},
+            {"motion", motion_json(status.motion)},
+            {"controller", optional_client(status.controller)},
+            {"client", std::move(you)}};
+}
+
+json controller_json(const std::optional<daemon::ClientInfo>& holder,
+                     const daemon::ClientInfo& caller) {
+    return {{"controller", optional_client(holder)},
+            {"you_hold_control", holder && holder->id == caller.id}};
+}
+
+json settings_json(const daemon::Settings& settings) {
+    return {{"dead_zone", settings.dead_zone},
+            {"follow_speed", settings.follow_speed},
+            {"inverted", settings.inverted}};
+}
+
+json subscriptions_json(const Subscriptions& subscriptions) {
+    json topics = json::array();
+    if (subscriptions.attitude) {
+        topics.push_back("attitude");
+    }
+    if (subscriptions.link) {
+        topics.push_back("link");
+    }
+    if (subscriptions.motion) {
+        topics.push_back("motion");
+    }
+    json result = {{"topics", std::move(topics)}};
+    result["max_rate_hz"] =
+        subscriptions.max_rate_hz ? json(*subscriptions.max_rate_hz) : json(nullptr);
+    return result;
+}
+
+}  // namespace gport::ipc::detail

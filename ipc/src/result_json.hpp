@@ -1,0 +1,18 @@
+// JSON encoding of method results (the event side is in event_json).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "gport/ipc/json_rpc.hpp"
+
+namespace gport::ipc::detail {
+
+nlohmann::json status_json(const daemon::Status& status, const ServerStats& stats,
+                           const ClientState& client);
+nlohmann::json controller_json(const std::optional<daemon::ClientInfo>& holder,
+                               const daemon::ClientInfo& caller);
+nlohmann::json settings_json(const daemon::Settings& settings);
+nlohmann::json subscriptions_json(const Subscriptions& subscriptions);
+
+}  // namespace gport::ipc::detail

@@ -1,0 +1,221 @@
+#include "gport/ipc/server.hpp"
+
+#include <fmt/format.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <boost/asio/write.hpp>
+#include <stdexcept>
+#include <utility>
+
+#include "gport/ipc/event_json.hpp"
+#include "session.hpp"
+#include "socket_file.hpp"
+
+namespace gport::ipc {
+namespace {
+
+namespace asio = boost::asio;
+using stream_protocol = asio::local::stream_protocol;
+
+// SO_PEERCRED: who is on the other end, as the kernel saw it at connect().
+std::optional<daemon::ClientInfo> peer_of(stream_protocol::socket& socket) {
+    ucred credentials{};
+    socklen_t size = sizeof(credentials);
+    if (::getsockopt(socket.native_handle(), SOL_SOCKET, SO_PEERCRED, &credentials, &size) != 0) {
+        return std::nullopt;
+    }
+    return daemon::ClientInfo{0, credentials.pid, credentials.uid, credentials.gid};
+}
+
+}  // namespace
+
+Server::Server(asio::io_context& io, daemon::Api& api, config::SocketConfig config,
+               std::shared_ptr<spdlog::logger> log, std::optional<int> listen_fd)
+    : io_(io),
+      api_(api),
+      config_(std::move(config)),
+      log_(std::move(log)),
+      listen_fd_(listen_fd),
+      acceptor_(io),
+      dispatcher_(api, [this] {
+          return ServerStats{clients(), dropped_total_};
+      }) {}
+
+Server::~Server() {
+    close();
+}
+
+// Walks the sessions; one that closes meanwhile is erased after the walk.
+template <typename F>
+void Server::for_each_session(F&& visit) {
+    ++walking_;
+    for (auto& [id, session] : sessions_) {
+        if (!session->closed()) {
+            visit(*session);
+        }
+    }
+    if (--walking_ == 0) {
+        for (auto id : closed_ids_) {
+            sessions_.erase(id);
+        }
+        closed_ids_.clear();
+    }
+}
+
+void Server::start() {
+    if (started_) {
+        return;
+    }
+    if (listen_fd_) {
+        acceptor_.assign(stream_protocol(), *listen_fd_);
+        log_->info("listening on the socket passed by systemd (fd {})", *listen_fd_);
+    } else {
+        detail::clear_stale_socket(config_.path);
+        boost::system::error_code error;
+        acceptor_.open(stream_protocol(), error);
+        if (!error) {
+            acceptor_.bind(stream_protocol::endpoint(config_.path), error);
+        }
+        if (error) {
+            throw std::runtime_error(
+                fmt::format("socket {}: cannot bind: {}", config_.path, error.message()));
+        }
+        created_file_ = true;
+        detail::apply_mode_and_group(config_.path, config_.mode, config_.group);
+        acceptor_.listen(asio::socket_base::max_listen_connections, error);
+        if (error) {
+            throw std::runtime_error(
+                fmt::format("socket {}: cannot listen: {}", config_.path, error.message()));
+        }
+        log_->info("listening on {} (mode {:04o}{}{})", config_.path, config_.mode,
+                   config_.group.empty() ? "" : ", group ", config_.group);
+    }
+    started_ = true;
+    api_.set_observer(this);
+    accept();
+}
+
+void Server::close() {
+    if (closed_) {
+        return;
+    }
+    closed_ = true;
+    if (started_) {
+        api_.set_observer(nullptr);
+    }
+    boost::system::error_code ignored;
+    acceptor_.close(ignored);
+    for_each_session([](Session& session) { session.close(); });
+    if (created_file_) {
+        ::unlink(config_.path.c_str());
+        created_file_ = false;
+    }
+}
+
+std::size_t Server::clients() const {
+    return sessions_.size() - closed_ids_.size();
+}
+
+// ---- accepting ----------------------------------------------------------------------
+
+void Server::accept() {
+    acceptor_.async_accept(
+        [this](const boost::system::error_code& error, stream_protocol::socket socket) {
+            if (closed_ || error == asio::error::operation_aborted) {
+                return;
+            }
+            if (error) {
+                // Out of descriptors, say: keep serving the clients we have.
+                log_->warn("accepting a client failed: {}", error.message());
+            } else {
+                on_accept(std::move(socket));
+            }
+            accept();
+        });
+}
+
+void Server::on_accept(stream_protocol::socket socket) {
+    if (clients() >= config_.max_clients) {
+        reject(std::move(socket));
+        return;
+    }
+    auto info = peer_of(socket);
+    if (!info) {
+        log_->warn("a client's credentials could not be read (SO_PEERCRED); closing it");
+        return;
+    }
+    info->id = next_id_++;
+    auto session = std::make_shared<Session>(std::move(socket), *info, *this);
+    sessions_.emplace(info->id, session);
+    log_->debug("client {} connected: pid {} uid {} gid {}", info->id, info->pid, info->uid,
+                info->gid);
+    session->start();
+}
+
+// The one client too many hears why, then is closed.
+void Server::reject(stream_protocol::socket socket) {
+    log_->warn("refusing a client: {} clients already connected (max_clients)",
+               config_.max_clients);
+    auto line = std::make_shared<const std::string>(error_line(
+        rpc_error::kServerFull, fmt::format("too many clients ({})", config_.max_clients)));
+    auto peer = std::make_shared<stream_protocol::socket>(std::move(socket));
+    asio::async_write(*peer, asio::buffer(*line),
+                      [peer, line](const boost::system::error_code&, std::size_t) {
+                          boost::system::error_code ignored;
+                          peer->shutdown(stream_protocol::socket::shutdown_both, ignored);
+                          peer->close(ignored);
+                      });
+}
+
+void Server::session_closed(const Session& session) {
+    const auto info = session.info();
+    log_->debug("client {} (pid {}) disconnected", info.id, info.pid);
+    if (walking_ > 0) {
+        closed_ids_.push_back(info.id);
+    } else {
+        sessions_.erase(info.id);
+    }
+    // Last: the core may publish a motion event (owner gone) right away.
+    api_.client_gone(info);
+}
+
+// ---- events -------------------------------------------------------------------------
+
+void Server::on_attitude(const daemon::AttitudeSample& sample) {
+    Line line;  // built on first use: nothing is encoded when nobody listens
+    for_each_session([&](Session& session) {
+        if (session.subscriptions().attitude) {
+            if (!line) {
+                line = attitude_line(sample);
+            }
+            session.deliver_attitude(line);
+        }
+    });
+}
+
+void Server::on_link(const daemon::LinkEvent& event) {
+    Line line;
+    for_each_session([&](Session& session) {
+        if (session.subscriptions().link) {
+            if (!line) {
+                line = link_line(event);
+            }
+            session.deliver_event(line);
+        }
+    });
+}
+
+void Server::on_motion(const daemon::MotionEvent& event) {
+    Line line;
+    for_each_session([&](Session& session) {
+        if (session.subscriptions().motion) {
+            if (!line) {
+                line = motion_line(event);
+            }
+            session.deliver_event(line);
+        }
+    });
+}
+
+}  // namespace gport::ipc
