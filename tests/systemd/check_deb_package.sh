@@ -14,14 +14,15 @@ fail() {
 
 [ $# -eq 1 ] || fail "usage: $0 BUILD_DIR"
 build=$1
-for tool in cpack dpkg-deb dpkg-shlibdeps; do
+cpack=${CPACK:-cpack}
+for tool in "$cpack" dpkg-deb dpkg-shlibdeps; do
     command -v "$tool" >/dev/null || fail "$tool not found (Debian packages: cmake, dpkg-dev)"
 done
 
 work=$(mktemp -d /tmp/gport-deb-XXXXXX)
 trap 'rm -rf "$work"' EXIT
 
-cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work" >"$work/cpack.log" 2>&1 \
+"$cpack" -G DEB --config "$build/CPackConfig.cmake" -B "$work" >"$work/cpack.log" 2>&1 \
     || { cat "$work/cpack.log" >&2; fail "cpack -G DEB failed"; }
 deb=$(find "$work" -maxdepth 1 -name '*.deb' | head -n 1)
 [ -n "$deb" ] || fail "cpack made no .deb: $(cat "$work/cpack.log")"

@@ -24,7 +24,7 @@ work=$(mktemp -d /tmp/gport-units-XXXXXX)
 trap 'rm -rf "$work"' EXIT
 root=$work/root
 
-DESTDIR=$root cmake --install "$build" --prefix /usr >"$work/install.log" 2>&1 \
+DESTDIR=$root "${CMAKE:-cmake}" --install "$build" --prefix /usr >"$work/install.log" 2>&1 \
     || { cat "$work/install.log" >&2; fail "cmake --install failed"; }
 [ -x "$root/usr/bin/gportd" ] \
     || fail "gportd is not installed: build it first (ninja -C $build gportd), and daemon/ must" \
