@@ -36,7 +36,12 @@ std::string describe(const Json& value) {
 }
 
 void Reader::error(std::string_view path, std::string_view problem) {
+    refused_.emplace(path);
     errors_.push_back(fmt::format("{}: {}: {}", origin_, path, problem));
+}
+
+bool Reader::refused(std::string_view path) const {
+    return refused_.contains(path);
 }
 
 void Reader::error(std::string_view message) {

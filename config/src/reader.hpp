@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,6 +34,8 @@ class Reader {
     void error(std::string_view message);
 
     std::size_t error_count() const { return errors_.size(); }
+    // Whether the value at `path` was refused (by error(path, problem)).
+    bool refused(std::string_view path) const;
     Errors take_errors() { return Errors{std::move(errors_)}; }
 
     // Each returns nothing (after recording why) when the value has the wrong
@@ -55,6 +58,7 @@ class Reader {
   private:
     std::string origin_;
     std::vector<std::string> errors_;
+    std::set<std::string, std::less<>> refused_;
 };
 
 }  // namespace gport::config::detail

@@ -131,7 +131,12 @@ void read_ids(Reader& r, const Json& value, const std::string& path, std::string
 // Records "a (x) must not exceed b (y)" when the lower bound passes the upper.
 void check_order(Reader& r, const Json& given, std::string_view section, std::string_view low_key,
                  Millis low, std::string_view high_key, Millis high) {
-    if (low <= high) {
+    // Compare only values that passed their own checks, or the message would
+    // talk about a default the user never wrote.
+    const auto refused = [&](std::string_view key) {
+        return r.refused(fmt::format("{}.{}", section, key));
+    };
+    if (low <= high || refused(low_key) || refused(high_key)) {
         return;
     }
     const auto show = [&](std::string_view key, Millis value) {
@@ -269,7 +274,6 @@ void read_section(Reader& r, const Section& section, const Json& value, Config& 
     if (!r.object(value, section.key, keys)) {
         return;
     }
-    const auto errors_before = r.error_count();
     for (const auto& [key, member] : value.items()) {
         if (const auto* field = find_by_key(section.fields, key)) {
             field->read(r, member, fmt::format("{}.{}", section.key, key), config);
@@ -277,9 +281,7 @@ void read_section(Reader& r, const Section& section, const Json& value, Config& 
             r.unknown_key(section.key, key, keys);
         }
     }
-    // Compare only values that passed their own checks, or the message would
-    // talk about a default the user never wrote.
-    if (section.check != nullptr && r.error_count() == errors_before) {
+    if (section.check != nullptr) {
         section.check(r, value, config);
     }
 }

@@ -147,6 +147,13 @@ TEST(ConfigCrossField, SkippedWhenOneSideIsItselfInvalid) {
         ElementsAre(ErrorWith("keepalive.max_duration_ms", "from 100 to 600000")));
 }
 
+TEST(ConfigCrossField, StillCheckedWhenAnotherKeyOfTheSectionIsInvalid) {
+    EXPECT_THAT(errors_of(R"({"keepalive": {"rate_hz": 0, "default_duration_ms": 5000,
+                                             "max_duration_ms": 2000}})"),
+                ElementsAre(ErrorWith("keepalive.rate_hz"),
+                            ErrorWith("keepalive.default_duration_ms (5000) must not exceed")));
+}
+
 TEST(ConfigValues, BadModeStrings) {
     for (const char* mode :
          {"\"0999\"", "\"1777\"", "\"rw-rw----\"", "\"\"", "\"07777\"", "\"-660\"", "432"}) {
