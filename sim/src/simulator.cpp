@@ -158,8 +158,8 @@ void PtySimulator::Impl::apply_schedule(Duration now) {
     for (auto e : schedule_.update(now)) {
         if (e == FaultSchedule::Event::kVanish) {
             ++stats_.vanishes;
+            event(to_string(e), device_path());  // announced first: readers see it before EIO
             close_device();
-            event(to_string(e), device_path());
         } else if (e == FaultSchedule::Event::kReappear) {
             open_device();
             event(to_string(e), device_path());

@@ -160,7 +160,7 @@ TEST(PtyFaults, VanishClosesThePtyAndTheLinkComesBack) {
     EXPECT_FALSE(decode_all(first.read_for(300ms)).attitudes().empty());
     first.read_for(3000ms);
     EXPECT_TRUE(first.failed());  // EIO or EOF: the device went away under the reader
-    EXPECT_TRUE(sim.traced("\"event\":\"vanish\""));
+    EXPECT_TRUE(eventually([&] { return sim.traced("\"event\":\"vanish\""); }));
 
     ASSERT_TRUE(eventually([&] { return sim.traced("\"event\":\"reappear\""); }));
     std::unique_ptr<Client> again;
