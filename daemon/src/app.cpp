@@ -1,0 +1,154 @@
+#include "app.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <csignal>
+#include <exception>
+#include <memory>
+#include <optional>
+
+#include "gport/daemon/core.hpp"
+#include "gport/ipc/server.hpp"
+#include "gport/sim/simulator.hpp"
+#include "gport/systemd/activation.hpp"
+#include "gport/systemd/log_context.hpp"
+#include "gport/systemd/logger.hpp"
+#include "gport/systemd/notifier.hpp"
+#include "gport/systemd/watchdog.hpp"
+
+namespace gport::daemon {
+namespace {
+
+namespace asio = boost::asio;
+
+constexpr int kExitFailure = 1;
+constexpr int kExitConfig = 78;
+
+std::string status_text(const std::string& device, const LinkEvent& event) {
+    return fmt::format("{}: link {} ({})", device, to_string(event.state), event.reason);
+}
+
+// Everything that lives for the daemon's lifetime, in construction order.
+class Daemon {
+  public:
+    Daemon(const config::Config& config, std::shared_ptr<systemd::LogContext> context,
+           std::shared_ptr<spdlog::logger> log)
+        : config_(config),
+          context_(std::move(context)),
+          log_(std::move(log)),
+          notifier_(log_),
+          watchdog_(io_, notifier_),
+          signals_(io_, SIGINT, SIGTERM) {}
+
+    int run() {
+        if (config_.simulate) {
+            start_simulator();
+        }
+        context_->set(systemd::kFieldDevice, config_.serial.device);
+        core_.emplace(io_, config_, log_);
+        core_->add_link_listener([this](const LinkEvent& e) { on_link(e); });
+        if (!start_server()) {
+            return kExitFailure;
+        }
+        core_->start();
+        notifier_.ready();
+        if (auto interval = watchdog_.start()) {
+            log_->info("watchdog enabled: pinging every {} ms", interval->count() / 1000);
+        }
+        signals_.async_wait([this](boost::system::error_code ec, int sig) {
+            if (!ec) {
+                stop(sig);
+            }
+        });
+        log_->info("gportd {} ready on {}", GPORT_VERSION, config_.socket.path);
+        io_.run();
+        log_->info("gportd stopped");
+        return 0;
+    }
+
+  private:
+    void start_simulator() {
+        simulator_.emplace(io_, sim::SimOptions{});
+        config_.serial.device = simulator_->device_path();
+        log_->info("--simulate: simulated gimbal on {}", config_.serial.device);
+    }
+
+    bool start_server() {
+        std::optional<int> activated;
+        try {
+            activated = systemd::activated_socket_fd();
+            server_.emplace(io_, *core_, config_.socket, log_, activated);
+            server_->start();
+        } catch (const systemd::ActivationError& e) {
+            log_->critical("socket activation: {}", e.what());
+            exit_status_ = kExitConfig;
+            return false;
+        } catch (const std::exception& e) {
+            log_->critical("{}", e.what());
+            return false;
+        }
+        if (activated) {
+            log_->info("serving clients on the socket passed by systemd");
+        }
+        return true;
+    }
+
+    void on_link(const LinkEvent& event) {
+        context_->set(systemd::kFieldLink, std::string(to_string(event.state)));
+        notifier_.status(status_text(config_.serial.device, event));
+    }
+
+    // Motion is stopped on the wire first, then clients are closed, so the
+    // last thing the gimbal hears from us is a zero speed.
+    void stop(int sig) {
+        log_->info("stopping on {}", sig == SIGTERM ? "SIGTERM" : "SIGINT");
+        notifier_.stopping();
+        core_->shutdown([this] {
+            server_->close();
+            watchdog_.stop();
+            if (simulator_) {
+                simulator_->stop();
+            }
+        });
+    }
+
+  public:
+    int exit_status() const { return exit_status_; }
+
+  private:
+    config::Config config_;
+    std::shared_ptr<systemd::LogContext> context_;
+    std::shared_ptr<spdlog::logger> log_;
+    asio::io_context io_;
+    systemd::Notifier notifier_;
+    systemd::WatchdogDriver watchdog_;
+    asio::signal_set signals_;
+    std::optional<sim::PtySimulator> simulator_;
+    std::optional<Core> core_;
+    std::optional<ipc::Server> server_;
+    int exit_status_ = kExitFailure;
+};
+
+}  // namespace
+
+int run_daemon(const config::Config& config) {
+    std::signal(SIGPIPE, SIG_IGN);
+    auto context = std::make_shared<systemd::LogContext>();
+    systemd::LoggerOptions options;
+    options.level = spdlog::level::from_str(config.log.level);
+    auto log = systemd::make_logger(options, context);
+    spdlog::set_default_logger(log);
+    try {
+        Daemon daemon(config, context, log);
+        const int status = daemon.run();
+        return status == 0 ? 0 : daemon.exit_status();
+    } catch (const std::exception& e) {
+        log->critical("fatal: {}", e.what());
+        return kExitFailure;
+    }
+}
+
+}  // namespace gport::daemon

@@ -1,0 +1,31 @@
+// gportd: the G-Port gimbal daemon. See `gportd --help` and docs/.
+#include <cstdio>
+#include <span>
+
+#include "app.hpp"
+#include "gport/config/command_line.hpp"
+#include "gport/config/loader.hpp"
+
+int main(int argc, char** argv) {
+    namespace cfg = gport::config;
+    const auto command_line =
+        cfg::parse_command_line(std::span<const char* const>(argv, static_cast<std::size_t>(argc)));
+    if (!command_line) {
+        std::fprintf(stderr, "gportd: %sTry 'gportd --help'.\n", command_line.error_text().c_str());
+        return cfg::kExitUsage;
+    }
+    if (command_line->help) {
+        std::fputs(cfg::usage().c_str(), stdout);
+        return 0;
+    }
+    if (command_line->version) {
+        std::fputs(cfg::version_text().c_str(), stdout);
+        return 0;
+    }
+    const auto config = cfg::load_config(*command_line);
+    if (!config) {
+        std::fprintf(stderr, "gportd: configuration error:\n%s", config.error_text().c_str());
+        return cfg::kExitConfig;
+    }
+    return gport::daemon::run_daemon(*config);
+}
