@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages gportd needs to build, test and package,
+# when any is missing. Sourced by demo.sh and test.sh; needs root for apt.
+set -euo pipefail
+
+GPORT_PACKAGES=(
+  cmake ninja-build g++ pkg-config
+  libboost-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libsystemd-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  clang-14 libclang-rt-14-dev
+  systemd dpkg-dev
+)
+
+gport_install_deps() {
+  local missing=()
+  local p
+  for p in "${GPORT_PACKAGES[@]}"; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+      missing+=("$p")
+    fi
+  done
+  if [ ${#missing[@]} -eq 0 ]; then
+    return 0
+  fi
+  echo "== installing: ${missing[*]}"
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "error: packages missing (${missing[*]}) and not root; run as root or install them" >&2
+    exit 1
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+}

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Installs what is missing, then builds and runs every test:
+#   1. Release build (warnings are errors), all tests;
+#   2. ASan+UBSan build, all tests;
+#   3. clang libFuzzer build, each fuzzer for $GPORT_FUZZ_SECONDS (60) on its corpus.
+# Used word for word by .ci/run.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source scripts/deps.sh
+gport_install_deps
+
+jobs=$(nproc)
+fuzz_seconds=${GPORT_FUZZ_SECONDS:-60}
+start=$(date +%s)
+stage() { echo; echo "== $* ($(($(date +%s) - start)) s)"; }
+
+stage "Release build"
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DGPORT_WERROR=ON
+cmake --build build/release -j "$jobs"
+stage "Release tests"
+ctest --test-dir build/release --output-on-failure -j "$jobs"
+
+stage "ASan+UBSan build"
+cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGPORT_SANITIZE=ON \
+  -DGPORT_BUILD_BENCH=OFF -DGPORT_WERROR=ON
+cmake --build build/asan -j "$jobs"
+stage "ASan+UBSan tests"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE package
+
+stage "Fuzz build (clang-14, libFuzzer)"
+CC=clang-14 CXX=clang++-14 cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DGPORT_BUILD_FUZZ=ON -DGPORT_BUILD_TESTS=OFF -DGPORT_BUILD_BENCH=OFF
+# One fuzzer per corpus folder: fuzz/corpus/<name>/ seeds <name>_fuzz.
+fuzzers=()
+for corpus in fuzz/corpus/*/; do
+  fuzzers+=("$(basename "$corpus")_fuzz")
+done
+cmake --build build/fuzz -j "$jobs" --target "${fuzzers[@]}"
+for corpus in fuzz/corpus/*/; do
+  name=$(basename "$corpus")
+  stage "Fuzzing ${name}_fuzz for ${fuzz_seconds} s"
+  work=$(mktemp -d)
+  cp -r "$corpus". "$work/"
+  log=$(mktemp)
+  if ! "build/fuzz/fuzz/${name}_fuzz" -max_total_time="$fuzz_seconds" -print_final_stats=1 \
+      "$work" >"$log" 2>&1; then
+    tail -n 60 "$log"
+    echo "fuzzer ${name}_fuzz failed" >&2
+    exit 1
+  fi
+  grep -E "^#[0-9]+.*(DONE|pulse)|stat::number_of_executed_units|stat::peak_rss_mb" "$log" | tail -n 3
+  rm -rf "$work" "$log"
+done
+
+stage "All tests passed"
