@@ -1,0 +1,291 @@
+// The pure JSON-RPC layer, driven line by line with a fake core.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "fake_api.hpp"
+#include "gport/ipc/json_rpc.hpp"
+
+namespace gport::ipc {
+namespace {
+
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+class DispatcherTest : public ::testing::Test {
+  protected:
+    // Every reply line sent so far, parsed; checks each is one whole line.
+    std::vector<json> send(std::string_view line) {
+        const auto before = lines_.size();
+        dispatcher_.handle_line(line, client_, [this](std::string reply) {
+            EXPECT_FALSE(reply.empty());
+            EXPECT_EQ(reply.back(), '\n');
+            EXPECT_EQ(reply.find('\n'), reply.size() - 1) << "one line per reply";
+            lines_.push_back(std::move(reply));
+        });
+        std::vector<json> out;
+        for (auto i = before; i < lines_.size(); ++i) {
+            out.push_back(json::parse(lines_[i]));
+        }
+        return out;
+    }
+
+    json call(std::string_view method, json params = nullptr) {
+        json request = {{"jsonrpc", "2.0"}, {"id", 1}, {"method", method}};
+        if (!params.is_null()) {
+            request["params"] = std::move(params);
+        }
+        auto replies = send(request.dump());
+        EXPECT_EQ(replies.size(), 1u) << request.dump();
+        return replies.empty() ? json() : replies[0];
+    }
+
+    static int code(const json& reply) { return reply.at("error").at("code").get<int>(); }
+    static std::string message(const json& reply) {
+        return reply.at("error").at("message").get<std::string>();
+    }
+
+    testing::FakeApi api_;
+    ClientState client_{{7, 4242, 1000, 1000}, {}, 0};
+    Dispatcher dispatcher_{api_, [] { return ServerStats{3, 11}; }};
+    std::vector<std::string> lines_;
+};
+
+TEST_F(DispatcherTest, EchoesIdsOfEveryAllowedTypeAndAlwaysSaysJsonRpc2) {
+    for (const auto* id : {"1", "-5", "2.5", "\"abc\"", "null"}) {
+        auto replies = send(fmt::format(R"({{"id":{},"method":"stop"}})", id));
+        ASSERT_EQ(replies.size(), 1u);
+        EXPECT_EQ(replies[0]["id"], json::parse(id));
+        EXPECT_EQ(replies[0]["jsonrpc"], "2.0");
+        EXPECT_EQ(replies[0]["result"]["sent"], true);
+    }
+}
+
+TEST_F(DispatcherTest, RequestWithoutIdRunsButGetsNoReply) {
+    EXPECT_TRUE(send(R"({"method":"photo"})").empty());
+    EXPECT_TRUE(send(R"({"method":"no_such_method"})").empty());
+    EXPECT_THAT(api_.calls, ::testing::ElementsAre("photo by 7"));
+}
+
+TEST_F(DispatcherTest, MalformedJsonIsAParseErrorWithNullId) {
+    auto replies = send(R"({"id":1,"method":)");
+    ASSERT_EQ(replies.size(), 1u);
+    EXPECT_EQ(code(replies[0]), rpc_error::kParse);
+    EXPECT_TRUE(replies[0]["id"].is_null());
+    EXPECT_EQ(send(std::string("\xff\xfe\x00\x01garbage", 11)).at(0)["error"]["code"], -32700);
+}
+
+TEST_F(DispatcherTest, DeepNestingIsRefusedBeforeParsing) {
+    const std::string deep(100000, '[');
+    auto replies = send(deep);
+    ASSERT_EQ(replies.size(), 1u);
+    EXPECT_EQ(code(replies[0]), rpc_error::kParse);
+    EXPECT_THAT(message(replies[0]), HasSubstr("nesting deeper than 64"));
+    // Brackets inside strings do not count.
+    auto ok =
+        send(R"({"id":"[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[",)"
+             R"("method":"center"})");
+    EXPECT_EQ(ok.at(0)["result"]["sent"], true);
+}
+
+TEST_F(DispatcherTest, EnvelopeErrorsAreInvalidRequest) {
+    EXPECT_EQ(code(send(R"([1])").at(0)[0]), rpc_error::kInvalidRequest);
+    EXPECT_EQ(code(send(R"("hello")").at(0)), rpc_error::kInvalidRequest);
+    EXPECT_EQ(code(send(R"({"id":1})").at(0)), rpc_error::kInvalidRequest);
+    EXPECT_EQ(code(send(R"({"id":1,"method":5})").at(0)), rpc_error::kInvalidRequest);
+    EXPECT_EQ(code(send(R"({"id":[1],"method":"stop"})").at(0)), rpc_error::kInvalidRequest);
+    auto version = send(R"({"jsonrpc":"1.0","id":3,"method":"stop"})").at(0);
+    EXPECT_EQ(code(version), rpc_error::kInvalidRequest);
+    EXPECT_EQ(version["id"], 3);
+    EXPECT_THAT(message(send(R"({"id":1,"method":"stop","extra":1})").at(0)),
+                HasSubstr("allowed: jsonrpc, id, method and params"));
+    EXPECT_THAT(
+        message(send(fmt::format(R"({{"id":"{}","method":"stop"}})", std::string(200, 'x'))).at(0)),
+        HasSubstr("limited to 128 bytes"));
+}
+
+TEST_F(DispatcherTest, UnknownMethodListsTheMethods) {
+    auto reply = call("fly");
+    EXPECT_EQ(code(reply), rpc_error::kUnknownMethod);
+    EXPECT_THAT(message(reply), HasSubstr("\"fly\""));
+    EXPECT_THAT(message(reply), HasSubstr("status, attitude, subscribe"));
+}
+
+TEST_F(DispatcherTest, StatusAddsServerFiguresAndThisClient) {
+    api_.status_value.link = daemon::LinkState::kUp;
+    api_.status_value.device = "/dev/gimbal";
+    api_.status_value.device_open = true;
+    api_.status_value.uptime = daemon::Millis(5000);
+    api_.status_value.attitude_age = daemon::Millis(12);
+    api_.status_value.counters.crc_errors = 4;
+    api_.status_value.motion = daemon::MotionStatus{
+        daemon::MotionMode::kSpeed, client_.info, {1000, 0, -250}, daemon::Millis(300)};
+    client_.dropped = 2;
+    auto result = call("status")["result"];
+    EXPECT_EQ(result["link"]["state"], "up");
+    EXPECT_EQ(result["device"], "/dev/gimbal");
+    EXPECT_EQ(result["uptime_ms"], 5000);
+    EXPECT_EQ(result["attitude_age_ms"], 12);
+    EXPECT_EQ(result["counters"]["crc_errors"], 4);
+    EXPECT_EQ(result["counters"]["dropped_notifications"], 11);
+    EXPECT_EQ(result["clients"], 3);
+    EXPECT_EQ(result["dropped_notifications"], 11);
+    EXPECT_EQ(result["client"]["dropped"], 2);
+    EXPECT_EQ(result["client"]["pid"], 4242);
+    EXPECT_EQ(result["motion"]["mode"], "speed");
+    EXPECT_EQ(result["motion"]["speed"]["roll"], 10.0);
+    EXPECT_EQ(result["motion"]["speed"]["yaw"], -2.5);
+    EXPECT_EQ(result["motion"]["time_left_ms"], 300);
+    EXPECT_TRUE(result["controller"].is_null());
+    EXPECT_TRUE(result.contains("api_version"));
+    EXPECT_TRUE(result.contains("daemon_version"));
+    EXPECT_EQ(code(call("status", {{"verbose", true}})), rpc_error::kInvalidParams);
+}
+
+TEST_F(DispatcherTest, AttitudeHasThePayloadAndAge) {
+    EXPECT_EQ(code(call("attitude")), rpc_error::kLinkDown);
+    daemon::AttitudeSample sample;
+    sample.seq = 9;
+    sample.received = std::chrono::steady_clock::now();
+    sample.wall = daemon::WallTime(std::chrono::microseconds(1763770000123456));
+    sample.attitude.imu = {0, 0, -3929};
+    api_.attitude = sample;
+    auto result = call("attitude")["result"];
+    EXPECT_EQ(result["seq"], 9);
+    EXPECT_EQ(result["imu"]["yaw"], -39.29);
+    EXPECT_EQ(result["t"].dump(), "1763770000.123456");
+    EXPECT_GE(result["age_ms"].get<int>(), 0);
+    EXPECT_FALSE(result.contains("rates"));
+}
+
+TEST_F(DispatcherTest, SpeedConvertsUnitsAndSaysWhenItEnds) {
+    auto result = call("speed", {{"roll", 12.345}, {"yaw", -3}, {"duration_ms", 2000}})["result"];
+    EXPECT_EQ(result["duration_ms"], 2000);
+    EXPECT_GT(result["ends_at"].get<double>(), 1.7e9);
+    EXPECT_EQ(api_.calls.back(), "speed 1235 0 -300 2000 by 7");
+    call("speed");
+    EXPECT_EQ(api_.calls.back(), "speed 0 0 0 -1 by 7");
+}
+
+TEST_F(DispatcherTest, ParamsAreValidatedNamingFieldAndRange) {
+    auto range = call("speed", {{"pitch", 400}});
+    EXPECT_EQ(code(range), rpc_error::kInvalidParams);
+    EXPECT_THAT(message(range), HasSubstr("pitch"));
+    EXPECT_THAT(message(range), HasSubstr("-327.67 to 327.67"));
+    EXPECT_THAT(message(call("angle", {{"roll", "up"}})), HasSubstr("roll must be a number"));
+    EXPECT_THAT(message(call("speed", {{"duration_ms", 0}})),
+                HasSubstr("duration_ms must be an integer from 1"));
+    EXPECT_THAT(message(call("speed", {{"duration_ms", 1.5}})), HasSubstr("duration_ms"));
+    EXPECT_THAT(message(call("angle", {{"zoom", 1}})),
+                HasSubstr("unknown parameter \"zoom\"; allowed: roll, pitch and yaw"));
+    EXPECT_THAT(message(call("stop", {{"now", 1}})), HasSubstr("takes no parameters"));
+    EXPECT_THAT(message(call("stop", json::array({1}))), HasSubstr("params must be an object"));
+    EXPECT_EQ(call("stop", json::array())["result"]["sent"], true);
+    EXPECT_THAT(message(call("set_settings", {{"dead_zone", 256}})),
+                HasSubstr("dead_zone must be an integer from 0 to 255"));
+    EXPECT_THAT(message(call("set_settings", {{"inverted", "yes"}})),
+                HasSubstr("inverted must be true or false"));
+    EXPECT_THAT(message(call("set_settings", json::object())), HasSubstr("at least one of"));
+    EXPECT_EQ(api_.calls.size(), 1u);  // only the "stop" with [] reached the core
+}
+
+TEST_F(DispatcherTest, CoreErrorsMapToTheirCodes) {
+    const std::pair<daemon::ErrorCode, int> cases[] = {
+        {daemon::ErrorCode::kInvalidParams, -32602}, {daemon::ErrorCode::kLinkDown, -32000},
+        {daemon::ErrorCode::kPermission, -32001},    {daemon::ErrorCode::kNoAnswer, -32002},
+        {daemon::ErrorCode::kBusy, -32003},
+    };
+    for (const auto& [error, expected] : cases) {
+        api_.error = daemon::CommandError{error, "from the core"};
+        for (const auto* method : {"speed", "stop", "angle", "center", "lock", "photo", "record",
+                                   "acquire", "release"}) {
+            auto reply = call(method);
+            EXPECT_EQ(code(reply), expected) << method;
+            EXPECT_EQ(message(reply), "from the core");
+        }
+    }
+}
+
+TEST_F(DispatcherTest, EveryCameraAndModeCommandReachesTheCore) {
+    for (const auto* method : {"stop", "center", "lock", "photo", "record"}) {
+        EXPECT_EQ(call(method)["result"]["sent"], true);
+        EXPECT_EQ(api_.calls.back(), fmt::format("{} by 7", method));
+    }
+    call("angle", {{"pitch", -90}});
+    EXPECT_EQ(api_.calls.back(), "angle 0 -9000 0 by 7");
+}
+
+TEST_F(DispatcherTest, AcquireAndReleaseSayWhoHoldsControl) {
+    auto held = call("acquire")["result"];
+    EXPECT_EQ(held["controller"]["pid"], 4242);
+    EXPECT_EQ(held["you_hold_control"], true);
+    auto released = call("release")["result"];
+    EXPECT_TRUE(released["controller"].is_null());
+    EXPECT_EQ(released["you_hold_control"], false);
+}
+
+TEST_F(DispatcherTest, SettingsAnswerLaterThroughTheSink) {
+    EXPECT_TRUE(send(R"({"id":5,"method":"get_settings"})").empty());
+    api_.run_settings();
+    ASSERT_EQ(lines_.size(), 1u);
+    auto got = json::parse(lines_[0]);
+    EXPECT_EQ(got["id"], 5);
+    EXPECT_EQ(got["result"], json({{"dead_zone", 10}, {"follow_speed", 20}, {"inverted", false}}));
+
+    send(R"({"id":6,"method":"set_settings","params":{"follow_speed":99,"inverted":true}})");
+    api_.run_settings();
+    auto set = json::parse(lines_.back());
+    EXPECT_EQ(set["result"]["follow_speed"], 99);
+    EXPECT_EQ(set["result"]["inverted"], true);
+    EXPECT_EQ(api_.calls.back(), "set_settings -1 99 1 by 7");
+
+    api_.error = daemon::CommandError{daemon::ErrorCode::kNoAnswer, "the gimbal did not answer"};
+    send(R"({"id":7,"method":"get_settings"})");
+    api_.run_settings();
+    EXPECT_EQ(json::parse(lines_.back())["error"]["code"], -32002);
+}
+
+TEST_F(DispatcherTest, SubscriptionsChangeTheClientState) {
+    auto result = call("subscribe", {{"topics", {"attitude", "link"}}, {"max_rate_hz", 5}});
+    EXPECT_EQ(result["result"]["topics"], json({"attitude", "link"}));
+    EXPECT_EQ(result["result"]["max_rate_hz"], 5.0);
+    EXPECT_TRUE(client_.subscriptions.attitude && client_.subscriptions.link);
+    EXPECT_EQ(client_.subscriptions.max_rate_hz, 5.0);
+    auto left = call("unsubscribe", {{"topics", {"attitude"}}})["result"];
+    EXPECT_EQ(left["topics"], json({"link"}));
+    EXPECT_FALSE(client_.subscriptions.max_rate_hz);
+    call("subscribe", {{"topics", {"motion"}}});
+    EXPECT_EQ(call("unsubscribe")["result"]["topics"], json::array());
+    EXPECT_THAT(message(call("subscribe", {{"topics", {"weather"}}})),
+                HasSubstr("topics must be a non-empty array of attitude, link and motion"));
+    EXPECT_THAT(message(call("subscribe", {{"topics", {"attitude"}}, {"max_rate_hz", 0}})),
+                HasSubstr("max_rate_hz must be a number above 0 and at most 1000"));
+    EXPECT_THAT(message(call("subscribe")), HasSubstr("topics is required"));
+}
+
+TEST_F(DispatcherTest, BatchesAnswerInOrderInOneLine) {
+    auto replies = send(R"([{"id":1,"method":"stop"},{"method":"photo"},)"
+                        R"({"id":2,"method":"get_settings"},{"id":3,"method":"nope"},5])");
+    EXPECT_TRUE(replies.empty()) << "waits for the settings answer";
+    api_.run_settings();
+    ASSERT_EQ(lines_.size(), 1u);
+    auto batch = json::parse(lines_[0]);
+    ASSERT_EQ(batch.size(), 4u);
+    EXPECT_EQ(batch[0]["id"], 1);
+    EXPECT_EQ(batch[1]["id"], 2);
+    EXPECT_EQ(batch[1]["result"]["dead_zone"], 10);
+    EXPECT_EQ(batch[2]["error"]["code"], -32601);
+    EXPECT_EQ(batch[3]["error"]["code"], -32600);
+    EXPECT_TRUE(send(R"([{"method":"photo"},{"method":"record"}])").empty());
+    EXPECT_EQ(code(send("[]").at(0)), rpc_error::kInvalidRequest);
+    std::string big = "[";
+    for (int i = 0; i < 33; ++i) {
+        big += std::string(i ? "," : "") + R"({"id":1,"method":"stop"})";
+    }
+    EXPECT_THAT(message(send(big + "]").at(0)), HasSubstr("1 to 32 requests"));
+}
+
+}  // namespace
+}  // namespace gport::ipc

@@ -1,0 +1,88 @@
+// Notification encoding: the attitude payload of SPEC section 4, link and motion.
+#include "gport/ipc/event_json.hpp"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+namespace gport::ipc {
+namespace {
+
+using nlohmann::json;
+
+daemon::AttitudeSample sample_with_rates() {
+    daemon::AttitudeSample s;
+    s.seq = 1042;
+    s.wall = daemon::WallTime(std::chrono::microseconds(1763770000123456));
+    s.attitude.imu = {0, 0, -3929};
+    s.attitude.hall = {-1921, -16, 466};
+    s.attitude.rates = protocol::AttitudeRates{{125, -50, 0}, 12, -230, 0};
+    return s;
+}
+
+TEST(EventJson, AttitudeNotificationHasTheSpecShape) {
+    auto line = attitude_line(sample_with_rates());
+    ASSERT_EQ(line->back(), '\n');
+    EXPECT_EQ(
+        *line,
+        R"({"jsonrpc":"2.0","method":"attitude","params":{"seq":1042,"t":1763770000.123456,)"
+        R"("imu":{"roll":0,"pitch":0,"yaw":-39.29},"hall":{"roll":-19.21,"pitch":-0.16,"yaw":4.66},)"
+        R"("rates":{"hall":{"roll":1.25,"pitch":-0.5,"yaw":0},"imu":{"x":0.12,"y":-2.3,"z":0}}}})"
+        "\n");
+    auto parsed = json::parse(*line);
+    EXPECT_EQ(parsed["params"]["hall"]["roll"], -19.21);
+}
+
+TEST(EventJson, RatesOnlyWhenTheGimbalSentThem) {
+    auto s = sample_with_rates();
+    s.attitude.rates.reset();
+    auto parsed = json::parse(*attitude_line(s));
+    EXPECT_FALSE(parsed["params"].contains("rates"));
+    EXPECT_EQ(parsed["params"]["seq"], 1042);
+}
+
+TEST(EventJson, TimeKeepsMicrosecondsWithLeadingZeros) {
+    auto s = sample_with_rates();
+    s.wall = daemon::WallTime(std::chrono::microseconds(1700000000000042));
+    EXPECT_NE(attitude_payload(s).find(R"("t":1700000000.000042)"), std::string::npos);
+}
+
+TEST(EventJson, DroppedCountGoesIntoParams) {
+    auto line = with_dropped(*attitude_line(sample_with_rates()), 17);
+    auto parsed = json::parse(*line);
+    EXPECT_EQ(parsed["params"]["dropped"], 17);
+    EXPECT_EQ(parsed["params"]["seq"], 1042);
+    EXPECT_EQ(line->back(), '\n');
+}
+
+TEST(EventJson, LinkAndMotion) {
+    auto link = json::parse(*link_line({daemon::LinkState::kStale, "no attitude for 500 ms"}));
+    EXPECT_EQ(link, json({{"jsonrpc", "2.0"},
+                          {"method", "link"},
+                          {"params", {{"state", "stale"}, {"reason", "no attitude for 500 ms"}}}}));
+
+    daemon::MotionEvent ended;
+    ended.change = daemon::MotionChange::kEnded;
+    ended.owner = daemon::ClientInfo{3, 100, 1000, 1000};
+    ended.speed = {0, 0, 1500};
+    ended.duration = daemon::Millis(2000);
+    ended.reason = daemon::EndReason::kOwnerGone;
+    auto motion = json::parse(*motion_line(ended))["params"];
+    EXPECT_EQ(motion["change"], "ended");
+    EXPECT_EQ(motion["mode"], "speed");
+    EXPECT_EQ(motion["reason"], "owner_gone");
+    EXPECT_EQ(motion["owner"]["pid"], 100);
+    EXPECT_EQ(motion["speed"]["yaw"], 15.0);
+    EXPECT_EQ(motion["duration_ms"], 2000);
+
+    daemon::MotionEvent angle;
+    angle.mode = daemon::MotionMode::kAngle;
+    angle.angle = {0, -9000, 0};
+    auto a = json::parse(*motion_line(angle))["params"];
+    EXPECT_EQ(a["angle"]["pitch"], -90.0);
+    EXPECT_FALSE(a.contains("reason"));
+    EXPECT_TRUE(a["owner"].is_null());
+}
+
+}  // namespace
+}  // namespace gport::ipc

@@ -1,0 +1,145 @@
+// A hand-written daemon::Api for the IPC tests and the request fuzzer: it
+// records every call, answers with what the test set up, and lets the test
+// publish events through the registered observer.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gport/daemon/api.hpp"
+
+namespace gport::testing {
+
+class FakeApi final : public daemon::Api {
+  public:
+    daemon::CoreObserver* observer = nullptr;
+    daemon::Status status_value;
+    std::optional<daemon::AttitudeSample> attitude;
+    std::optional<daemon::CommandError> error;  // every command fails with it while set
+    std::optional<daemon::ClientInfo> holder;
+    daemon::Settings settings{10, 20, false};
+    bool emit_motion = false;  // speed() publishes a motion "started" event
+    std::vector<std::string> calls;
+    std::vector<daemon::ClientInfo> gone;
+    // Settings answers wait here until the test (or run_settings) runs them.
+    std::vector<std::function<void()>> pending_settings;
+    // When set, settings answers are handed to it instead (e.g. asio::post).
+    std::function<void(std::function<void()>)> defer;
+
+    void set_observer(daemon::CoreObserver* o) override { observer = o; }
+    daemon::Status status() const override { return status_value; }
+    std::optional<daemon::AttitudeSample> latest_attitude() const override { return attitude; }
+    bool may_command(const daemon::ClientInfo&) const override { return !error; }
+
+    daemon::Outcome<daemon::SpeedStarted> speed(const daemon::ClientInfo& c, protocol::Axes s,
+                                                std::optional<daemon::Millis> d) override {
+        calls.push_back(fmt::format("speed {} {} {} {} by {}", s.roll, s.pitch, s.yaw,
+                                    d ? d->count() : -1, c.id));
+        if (error) {
+            return *error;
+        }
+        const auto duration = d.value_or(daemon::Millis(1000));
+        if (emit_motion && observer != nullptr) {
+            daemon::MotionEvent event;
+            event.owner = c;
+            event.speed = s;
+            event.duration = duration;
+            observer->on_motion(event);
+        }
+        return daemon::SpeedStarted{duration, std::chrono::system_clock::now() + duration};
+    }
+    daemon::Outcome<daemon::Done> stop(const daemon::ClientInfo& c) override {
+        return command("stop", c);
+    }
+    daemon::Outcome<daemon::Done> angle(const daemon::ClientInfo& c, protocol::Axes a) override {
+        return command(fmt::format("angle {} {} {}", a.roll, a.pitch, a.yaw), c);
+    }
+    daemon::Outcome<daemon::Done> center(const daemon::ClientInfo& c) override {
+        return command("center", c);
+    }
+    daemon::Outcome<daemon::Done> lock(const daemon::ClientInfo& c) override {
+        return command("lock", c);
+    }
+    daemon::Outcome<daemon::Done> photo(const daemon::ClientInfo& c) override {
+        return command("photo", c);
+    }
+    daemon::Outcome<daemon::Done> record(const daemon::ClientInfo& c) override {
+        return command("record", c);
+    }
+    daemon::Outcome<std::optional<daemon::ClientInfo>> acquire(
+        const daemon::ClientInfo& c) override {
+        calls.push_back(fmt::format("acquire by {}", c.id));
+        if (error) {
+            return *error;
+        }
+        holder = c;
+        return holder;
+    }
+    daemon::Outcome<std::optional<daemon::ClientInfo>> release(
+        const daemon::ClientInfo& c) override {
+        calls.push_back(fmt::format("release by {}", c.id));
+        if (error) {
+            return *error;
+        }
+        holder.reset();
+        return holder;
+    }
+    void get_settings(const daemon::ClientInfo& c, SettingsCallback done) override {
+        calls.push_back(fmt::format("get_settings by {}", c.id));
+        answer(std::move(done));
+    }
+    void set_settings(const daemon::ClientInfo& c, daemon::SettingsChange change,
+                      SettingsCallback done) override {
+        calls.push_back(fmt::format("set_settings {} {} {} by {}",
+                                    change.dead_zone ? int{*change.dead_zone} : -1,
+                                    change.follow_speed ? int{*change.follow_speed} : -1,
+                                    change.inverted ? int{*change.inverted} : -1, c.id));
+        if (!error) {
+            settings.dead_zone = change.dead_zone.value_or(settings.dead_zone);
+            settings.follow_speed = change.follow_speed.value_or(settings.follow_speed);
+            settings.inverted = change.inverted.value_or(settings.inverted);
+        }
+        answer(std::move(done));
+    }
+    void client_gone(const daemon::ClientInfo& c) override { gone.push_back(c); }
+
+    void run_settings() {
+        auto pending = std::move(pending_settings);
+        pending_settings.clear();
+        for (auto& run : pending) {
+            run();
+        }
+    }
+
+  private:
+    daemon::Outcome<daemon::Done> command(std::string name, const daemon::ClientInfo& c) {
+        calls.push_back(fmt::format("{} by {}", name, c.id));
+        if (error) {
+            return *error;
+        }
+        return daemon::Done{};
+    }
+
+    void answer(SettingsCallback done) {
+        auto run = [this, done = std::move(done)] {
+            if (error) {
+                done(*error);
+            } else {
+                done(settings);
+            }
+        };
+        if (defer) {
+            defer(std::move(run));
+        } else {
+            pending_settings.push_back(std::move(run));
+        }
+    }
+};
+
+}  // namespace gport::testing
