@@ -60,7 +60,7 @@ class PtySimulator::Impl : public std::enable_shared_from_this<PtySimulator::Imp
     void send(std::vector<Chunk> chunks);
     void send_frames(const GimbalModel::Frames& frames, Duration now);
     void write_now(const Chunk& chunk);
-    void pump();
+    void pump(bool busy = false);
     void record(Direction direction, std::span<const std::uint8_t> bytes);
 
     SimOptions options_;

@@ -63,7 +63,9 @@ void PtySimulator::Impl::write_now(const Chunk& chunk) {
 }
 
 // Paced output: each write waits until the previous one has left the line.
-void PtySimulator::Impl::pump() {
+// `busy`: called by the pacing timer, i.e. the line never went idle.
+void PtySimulator::Impl::pump(bool busy) {
+    busy = busy || pacing_;  // a pending pacing timer means a backlog: the line is busy
     while (!queue_.empty()) {
         if (!can_send()) {
             for (const auto& c : queue_) {
@@ -82,7 +84,7 @@ void PtySimulator::Impl::pump() {
                     [self = shared_from_this()](const boost::system::error_code& ec) {
                         self->pacing_ = false;
                         if (!ec && !self->stopped_) {
-                            self->pump();
+                            self->pump(true);
                         }
                     });
             }
@@ -92,8 +94,12 @@ void PtySimulator::Impl::pump() {
         queue_.pop_front();
         queued_bytes_ -= chunk.size();
         write_now(chunk);
-        line_free_ =
-            std::max(now, line_free_) + kByteTime * static_cast<std::int64_t>(chunk.size());
+        // While the line stays busy (woken to send the next queued write, or
+        // catching up in this loop) the next byte time follows the previous
+        // one, not the late wake-up, so timer latency does not slow the line.
+        const auto base = busy ? line_free_ : std::max(now, line_free_);
+        busy = true;
+        line_free_ = base + kByteTime * static_cast<std::int64_t>(chunk.size());
     }
 }
 
