@@ -77,13 +77,21 @@ class DuplicateKeys {
     std::string last_key_;
 };
 
-// nlohmann's message is "[json.exception.parse_error.101] parse error at line
-// L, column C: <what went wrong>"; keep only what went wrong, since the
+// nlohmann's messages read "[json.exception.parse_error.101] parse error at
+// line L, column C: <what went wrong>"; keep only what went wrong, since the
 // location is reported in our own format.
-std::string syntax_detail(const std::string& what) {
-    const auto bracket = what.find("] ");
-    const auto colon = what.find(": ", bracket == std::string::npos ? 0 : bracket);
-    return colon == std::string::npos ? what : what.substr(colon + 2);
+std::string syntax_detail(std::string_view what) {
+    if (what.starts_with("[json.exception.")) {
+        if (const auto end = what.find("] "); end != std::string_view::npos) {
+            what.remove_prefix(end + 2);
+        }
+    }
+    if (what.starts_with("parse error")) {
+        if (const auto colon = what.find(": "); colon != std::string_view::npos) {
+            what.remove_prefix(colon + 2);
+        }
+    }
+    return std::string(what);
 }
 
 // Line and column (both from 1) of the 1-based byte offset `byte`.

@@ -219,6 +219,11 @@ TEST(ConfigSyntax, EmptyTextAndTrailingGarbage) {
     EXPECT_THAT(errors_of("{} {}"), ElementsAre(ErrorWith("line 1", "invalid JSON")));
 }
 
+TEST(ConfigSyntax, NumberTooLargeForADouble) {
+    EXPECT_THAT(errors_of(R"({"keepalive": {"rate_hz": 1e400}})"),
+                ElementsAre("test.json: invalid JSON: number overflow parsing '1e400'"));
+}
+
 TEST(ConfigSyntax, InvalidUtf8IsASyntaxError) {
     EXPECT_THAT(errors_of("{\"log\": {\"level\": \"\xff\"}}"),
                 ElementsAre(ErrorWith("invalid JSON", "UTF-8")));
