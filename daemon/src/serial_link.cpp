@@ -24,7 +24,8 @@ SerialLink::SerialLink(asio::io_context& io, const config::SerialConfig& serial,
       backoff_(link.reconnect_initial),
       handlers_(std::move(handlers)),
       log_(std::move(log)),
-      open_failures_log_(60s) {}
+      open_failures_log_(60s),
+      losses_log_(60s) {}
 
 void SerialLink::start() {
     stopped_ = false;
@@ -180,7 +181,10 @@ void SerialLink::fail(const std::string& reason) {
     port_.close(ignored);
     queue_.clear();
     writing_ = false;
-    log_->warn("device {} lost: {}; reopening", device_, reason);
+    if (auto count = losses_log_.occur()) {
+        log_->warn("device {} lost: {} ({} loss{} since last report); reopening", device_, reason,
+                   *count, *count == 1 ? "" : "es");
+    }
     handlers_.on_close(reason);
     notify_drained();
     schedule_reopen();

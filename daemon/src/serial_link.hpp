@@ -75,6 +75,7 @@ class SerialLink {
     Handlers handlers_;
     std::shared_ptr<spdlog::logger> log_;
     RepeatLimiter open_failures_log_;
+    RepeatLimiter losses_log_;
     std::array<std::uint8_t, 4096> read_buffer_{};
     std::deque<protocol::Frame> queue_;
     bool writing_ = false;
