@@ -12,7 +12,7 @@
 
 namespace gport::testing {
 
-Process::Process(std::vector<std::string> argv) {
+Process::Process(std::vector<std::string> argv, std::vector<std::string> env) {
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0) {
         throw std::system_error(errno, std::generic_category(), "pipe2");
@@ -28,6 +28,9 @@ Process::Process(std::vector<std::string> argv) {
     }
     if (pid_ == 0) {
         ::dup2(fds[1], STDOUT_FILENO);
+        for (auto& e : env) {
+            ::putenv(e.data());
+        }
         ::execv(args[0], args.data());
         ::_exit(127);
     }

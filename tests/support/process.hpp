@@ -20,8 +20,9 @@ using namespace std::chrono_literals;
 
 class Process {
   public:
-    // Starts argv[0] with the arguments; stderr is passed through to ours.
-    explicit Process(std::vector<std::string> argv);
+    // Starts argv[0] with the arguments and, added to our environment, the
+    // "NAME=value" entries of env; stderr is passed through to ours.
+    explicit Process(std::vector<std::string> argv, std::vector<std::string> env = {});
     ~Process();
     Process(const Process&) = delete;
     Process& operator=(const Process&) = delete;

@@ -1,0 +1,77 @@
+// End-to-end harness: the real gport-sim and gportd binaries, started as
+// child processes on a temporary directory, talking over a pty and a socket.
+#pragma once
+
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "client.hpp"
+#include "process.hpp"
+
+namespace gport::testing {
+
+// gport-sim with --trace under a symlink; its trace lines are kept.
+class SimProcess {
+  public:
+    SimProcess(const TempDir& dir, std::vector<std::string> extra = {})
+        : link_(dir.file("gimbal")) {
+        std::vector<std::string> argv{GPORT_SIM_PATH, "--link", link_, "--trace"};
+        argv.insert(argv.end(), extra.begin(), extra.end());
+        process_ = std::make_unique<Process>(argv);
+        process_->next_line();  // the slave path
+    }
+    const std::string& link() const { return link_; }
+    Process& process() { return *process_; }
+
+    // Waits for a trace line of a speed frame equal to [roll, pitch, yaw].
+    bool wait_speed(const Json& speed, std::chrono::milliseconds timeout = 10s) {
+        return process_
+            ->wait_line(
+                [&](const std::string& line) {
+                    auto j = Json::parse(line, nullptr, false);
+                    return j.is_object() && j.value("mode", "") == "speed" && j["speed"] == speed;
+                },
+                timeout)
+            .has_value();
+    }
+
+  private:
+    std::string link_;
+    std::unique_ptr<Process> process_;
+};
+
+// A config file with fast timings for tests.
+inline std::string write_test_config(const TempDir& dir, const std::string& extra = "") {
+    const std::string path = dir.file("gportd.json");
+    std::ofstream(path) << "{\n  // test timings\n"
+                        << "  \"link\": {\"stale_ms\": 300, \"reconnect_initial_ms\": 50,"
+                        << " \"reconnect_max_ms\": 200},\n"
+                        << "  \"requests\": {\"timeout_ms\": 200, \"retries\": 1}"
+                        << (extra.empty() ? "" : ",\n  " + extra) << "\n}\n";
+    return path;
+}
+
+// gportd on a device (or --simulate), with a socket in dir.
+class DaemonProcess {
+  public:
+    DaemonProcess(const TempDir& dir, std::vector<std::string> args,
+                  std::vector<std::string> env = {})
+        : socket_(dir.file("gportd.sock")) {
+        std::vector<std::string> argv{GPORTD_PATH, "--config", write_test_config(dir),
+                                      "--socket",  socket_,    "--log-level",
+                                      "warn"};
+        argv.insert(argv.end(), args.begin(), args.end());
+        process_ = std::make_unique<Process>(argv, env);
+    }
+    const std::string& socket() const { return socket_; }
+    Process& process() { return *process_; }
+
+  private:
+    std::string socket_;
+    std::unique_ptr<Process> process_;
+};
+
+}  // namespace gport::testing
