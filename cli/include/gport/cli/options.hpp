@@ -1,0 +1,51 @@
+// gportctl's command line: one subcommand per API method, parsed into an
+// Invocation without touching the socket, so that it is tested directly.
+#pragma once
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace gport::cli {
+
+// Exit statuses (sysexits.h where one fits).
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitError = 1;         // the daemon answered with an error
+inline constexpr int kExitUsage = 64;        // EX_USAGE
+inline constexpr int kExitUnavailable = 69;  // EX_UNAVAILABLE: no daemon to talk to
+
+inline constexpr std::string_view kDefaultSocket = "/run/gportd.sock";
+
+struct Invocation {
+    std::string command;  // subcommand as typed: "status", "watch", "settings", ...
+    std::string method;   // the JSON-RPC method it calls
+    nlohmann::json params = nlohmann::json::object();
+    std::string socket{kDefaultSocket};
+    bool json = false;                // --json: raw result objects, one per line
+    bool help = false;                // --help: print usage for `command` (or all)
+    std::vector<std::string> topics;  // watch
+    std::optional<double> rate_hz;    // watch --rate
+    std::optional<std::chrono::milliseconds> duration;  // speed --for
+};
+
+struct UsageError {
+    std::string message;
+};
+
+using ParseResult = std::variant<Invocation, UsageError>;
+
+// `args` excludes argv[0]. `env_socket` is $GPORT_SOCKET (nullptr if unset);
+// --socket wins over it.
+ParseResult parse_args(const std::vector<std::string>& args, const char* env_socket);
+
+// "2s", "500ms", "1.5s", "2m" -> milliseconds (at least 1 ms).
+std::optional<std::chrono::milliseconds> parse_duration(std::string_view text);
+
+// Usage text for one subcommand, or the overview when `command` is empty or unknown.
+std::string usage(std::string_view command);
+
+}  // namespace gport::cli

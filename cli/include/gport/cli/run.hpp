@@ -1,0 +1,21 @@
+// Runs one parsed gportctl invocation against the daemon and returns the
+// exit status (see options.hpp).
+#pragma once
+
+#include <functional>
+#include <ostream>
+
+#include "gport/cli/options.hpp"
+
+namespace gport::cli {
+
+// `interrupted` reports SIGINT/SIGTERM; watch and speed end on it (speed
+// after sending stop).
+int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
+        std::function<bool()> interrupted);
+
+// Parses argv (without argv[0]) and runs it: the whole of gportctl.
+int main_with(const std::vector<std::string>& args, const char* env_socket, std::ostream& out,
+              std::ostream& err, std::function<bool()> interrupted);
+
+}  // namespace gport::cli

@@ -1,0 +1,172 @@
+#include "gport/cli/output.hpp"
+
+#include <fmt/format.h>
+
+namespace gport::cli {
+namespace {
+
+using nlohmann::json;
+
+// Reads a member leniently: output must never throw on an unexpected shape.
+template <typename T>
+T get(const json& object, const char* key, T fallback) {
+    if (!object.is_object()) {
+        return fallback;
+    }
+    auto it = object.find(key);
+    if (it == object.end() || it->is_null()) {
+        return fallback;
+    }
+    try {
+        return it->get<T>();
+    } catch (const json::exception&) {
+        return fallback;
+    }
+}
+
+std::string axes(const json& a) {
+    return fmt::format("roll {:.2f} pitch {:.2f} yaw {:.2f}", get(a, "roll", 0.0),
+                       get(a, "pitch", 0.0), get(a, "yaw", 0.0));
+}
+
+std::string client(const json& c) {
+    if (!c.is_object()) {
+        return "nobody";
+    }
+    return fmt::format("pid {} (uid {}, client {})", get(c, "pid", 0), get(c, "uid", 0),
+                       get(c, "id", 0));
+}
+
+std::string duration(long long ms) {
+    const long long s = ms / 1000;
+    if (s >= 3600) {
+        return fmt::format("{}h {:02}m {:02}s", s / 3600, s / 60 % 60, s % 60);
+    }
+    if (s >= 60) {
+        return fmt::format("{}m {:02}s", s / 60, s % 60);
+    }
+    return fmt::format("{:.1f}s", static_cast<double>(ms) / 1000.0);
+}
+
+std::string attitude(const json& a) {
+    std::string out =
+        fmt::format("seq {}  imu {}  hall {}", get(a, "seq", 0ull),
+                    axes(a.value("imu", json::object())), axes(a.value("hall", json::object())));
+    if (a.contains("rates")) {
+        const auto& r = a["rates"];
+        const auto imu = r.value("imu", json::object());
+        out += fmt::format("  rates hall {}  imu x {:.2f} y {:.2f} z {:.2f}",
+                           axes(r.value("hall", json::object())), get(imu, "x", 0.0),
+                           get(imu, "y", 0.0), get(imu, "z", 0.0));
+    }
+    if (a.contains("dropped")) {
+        out += fmt::format("  ({} dropped so far)", get(a, "dropped", 0ull));
+    }
+    return out;
+}
+
+std::string motion(const json& m) {
+    if (!m.is_object()) {
+        return "none";
+    }
+    return fmt::format("{} {} deg/s, {} ms left, owner {}", get(m, "mode", std::string("?")),
+                       axes(m.value("speed", json::object())), get(m, "time_left_ms", 0ll),
+                       client(m.value("owner", json())));
+}
+
+std::string status(const json& s) {
+    const auto link = s.value("link", json::object());
+    const auto c = s.value("counters", json::object());
+    std::string out;
+    out += fmt::format("link:      {} ({})\n", get(link, "state", std::string("?")),
+                       get(link, "reason", std::string("")));
+    out += fmt::format("device:    {} ({})\n", get(s, "device", std::string("?")),
+                       get(s, "device_open", false) ? "open" : "closed");
+    out += fmt::format("daemon:    gportd {}, API {}, up {}\n",
+                       get(s, "daemon_version", std::string("?")), get(s, "api_version", 0),
+                       duration(get(s, "uptime_ms", 0ll)));
+    const auto age = s.value("attitude_age_ms", json());
+    out += fmt::format("attitude:  {}\n", age.is_number()
+                                              ? fmt::format("{} ms old", age.get<long long>())
+                                              : std::string("none received"));
+    out += fmt::format("clients:   {}\n", get(s, "clients", 0));
+    out += fmt::format("motion:    {}\n", motion(s.value("motion", json())));
+    out += fmt::format("control:   {}\n", s.value("controller", json()).is_object()
+                                              ? "held by " + client(s["controller"])
+                                              : std::string("free (last command wins)"));
+    out +=
+        fmt::format("frames:    in {} ({} bytes), out {} ({} bytes), attitude {}\n",
+                    get(c, "frames_in", 0ull), get(c, "bytes_in", 0ull), get(c, "frames_out", 0ull),
+                    get(c, "bytes_out", 0ull), get(c, "attitude_frames", 0ull));
+    out += fmt::format("errors:    crc {}, header {}, resyncs {}, garbage bytes {}\n",
+                       get(c, "crc_errors", 0ull), get(c, "header_errors", 0ull),
+                       get(c, "resyncs", 0ull), get(c, "garbage_bytes", 0ull));
+    out += fmt::format("dropped:   {} notifications in total\n",
+                       get(s, "dropped_notifications", 0ull));
+    return out;
+}
+
+std::string settings(const json& s) {
+    return fmt::format("dead zone:     {}\nfollow speed:  {}\ninverted:      {}\n",
+                       get(s, "dead_zone", 0), get(s, "follow_speed", 0),
+                       get(s, "inverted", false) ? "yes" : "no");
+}
+
+}  // namespace
+
+std::string format_result(const std::string& command, const json& result) {
+    if (command == "status") {
+        return status(result);
+    }
+    if (command == "attitude") {
+        return attitude(result) + fmt::format("  (age {} ms)\n", get(result, "age_ms", 0ll));
+    }
+    if (command == "settings") {
+        return settings(result);
+    }
+    if (command == "speed") {
+        return fmt::format("moving for {} ms\n", get(result, "duration_ms", 0ll));
+    }
+    if (command == "watch") {
+        std::string topics;
+        for (const auto& t : result.value("topics", json::array())) {
+            topics += (topics.empty() ? "" : ", ") + t.get<std::string>();
+        }
+        return fmt::format("watching {} (Ctrl-C to stop)\n", topics);
+    }
+    return fmt::format("{}: sent\n", command);
+}
+
+std::string format_notification(const json& message) {
+    const auto topic = get(message, "method", std::string("?"));
+    const auto params = message.value("params", json::object());
+    if (topic == "attitude") {
+        return "attitude  " + attitude(params) + "\n";
+    }
+    if (topic == "link") {
+        return fmt::format("link      {} ({})\n", get(params, "state", std::string("?")),
+                           get(params, "reason", std::string("")));
+    }
+    if (topic == "motion") {
+        std::string out = fmt::format("motion    {} {}", get(params, "change", std::string("?")),
+                                      get(params, "mode", std::string("?")));
+        if (params.contains("speed")) {
+            out += " " + axes(params["speed"]) + " deg/s";
+        }
+        if (params.contains("angle")) {
+            out += " " + axes(params["angle"]) + " deg";
+        }
+        if (params.contains("reason")) {
+            out += ", reason " + get(params, "reason", std::string("?"));
+        }
+        return out + ", owner " + client(params.value("owner", json())) + "\n";
+    }
+    return message.dump() + "\n";
+}
+
+std::string format_error(const json& error) {
+    return fmt::format("error {}: {}", get(error, "code", 0),
+                       get(error, "message", std::string("(no message)")));
+}
+
+}  // namespace gport::cli

@@ -1,0 +1,89 @@
+// gportctl's help texts: the overview and one page per subcommand.
+#include <map>
+#include <string>
+
+#include "gport/cli/options.hpp"
+
+namespace gport::cli {
+namespace {
+
+constexpr const char* kOverview = R"(usage: gportctl [--socket PATH] [--json] COMMAND [OPTIONS]
+
+Talks to gportd, the G-Port gimbal daemon, over its Unix socket.
+
+commands:
+  status                     link, device, counters, clients, current motion
+  attitude                   the latest attitude sample
+  watch [TOPIC...]           stream attitude, link and motion events
+  speed --yaw DEG/S ...      move at a speed (until Ctrl-C, or --for DURATION)
+  stop                       stop any speed motion now
+  angle --pitch DEG ...      go to an angle
+  center                     centre the gimbal
+  lock                       lock mode (control mode 4)
+  photo                      take a photo
+  record                     start or stop recording (toggles)
+  settings [--dead-zone N] [--follow-speed N] [--inverted yes|no]
+                             read the settings, or change the ones given
+  help [COMMAND]             this text, or a command's
+
+global options:
+  --socket PATH   daemon socket (default /run/gportd.sock, or $GPORT_SOCKET)
+  --json          print raw JSON result objects, one per line, for scripts
+  --help, -h      help (also after a command)
+
+acquire and release are not commands: control held by a one-shot process
+would be released the moment it exits. A program that needs exclusive
+control keeps its own connection and calls "acquire" (see docs/api.md).
+
+exit status: 0 success, 1 the daemon refused (message and code on stderr),
+64 usage error, 69 daemon unreachable.
+)";
+
+const std::map<std::string, std::string, std::less<>>& pages() {
+    static const std::map<std::string, std::string, std::less<>> texts = {
+        {"status",
+         "usage: gportctl status\n\nLink state, device, versions, uptime, attitude "
+         "age, counters, clients, motion and control.\n"},
+        {"attitude",
+         "usage: gportctl attitude\n\nThe latest attitude sample (degrees) and its "
+         "age. Fails (exit 1) when none has arrived yet.\n"},
+        {"watch",
+         "usage: gportctl watch [attitude] [link] [motion] [--rate HZ]\n\n"
+         "Prints each event as it arrives until Ctrl-C (exit 0). Without topics, all\n"
+         "three. --rate limits attitude to at most HZ samples per second, always\n"
+         "delivering the newest one.\n"},
+        {"speed",
+         "usage: gportctl speed [--roll DEG/S] [--pitch DEG/S] [--yaw DEG/S] "
+         "[--for DURATION]\n\n"
+         "Axes not given are 0; each within -327.67..327.67 deg/s.\n"
+         "Without --for the motion lasts until Ctrl-C or SIGTERM: gportctl re-sends\n"
+         "the speed every 200 ms for 500 ms at a time (if gportctl dies, the gimbal\n"
+         "stops within half a second), then sends stop and exits 0.\n"
+         "With --for DURATION (2s, 500ms, 1.5s, 1m) the daemon keeps the motion going;\n"
+         "gportctl stays connected until it ends (the daemon stops the motion of a\n"
+         "client that disconnects), and Ctrl-C stops it early.\n"},
+        {"stop", "usage: gportctl stop\n\nSends zero speed at once.\n"},
+        {"angle",
+         "usage: gportctl angle [--roll DEG] [--pitch DEG] [--yaw DEG]\n\n"
+         "Angle control; axes not given are 0, each within -327.67..327.67.\n"},
+        {"center", "usage: gportctl center\n\nCentres the gimbal.\n"},
+        {"lock", "usage: gportctl lock\n\nLock mode (control mode 4).\n"},
+        {"photo", "usage: gportctl photo\n\nTakes a photo.\n"},
+        {"record", "usage: gportctl record\n\nToggles video recording.\n"},
+        {"settings",
+         "usage: gportctl settings [--dead-zone 0-255] [--follow-speed 0-255] "
+         "[--inverted yes|no]\n\n"
+         "Without options, reads the settings from the gimbal. With options,\n"
+         "changes only those and prints the settings the gimbal now holds.\n"},
+    };
+    return texts;
+}
+
+}  // namespace
+
+std::string usage(std::string_view command) {
+    auto page = pages().find(command);
+    return page == pages().end() ? kOverview : page->second;
+}
+
+}  // namespace gport::cli

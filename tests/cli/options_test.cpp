@@ -1,0 +1,117 @@
+// gportctl's argument parsing: every subcommand, values, and usage errors.
+#include "gport/cli/options.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace gport::cli {
+namespace {
+
+using nlohmann::json;
+using ::testing::HasSubstr;
+using namespace std::chrono_literals;
+
+Invocation parse(std::vector<std::string> args, const char* env = nullptr) {
+    auto result = parse_args(args, env);
+    if (auto* error = std::get_if<UsageError>(&result)) {
+        ADD_FAILURE() << "usage error: " << error->message;
+        return {};
+    }
+    return std::get<Invocation>(result);
+}
+
+std::string refusal(std::vector<std::string> args) {
+    auto result = parse_args(args, nullptr);
+    if (auto* error = std::get_if<UsageError>(&result)) {
+        return error->message;
+    }
+    ADD_FAILURE() << "accepted";
+    return {};
+}
+
+TEST(Options, OneMethodPerCommand) {
+    const std::pair<const char*, const char*> cases[] = {
+        {"status", "status"},
+        {"attitude", "attitude"},
+        {"stop", "stop"},
+        {"center", "center"},
+        {"lock", "lock"},
+        {"photo", "photo"},
+        {"record", "record"},
+        {"angle", "angle"},
+        {"speed", "speed"},
+        {"watch", "subscribe"},
+        {"settings", "get_settings"},
+    };
+    for (const auto& [command, method] : cases) {
+        EXPECT_EQ(parse({command}).method, method) << command;
+    }
+}
+
+TEST(Options, SocketFromOptionThenEnvironmentThenDefault) {
+    EXPECT_EQ(parse({"status"}).socket, "/run/gportd.sock");
+    EXPECT_EQ(parse({"status"}, "/tmp/env.sock").socket, "/tmp/env.sock");
+    EXPECT_EQ(parse({"--socket", "/tmp/a.sock", "status"}, "/tmp/env.sock").socket, "/tmp/a.sock");
+    EXPECT_EQ(parse({"status", "--socket=/tmp/b.sock"}).socket, "/tmp/b.sock");
+    EXPECT_TRUE(parse({"status", "--json"}).json);
+}
+
+TEST(Options, SpeedAndAngleTakeDegrees) {
+    auto speed = parse({"speed", "--yaw", "-12.5", "--pitch=3", "--for", "1.5s"});
+    EXPECT_EQ(speed.params, json({{"yaw", -12.5}, {"pitch", 3.0}, {"duration_ms", 1500}}));
+    EXPECT_EQ(speed.duration, 1500ms);
+    EXPECT_FALSE(parse({"speed", "--roll", "1"}).duration);
+    EXPECT_EQ(parse({"angle", "--pitch", "-90"}).params, json({{"pitch", -90.0}}));
+    EXPECT_THAT(refusal({"speed", "--yaw", "400"}), HasSubstr("-327.67 to 327.67"));
+    EXPECT_THAT(refusal({"speed", "--yaw", "fast"}), HasSubstr("--yaw fast"));
+    EXPECT_THAT(refusal({"speed", "--for", "2 hours"}), HasSubstr("2s, 500ms"));
+    EXPECT_THAT(refusal({"angle", "--for", "2s"}), HasSubstr("unknown option --for"));
+    EXPECT_THAT(refusal({"speed", "--yaw"}), HasSubstr("--yaw needs a value"));
+}
+
+TEST(Options, Durations) {
+    EXPECT_EQ(parse_duration("2s"), 2000ms);
+    EXPECT_EQ(parse_duration("500ms"), 500ms);
+    EXPECT_EQ(parse_duration("0.25s"), 250ms);
+    EXPECT_EQ(parse_duration("1m"), 60000ms);
+    EXPECT_FALSE(parse_duration("5"));
+    EXPECT_FALSE(parse_duration("0ms"));
+    EXPECT_FALSE(parse_duration("s"));
+    EXPECT_FALSE(parse_duration("-1s"));
+    EXPECT_FALSE(parse_duration("3h"));
+}
+
+TEST(Options, SettingsGetOrSet) {
+    EXPECT_EQ(parse({"settings"}).method, "get_settings");
+    auto set = parse({"settings", "--dead-zone", "5", "--inverted", "yes", "--follow-speed", "0"});
+    EXPECT_EQ(set.method, "set_settings");
+    EXPECT_EQ(set.params, json({{"dead_zone", 5}, {"inverted", true}, {"follow_speed", 0}}));
+    EXPECT_THAT(refusal({"settings", "--dead-zone", "256"}), HasSubstr("0 to 255"));
+    EXPECT_THAT(refusal({"settings", "--inverted", "maybe"}), HasSubstr("yes or no"));
+}
+
+TEST(Options, WatchTopicsAndRate) {
+    auto all = parse({"watch"});
+    EXPECT_EQ(all.params["topics"], json({"attitude", "link", "motion"}));
+    auto some = parse({"watch", "link", "attitude", "--rate", "5"});
+    EXPECT_EQ(some.params, json({{"topics", {"link", "attitude"}}, {"max_rate_hz", 5.0}}));
+    EXPECT_THAT(refusal({"watch", "weather"}), HasSubstr("topics: attitude, link, motion"));
+    EXPECT_THAT(refusal({"watch", "--rate", "0"}), HasSubstr("above 0"));
+}
+
+TEST(Options, HelpAndUsageErrors) {
+    EXPECT_TRUE(parse({"--help"}).help);
+    auto page = parse({"speed", "--help"});
+    EXPECT_TRUE(page.help);
+    EXPECT_EQ(page.command, "speed");
+    EXPECT_EQ(parse({"help", "watch"}).command, "watch");
+    EXPECT_THAT(usage("speed"), HasSubstr("--for DURATION"));
+    EXPECT_THAT(usage(""), HasSubstr("acquire and release are not commands"));
+    EXPECT_THAT(refusal({}), HasSubstr("no command"));
+    EXPECT_THAT(refusal({"fly"}), HasSubstr("unknown command \"fly\""));
+    EXPECT_THAT(refusal({"stop", "now"}), HasSubstr("unexpected argument \"now\""));
+    EXPECT_THAT(refusal({"status", "--roll", "1"}), HasSubstr("it takes none"));
+}
+
+}  // namespace
+}  // namespace gport::cli

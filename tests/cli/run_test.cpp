@@ -1,0 +1,166 @@
+// Whole gportctl runs (in-process, through main_with) against the IPC server
+// with a fake core.
+#include "gport/cli/run.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "server_harness.hpp"
+
+namespace gport::cli {
+namespace {
+
+using nlohmann::json;
+using ::testing::HasSubstr;
+using testing::ServerHarness;
+
+struct Ran {
+    int status;
+    std::string out;
+    std::string err;
+};
+
+class RunTest : public ::testing::Test {
+  protected:
+    Ran run(
+        std::vector<std::string> args, std::function<bool()> interrupted = [] { return false; }) {
+        args.insert(args.begin(), {"--socket", h_.path()});
+        out_.str("");
+        std::ostringstream err;
+        const int status = main_with(args, nullptr, out_, err, std::move(interrupted));
+        return {status, out_.str(), err.str()};
+    }
+
+    // What gportctl printed so far (the interrupted callback runs on its thread).
+    bool printed(std::string_view text) const { return out_.str().find(text) != std::string::npos; }
+
+    std::vector<std::string> calls() {
+        return h_.on_io([&] { return h_.api.calls; });
+    }
+
+    ServerHarness h_;
+    std::ostringstream out_;
+};
+
+TEST_F(RunTest, StatusForPeopleAndForScripts) {
+    h_.on_io([&] {
+        h_.api.status_value.link = daemon::LinkState::kUp;
+        h_.api.status_value.device = "/dev/gimbal";
+    });
+    auto human = run({"status"});
+    EXPECT_EQ(human.status, kExitOk) << human.err;
+    EXPECT_THAT(human.out, HasSubstr("link:      up"));
+    EXPECT_THAT(human.out, HasSubstr("/dev/gimbal"));
+    auto script = run({"--json", "status"});
+    ASSERT_EQ(script.status, kExitOk);
+    EXPECT_EQ(json::parse(script.out)["clients"], 1);
+}
+
+TEST_F(RunTest, CommandsReachTheCore) {
+    for (const auto* command : {"stop", "center", "lock", "photo", "record"}) {
+        auto ran = run({command});
+        EXPECT_EQ(ran.status, kExitOk) << command;
+        EXPECT_EQ(ran.out, std::string(command) + ": sent\n");
+    }
+    EXPECT_EQ(run({"angle", "--pitch", "-45.5"}).status, kExitOk);
+    EXPECT_THAT(calls().back(), HasSubstr("angle 0 -4550 0"));
+}
+
+TEST_F(RunTest, DaemonErrorsExitOneWithTheCode) {
+    auto none = run({"attitude"});
+    EXPECT_EQ(none.status, kExitError);
+    EXPECT_THAT(none.err, HasSubstr("error -32000"));
+    h_.on_io([&] {
+        h_.api.error =
+            daemon::CommandError{daemon::ErrorCode::kBusy, "another client holds control (pid 99)"};
+    });
+    auto busy = run({"photo"});
+    EXPECT_EQ(busy.status, kExitError);
+    EXPECT_THAT(busy.err, HasSubstr("error -32003: another client holds control (pid 99)"));
+}
+
+TEST_F(RunTest, SettingsGetAndSet) {
+    auto got = run({"settings"});
+    EXPECT_EQ(got.status, kExitOk);
+    EXPECT_THAT(got.out, HasSubstr("dead zone:     10"));
+    auto set = run({"--json", "settings", "--inverted", "yes", "--dead-zone", "7"});
+    EXPECT_EQ(set.status, kExitOk) << set.err;
+    EXPECT_EQ(json::parse(set.out),
+              json({{"dead_zone", 7}, {"follow_speed", 20}, {"inverted", true}}));
+}
+
+TEST_F(RunTest, WatchPrintsEventsUntilInterrupted) {
+    bool published = false;
+    std::size_t seen = 0;
+    auto ran = run({"watch", "attitude", "link"}, [&] {
+        if (!published && printed("watching")) {  // subscribed
+            published = true;
+            h_.on_io([&] {
+                daemon::AttitudeSample sample;
+                sample.seq = 77;
+                sample.attitude.hall = {0, 0, 4500};
+                h_.api.observer->on_attitude(sample);
+                h_.api.observer->on_link({daemon::LinkState::kStale, "no attitude for 500 ms"});
+            });
+            return false;
+        }
+        return printed("link      stale") || ++seen > 100;
+    });
+    EXPECT_EQ(ran.status, kExitOk);
+    EXPECT_THAT(ran.out, HasSubstr("attitude  seq 77"));
+    EXPECT_THAT(ran.out, HasSubstr("yaw 45.00"));
+    EXPECT_THAT(ran.out, HasSubstr("link      stale (no attitude for 500 ms)"));
+}
+
+TEST_F(RunTest, SpeedWithoutDurationKeepsAliveThenStops) {
+    auto ran = run({"speed", "--yaw", "20"}, [&] {
+        auto so_far = calls();
+        return std::count_if(so_far.begin(), so_far.end(),
+                             [](const std::string& c) { return c.rfind("speed", 0) == 0; }) >= 3;
+    });
+    EXPECT_EQ(ran.status, kExitOk) << ran.err;
+    auto all = calls();
+    ASSERT_GE(all.size(), 4u);
+    EXPECT_THAT(all[0], HasSubstr("speed 0 0 2000 500"));
+    EXPECT_THAT(all.back(), HasSubstr("stop"));
+    EXPECT_THAT(ran.out, HasSubstr("stopped"));
+}
+
+TEST_F(RunTest, SpeedForADurationWaitsForTheMotionToEnd) {
+    bool ended = false;
+    auto ran = run({"speed", "--roll", "5", "--for", "3s"}, [&] {
+        if (!ended && printed("moving for")) {
+            ended = true;
+            h_.on_io([&] {
+                daemon::MotionEvent event;
+                event.change = daemon::MotionChange::kEnded;
+                event.reason = daemon::EndReason::kDuration;
+                h_.api.observer->on_motion(event);
+            });
+        }
+        return false;
+    });
+    EXPECT_EQ(ran.status, kExitOk) << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("moving for 3000 ms"));
+    EXPECT_THAT(calls().back(), HasSubstr("speed 500 0 0 3000"));
+}
+
+TEST_F(RunTest, SpeedForStopsWhenInterrupted) {
+    auto ran = run({"speed", "--pitch", "5", "--for", "1m"}, [&] { return printed("moving for"); });
+    EXPECT_EQ(ran.status, kExitOk);
+    EXPECT_THAT(calls().back(), HasSubstr("stop"));
+}
+
+TEST_F(RunTest, UnreachableDaemonIs69) {
+    std::ostringstream out;
+    std::ostringstream err;
+    const int status = main_with({"--socket", h_.dir() + "/nobody.sock", "status"}, nullptr, out,
+                                 err, [] { return false; });
+    EXPECT_EQ(status, kExitUnavailable);
+    EXPECT_THAT(err.str(), HasSubstr("cannot connect to"));
+}
+
+}  // namespace
+}  // namespace gport::cli
