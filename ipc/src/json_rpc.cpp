@@ -231,7 +231,8 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const R
     json request;
     try {
         request = json::parse(line);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {
+        // parse_error, but also out_of_range for a number too large for a double.
         sink(error_line(rpc_error::kParse, fmt::format("parse error: {}", e.what())));
         return;
     }

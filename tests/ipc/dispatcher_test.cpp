@@ -77,6 +77,13 @@ TEST_F(DispatcherTest, MalformedJsonIsAParseErrorWithNullId) {
     EXPECT_EQ(send(std::string("\xff\xfe\x00\x01garbage", 11)).at(0)["error"]["code"], -32700);
 }
 
+TEST_F(DispatcherTest, NumberTooLargeForADoubleIsAParseError) {
+    // nlohmann reports it as out_of_range, not parse_error (found by request_fuzz).
+    auto replies = send(R"({"id":1,"method":"speed","params":{"roll":1e999}})");
+    ASSERT_EQ(replies.size(), 1u);
+    EXPECT_EQ(code(replies[0]), rpc_error::kParse);
+}
+
 TEST_F(DispatcherTest, DeepNestingIsRefusedBeforeParsing) {
     const std::string deep(100000, '[');
     auto replies = send(deep);
