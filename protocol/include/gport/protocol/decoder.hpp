@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -51,6 +52,7 @@ class Decoder {
     template <typename Sink>
     std::size_t scan(const std::uint8_t* p, std::size_t n, Sink& sink);
     void discard(std::size_t count);
+    std::size_t skip_garbage(const std::uint8_t* p, std::size_t i, std::size_t n);
 
     static constexpr std::size_t kBufferSize = 2 * kMaxFrameSize;
     std::array<std::uint8_t, kBufferSize> buffer_{};
@@ -107,6 +109,55 @@ inline Decoder::Verdict Decoder::check(const std::uint8_t* p, std::size_t n, std
     return Verdict::kFrame;
 }
 
+namespace detail {
+// 0x80 in every byte of x that is zero, 0 elsewhere (exact: no borrows).
+constexpr std::uint64_t zero_bytes(std::uint64_t x) {
+    constexpr std::uint64_t kLow7 = 0x7F7F7F7F7F7F7F7FULL;
+    return ~(((x & kLow7) + kLow7) | x | kLow7);
+}
+inline std::uint64_t load64(const std::uint8_t* p) {
+    std::uint64_t v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+}  // namespace detail
+
+// Skips, from p[i], the bytes that cannot start a frame: every byte that is
+// not 0xAE, and every 0xAE not followed by the version (a header error, as
+// check() would find). Eight bytes per step, without a branch per byte, so
+// garbage dense in 0xAE costs no mispredicted branches; stops at an 0xAE 0x01
+// pair, or, near the end, at any 0xAE (check() decides whether it is a
+// candidate or must wait for more bytes).
+inline std::size_t Decoder::skip_garbage(const std::uint8_t* p, std::size_t i, std::size_t n) {
+    static_assert(std::endian::native == std::endian::little);
+    constexpr std::uint64_t kHeaders = 0x0101010101010101ULL * kFrameHeader;
+    constexpr std::uint64_t kVersions = 0x0101010101010101ULL * kProtocolVersion;
+    const std::size_t start = i;
+    std::uint64_t version_errors = 0;
+    while (i + 9 <= n) {
+        const std::uint64_t headers = detail::zero_bytes(detail::load64(p + i) ^ kHeaders);
+        const std::uint64_t versions = detail::zero_bytes(detail::load64(p + i + 1) ^ kVersions);
+        const std::uint64_t candidates = headers & versions;
+        if (candidates != 0) {
+            const int bit = std::countr_zero(candidates) - 7;  // first bit of that byte
+            const std::uint64_t before = (std::uint64_t{1} << bit) - 1;
+            version_errors += static_cast<std::uint64_t>(std::popcount(headers & before));
+            i += static_cast<std::size_t>(bit) / 8;
+            stats_.header_errors += version_errors;
+            discard(i - start);
+            return i;
+        }
+        version_errors += static_cast<std::uint64_t>(std::popcount(headers));
+        i += 8;
+    }
+    while (i < n && p[i] != kFrameHeader) {
+        ++i;
+    }
+    stats_.header_errors += version_errors;
+    discard(i - start);
+    return i;
+}
+
 // Scans p[0..n): delivers frames, discards garbage, and returns how many bytes
 // were consumed; the rest (an incomplete candidate) must be offered again
 // with more bytes after it.
@@ -114,15 +165,11 @@ template <typename Sink>
 std::size_t Decoder::scan(const std::uint8_t* p, std::size_t n, Sink& sink) {
     std::size_t i = 0;
     while (i < n) {
-        if (p[i] != kFrameHeader) {
-            const void* hit = std::memchr(p + i, kFrameHeader, n - i);
-            const std::size_t next =
-                hit == nullptr
-                    ? n
-                    : static_cast<std::size_t>(static_cast<const std::uint8_t*>(hit) - p);
-            discard(next - i);
-            i = next;
-            continue;
+        if (p[i] != kFrameHeader || (i + 1 < n && p[i + 1] != kProtocolVersion)) {
+            i = skip_garbage(p, i, n);
+            if (i == n) {
+                break;
+            }
         }
         std::size_t size = 0;
         bool crc_bad = false;
