@@ -1,0 +1,93 @@
+#include "daemon_process.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+#include <thread>
+
+#include "posix.hpp"
+
+namespace gport::bench {
+
+void write_daemon_config(const DaemonOptions& options) {
+    std::ofstream out(options.config_path);
+    out << "// Written by the gportd benchmark for one run; see docs/performance.md.\n"
+        << "{\n"
+        << "    // Room for the 1000-subscriber case plus the flooding and control clients.\n"
+        << "    \"socket\": {\"max_clients\": " << options.max_clients << ", \"mode\": \"0600\"},\n"
+        << "    // One speed command lasts the whole run, so keepalive ticks are never reset.\n"
+        << "    \"keepalive\": {\"max_duration_ms\": " << options.max_duration_ms << "},\n"
+        << "    \"log\": {\"level\": \"" << options.log_level << "\"}\n"
+        << "}\n";
+    if (!out) {
+        throw std::runtime_error("cannot write the daemon config " + options.config_path);
+    }
+}
+
+DaemonProcess::DaemonProcess(const DaemonOptions& options) {
+    write_daemon_config(options);
+    if (::access(options.binary.c_str(), X_OK) != 0) {
+        throw std::runtime_error("gportd not executable at " + options.binary +
+                                 " (pass --gportd PATH)");
+    }
+    pid_ = ::fork();
+    if (pid_ < 0) {
+        throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+    }
+    if (pid_ == 0) {
+        const int log = ::open(options.log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (log >= 0) {
+            ::dup2(log, STDOUT_FILENO);
+            ::dup2(log, STDERR_FILENO);
+        }
+        ::execl(options.binary.c_str(), options.binary.c_str(), "--config",
+                options.config_path.c_str(), "--device", options.device.c_str(), "--socket",
+                options.socket.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+}
+
+DaemonProcess::~DaemonProcess() {
+    if (!reaped_ && pid_ > 0) {
+        terminate(2000);
+    }
+}
+
+bool DaemonProcess::running() {
+    if (reaped_) {
+        return false;
+    }
+    if (::waitpid(pid_, &status_, WNOHANG) == pid_) {
+        reaped_ = true;
+        return false;
+    }
+    return true;
+}
+
+int DaemonProcess::terminate(int timeout_ms) {
+    if (!running()) {
+        return status_ == -1        ? -1
+               : WIFEXITED(status_) ? WEXITSTATUS(status_)
+                                    : 128 + WTERMSIG(status_);
+    }
+    ::kill(pid_, SIGTERM);
+    const auto deadline = now_ns() + std::int64_t{timeout_ms} * 1'000'000;
+    while (running() && now_ns() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (!reaped_) {
+        ::kill(pid_, SIGKILL);
+        ::waitpid(pid_, &status_, 0);
+        reaped_ = true;
+    }
+    return WIFEXITED(status_) ? WEXITSTATUS(status_) : 128 + WTERMSIG(status_);
+}
+
+}  // namespace gport::bench

@@ -1,0 +1,48 @@
+// The real gportd as a child process: a temporary config file, fork/exec,
+// SIGTERM and the exit status.
+#pragma once
+
+#include <sys/types.h>
+
+#include <string>
+
+namespace gport::bench {
+
+struct DaemonOptions {
+    std::string binary;       // path to gportd
+    std::string device;       // serial device (our pty slave or a simulator's link)
+    std::string socket;       // Unix socket path
+    std::string config_path;  // where the config file is written
+    std::string log_path;     // the daemon's stdout and stderr go here
+    int max_clients = 1100;
+    int max_duration_ms = 600000;
+    std::string log_level = "warn";
+};
+
+// Writes a gportd config (JSON with comments) for a benchmark run.
+void write_daemon_config(const DaemonOptions& options);
+
+class DaemonProcess {
+  public:
+    // Writes the config and starts gportd. Throws std::runtime_error when the
+    // binary cannot be started.
+    explicit DaemonProcess(const DaemonOptions& options);
+    ~DaemonProcess();
+    DaemonProcess(const DaemonProcess&) = delete;
+    DaemonProcess& operator=(const DaemonProcess&) = delete;
+
+    pid_t pid() const { return pid_; }
+    // True while the child has not exited.
+    bool running();
+    // Sends SIGTERM and waits (at most timeout_ms, then SIGKILL). Returns the
+    // exit status, or 128 + signal when it was killed by one; -1 if it had
+    // already been reaped.
+    int terminate(int timeout_ms = 5000);
+
+  private:
+    pid_t pid_ = -1;
+    int status_ = -1;
+    bool reaped_ = false;
+};
+
+}  // namespace gport::bench

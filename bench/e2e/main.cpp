@@ -1,0 +1,167 @@
+// bench_e2e: end-to-end load generator for gportd. It plays the gimbal on a
+// pseudo-terminal, starts the real daemon on it, connects subscribers (and
+// optionally clients that flood the socket with requests), and measures
+// latency from the last byte of each 0x87 frame to each subscriber's JSON
+// line, the daemon's CPU and memory, delivery, and keepalive timing.
+// See docs/performance.md.
+#include <stdlib.h>
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+
+#include "clients.hpp"
+#include "daemon_process.hpp"
+#include "fake_gimbal.hpp"
+#include "options.hpp"
+#include "posix.hpp"
+#include "report.hpp"
+
+namespace gport::bench {
+namespace {
+
+using nlohmann::json;
+
+// One request on the control connection; returns the parsed reply.
+json request(Fd& fd, std::string& pending, const json& message) {
+    if (!write_all(fd.get(), message.dump() + "\n")) {
+        throw std::runtime_error("control connection: cannot send " + message.dump());
+    }
+    std::string line;
+    if (!read_line(fd.get(), pending, line, 10000)) {
+        throw std::runtime_error("control connection: no reply to " + message.dump());
+    }
+    return json::parse(line);
+}
+
+void wait_device_open(Fd& control, std::string& pending) {
+    const auto deadline = now_ns() + 10'000'000'000LL;
+    while (now_ns() < deadline) {
+        const auto reply = request(control, pending, {{"id", 1}, {"method", "status"}});
+        if (reply.at("result").value("device_open", false)) {
+            return;
+        }
+        ::usleep(20'000);
+    }
+    throw std::runtime_error("gportd did not open the pty within 10 s");
+}
+
+std::string tail_of(const std::string& path) {
+    std::ifstream in(path);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return text.size() > 2000 ? text.substr(text.size() - 2000) : text;
+}
+
+CellResult run_cell(const Options& options, const std::string& dir) {
+    CellResult r;
+    r.rate_hz = options.rate_hz;
+    r.subscribers = options.subscribers;
+    r.flooders = options.flooders;
+    r.seconds = options.seconds;
+
+    FakeGimbal gimbal;
+    DaemonOptions daemon_options;
+    daemon_options.binary = options.gportd;
+    daemon_options.device = gimbal.device();
+    daemon_options.socket = dir + "/gportd.sock";
+    daemon_options.config_path = dir + "/gportd.json";
+    daemon_options.log_path = dir + "/gportd.log";
+    daemon_options.max_clients = options.subscribers + options.flooders + 16;
+    DaemonProcess daemon(daemon_options);
+
+    auto control = connect_unix_retry(daemon_options.socket, 10000);
+    if (!control) {
+        throw std::runtime_error("gportd never listened on " + daemon_options.socket +
+                                 "; its log:\n" + tail_of(daemon_options.log_path));
+    }
+    std::string pending;
+    wait_device_open(*control, pending);
+
+    ClientHub hub;
+    hub.add_subscribers(daemon_options.socket, options.subscribers, 60000);
+    hub.add_flooders(daemon_options.socket, options.flooders);
+
+    // One speed command that outlasts the run: its 10 Hz keepalive is timed.
+    const int duration_ms = static_cast<int>(options.seconds * 1000) + 10000;
+    request(
+        *control, pending,
+        {{"id", 2}, {"method", "speed"}, {"params", {{"yaw", 5.0}, {"duration_ms", duration_ms}}}});
+
+    const auto frames = static_cast<std::size_t>(options.rate_hz * options.seconds);
+    r.load_start = load_average();
+    const auto before = sample_process(daemon.pid());
+    const auto t0 = now_ns();
+    gimbal.start_stream(options.rate_hz, frames);
+    hub.start_flood();
+    hub.run_for(static_cast<int>(options.seconds * 1000) + 20);
+    const auto t1 = now_ns();
+    const auto after = sample_process(daemon.pid());
+    hub.stop_flood();
+    hub.run_for(300);  // lines still on their way
+    gimbal.stop_stream();
+
+    const auto status = request(*control, pending, {{"id", 3}, {"method", "status"}});
+    r.daemon_counters = status.at("result").at("counters");
+    request(*control, pending, {{"id", 4}, {"method", "stop"}});
+    r.load_end = load_average();
+    r.daemon_exit = daemon.terminate();
+    gimbal.stop_reader();
+
+    const double wall = static_cast<double>(t1 - t0) / 1e9;
+    r.cpu_percent = 100.0 * (after.cpu_seconds - before.cpu_seconds) / wall;
+    r.rss_kib = after.rss_kib;
+    r.hwm_kib = after.hwm_kib;
+    r.frames_written = gimbal.frames_written();
+    r.writer_late = gimbal.late_frames();
+    r.delivery = delivery_of(hub.subscribers(), r.frames_written);
+    r.latency = latency_of(hub.subscribers(), gimbal.write_times());
+    r.keepalive = keepalive_of(gimbal.control_frames(), t0, t1, 1000.0 / options.keepalive_hz);
+    r.flood_replies_per_s = static_cast<double>(hub.flood_replies()) / wall;
+    return r;
+}
+
+int run(const Options& options) {
+    raise_fd_limit();
+    char dir_template[] = "/tmp/gport-bench-XXXXXX";
+    const char* dir = ::mkdtemp(dir_template);
+    if (dir == nullptr) {
+        throw std::runtime_error(std::string("mkdtemp: ") + std::strerror(errno));
+    }
+    const auto result = run_cell(options, dir);
+    if (!options.no_header) {
+        std::cout << table_header();
+    }
+    std::cout << table_row(result) << std::flush;
+    if (!options.json_path.empty()) {
+        std::ofstream out(options.json_path);
+        out << to_json(result).dump(2) << "\n";
+    }
+    for (const char* name : {"gportd.json", "gportd.log"}) {
+        std::remove((std::string(dir) + "/" + name).c_str());
+    }
+    ::rmdir(dir);
+    return result.daemon_exit == 0 ? 0 : 1;
+}
+
+}  // namespace
+}  // namespace gport::bench
+
+int main(int argc, char** argv) {
+    const auto options = gport::bench::parse_options(argc, argv);
+    if (!options) {
+        return 64;  // EX_USAGE; parse_options printed why
+    }
+    if (options->help) {
+        std::cout << gport::bench::usage();
+        return 0;
+    }
+    try {
+        return gport::bench::run(*options);
+    } catch (const std::exception& error) {
+        std::cerr << "bench_e2e: " << error.what() << "\n";
+        return 1;
+    }
+}

@@ -1,0 +1,90 @@
+#include "options.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <string_view>
+
+#ifndef GPORT_BENCH_GPORTD
+#define GPORT_BENCH_GPORTD "gportd"
+#endif
+
+namespace gport::bench {
+namespace {
+
+// A number in [low, high], or nullopt with a message naming the option.
+std::optional<double> number(std::string_view name, const char* text, double low, double high) {
+    char* end = nullptr;
+    const double value = std::strtod(text, &end);
+    if (end == text || *end != '\0' || value < low || value > high) {
+        std::fprintf(stderr, "bench_e2e: %.*s must be a number from %g to %g, not '%s'\n",
+                     static_cast<int>(name.size()), name.data(), low, high, text);
+        return std::nullopt;
+    }
+    return value;
+}
+
+}  // namespace
+
+std::string usage() {
+    return "Usage: bench_e2e [options]\n"
+           "End-to-end load test of gportd: plays the gimbal on a pty, starts gportd on it,\n"
+           "and measures latency, CPU, memory, delivery and keepalive timing.\n"
+           "\n"
+           "  --rate HZ          0x87 frames per second, 1-20000 (default 200)\n"
+           "  --subscribers N    attitude subscribers, 0-4000 (default 100)\n"
+           "  --flood N          clients sending status requests back to back, 0-100 (default 0)\n"
+           "  --seconds S        length of the measured stream, 1-600 (default 5)\n"
+           "  --gportd PATH      the daemon binary (default: the one built with this bench)\n"
+           "  --json FILE        also write the results as JSON to FILE\n"
+           "  --no-header        print only the table row\n"
+           "  -h, --help         this text\n";
+}
+
+std::optional<Options> parse_options(int argc, char** argv) {
+    Options o;
+    o.gportd = GPORT_BENCH_GPORTD;
+    for (int i = 1; i < argc; ++i) {
+        const std::string_view arg = argv[i];
+        if (arg == "-h" || arg == "--help") {
+            o.help = true;
+            continue;
+        }
+        if (arg == "--no-header") {
+            o.no_header = true;
+            continue;
+        }
+        if (i + 1 >= argc) {
+            std::fprintf(stderr, "bench_e2e: unknown option or missing value: %s\n%s", argv[i],
+                         usage().c_str());
+            return std::nullopt;
+        }
+        const char* value = argv[++i];
+        std::optional<double> n = 0.0;
+        if (arg == "--rate") {
+            n = number(arg, value, 1, 20000);
+            o.rate_hz = n.value_or(0);
+        } else if (arg == "--subscribers") {
+            n = number(arg, value, 0, 4000);
+            o.subscribers = static_cast<int>(n.value_or(0));
+        } else if (arg == "--flood") {
+            n = number(arg, value, 0, 100);
+            o.flooders = static_cast<int>(n.value_or(0));
+        } else if (arg == "--seconds") {
+            n = number(arg, value, 1, 600);
+            o.seconds = n.value_or(0);
+        } else if (arg == "--gportd") {
+            o.gportd = value;
+        } else if (arg == "--json") {
+            o.json_path = value;
+        } else {
+            std::fprintf(stderr, "bench_e2e: unknown option %s\n%s", argv[i - 1], usage().c_str());
+            return std::nullopt;
+        }
+        if (!n) {
+            return std::nullopt;
+        }
+    }
+    return o;
+}
+
+}  // namespace gport::bench

@@ -1,0 +1,25 @@
+// bench_e2e's command line.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace gport::bench {
+
+struct Options {
+    double rate_hz = 200;      // 0x87 frames per second written to the pty
+    int subscribers = 100;     // clients subscribed to attitude
+    int flooders = 0;          // clients sending status requests back to back
+    double seconds = 5;        // length of the measured stream
+    double keepalive_hz = 10;  // the daemon's keepalive.rate_hz (default config)
+    std::string gportd;        // the daemon binary
+    std::string json_path;     // where to write the JSON summary ("" = nowhere)
+    bool no_header = false;    // print only the table row
+    bool help = false;
+};
+
+// Parses argv; prints what was wrong and returns nullopt on a bad command line.
+std::optional<Options> parse_options(int argc, char** argv);
+std::string usage();
+
+}  // namespace gport::bench

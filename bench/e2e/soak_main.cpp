@@ -1,0 +1,270 @@
+// gport_soak: the soak test's client side (scripts/soak.sh starts the
+// simulator and gportd, then this). A hundred clients subscribe, move the
+// gimbal, change settings, stall and disconnect at random while a watcher
+// follows `motion` and `link` notifications and samples `status` and the
+// daemon's memory once a second. Prints the figures and PASS or FAIL.
+#include <poll.h>
+#include <signal.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string_view>
+#include <vector>
+
+#include "posix.hpp"
+#include "soak_checks.hpp"
+#include "soak_worker.hpp"
+
+namespace gport::bench {
+namespace {
+
+using nlohmann::json;
+
+struct SoakOptions {
+    std::string socket;
+    pid_t pid = 0;
+    double seconds = 600;
+    int clients = 100;
+    std::uint32_t seed = 1;
+    long rss_limit_kib = 32 * 1024;
+    long rss_margin_kib = 1024;
+    std::string json_path;
+};
+
+std::optional<SoakOptions> parse(int argc, char** argv) {
+    SoakOptions o;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        const std::string_view arg = argv[i];
+        const char* value = argv[i + 1];
+        if (arg == "--socket") {
+            o.socket = value;
+        } else if (arg == "--pid") {
+            o.pid = static_cast<pid_t>(std::atol(value));
+        } else if (arg == "--seconds") {
+            o.seconds = std::atof(value);
+        } else if (arg == "--clients") {
+            o.clients = std::atoi(value);
+        } else if (arg == "--seed") {
+            o.seed = static_cast<std::uint32_t>(std::atol(value));
+        } else if (arg == "--rss-limit-mib") {
+            o.rss_limit_kib = std::atol(value) * 1024;
+        } else if (arg == "--rss-margin-kib") {
+            o.rss_margin_kib = std::atol(value);
+        } else if (arg == "--json") {
+            o.json_path = value;
+        } else {
+            std::cerr << "gport_soak: unknown option " << arg << "\n";
+            return std::nullopt;
+        }
+    }
+    if (argc % 2 == 0 || o.socket.empty() || o.pid <= 0 || o.seconds < 2 || o.clients < 1) {
+        std::cerr << "usage: gport_soak --socket PATH --pid GPORTD_PID [--seconds S (>= 2)]\n"
+                     "         [--clients N (>= 1)] [--seed N] [--rss-limit-mib N]\n"
+                     "         [--rss-margin-kib N] [--json FILE]\n";
+        return std::nullopt;
+    }
+    return o;
+}
+
+// The watcher: notifications of motion and link, and the 1 Hz status.
+struct Watcher {
+    Fd fd;
+    std::string pending;
+    std::uint64_t next_id = 1;
+    std::map<std::string, std::uint64_t> link_states;
+    std::uint64_t max_clients_seen = 0;
+};
+
+class Soak {
+  public:
+    explicit Soak(SoakOptions o) : o_(std::move(o)), deadman_(1'000'000'000) {}
+    int run();
+
+  private:
+    void serve(std::int64_t until_ns, bool act);
+    void on_watcher_line(const std::string& line, std::int64_t t);
+    void sample(std::int64_t t);
+    json summary(bool pass) const;
+
+    SoakOptions o_;
+    Watcher watcher_;
+    std::vector<Worker> workers_;
+    WorkerTally tally_;
+    DeadmanCheck deadman_;
+    CounterCheck counters_;
+    std::vector<long> rss_;
+    std::int64_t next_sample_ = 0;
+    bool daemon_died_ = false;
+    RssVerdict rss_verdict_;
+};
+
+int Soak::run() {
+    auto fd = connect_unix_retry(o_.socket, 10000);
+    if (!fd) {
+        std::cerr << "gport_soak: cannot connect to " << o_.socket << "\n";
+        return 2;
+    }
+    watcher_.fd = std::move(*fd);
+    write_all(watcher_.fd.get(),
+              R"({"id":0,"method":"subscribe","params":{"topics":["motion","link"]}})"
+              "\n");
+    for (int i = 0; i < o_.clients; ++i) {
+        workers_.emplace_back(o_.socket, o_.seed * 1000 + static_cast<std::uint32_t>(i));
+    }
+    const auto start = now_ns();
+    next_sample_ = start;
+    serve(start + static_cast<std::int64_t>(o_.seconds * 1e9), true);
+    // Everyone leaves; every motion they owned must still end in time.
+    for (auto& w : workers_) {
+        if (const auto id = w.disconnect(tally_); id != 0) {
+            deadman_.on_disconnect(id, now_ns());
+        }
+    }
+    serve(now_ns() + 1'500'000'000, false);
+    deadman_.check(now_ns());
+    rss_verdict_ = judge_rss(rss_, o_.rss_margin_kib, o_.rss_limit_kib);
+    const bool pass = !daemon_died_ && deadman_.violations() == 0 && counters_.problems().empty() &&
+                      counters_.samples() > 0 && rss_verdict_.ok;
+    const auto result = summary(pass);
+    std::cout << result.dump(2) << "\n" << (pass ? "PASS" : "FAIL") << "\n";
+    if (!o_.json_path.empty()) {
+        std::ofstream(o_.json_path) << result.dump(2) << "\n";
+    }
+    return pass ? 0 : 1;
+}
+
+void Soak::serve(std::int64_t until_ns, bool act) {
+    std::vector<pollfd> fds;
+    std::vector<Worker*> owners;
+    while (now_ns() < until_ns && !daemon_died_) {
+        const auto t = now_ns();
+        for (auto& w : workers_) {
+            if (!act) {
+                break;
+            }
+            if (const auto id = w.act(t, tally_); id != 0) {
+                deadman_.on_disconnect(id, t);
+            }
+        }
+        fds.assign(1, pollfd{watcher_.fd.get(), POLLIN, 0});
+        owners.assign(1, nullptr);
+        for (auto& w : workers_) {
+            if (w.connected() && !w.stalled(t)) {
+                fds.push_back({w.fd(), POLLIN, 0});
+                owners.push_back(&w);
+            }
+        }
+        ::poll(fds.data(), fds.size(), 10);
+        const auto t_read = now_ns();
+        for (std::size_t i = 0; i < fds.size(); ++i) {
+            if (fds[i].revents == 0) {
+                continue;
+            }
+            if (owners[i] == nullptr) {
+                std::string line;
+                while (read_line(watcher_.fd.get(), watcher_.pending, line, 0)) {
+                    on_watcher_line(line, t_read);
+                }
+            } else if (!owners[i]->on_readable(tally_)) {
+                ++tally_.refused;
+                if (const auto id = owners[i]->disconnect(tally_); id != 0) {
+                    deadman_.on_disconnect(id, t_read);
+                }
+            }
+        }
+        deadman_.check(now_ns());
+        if (now_ns() >= next_sample_) {
+            sample(now_ns());
+        }
+    }
+}
+
+void Soak::on_watcher_line(const std::string& line, std::int64_t t) {
+    const auto message = json::parse(line, nullptr, false);
+    if (message.is_discarded()) {
+        return;
+    }
+    const auto method = message.value("method", "");
+    if (method == "motion") {
+        deadman_.on_motion(message["params"], t);
+    } else if (method == "link") {
+        ++watcher_.link_states[message["params"].value("state", "?")];
+    } else if (message.contains("result") && message["result"].contains("counters")) {
+        counters_.on_status(message["result"]["counters"]);
+        watcher_.max_clients_seen = std::max<std::uint64_t>(
+            watcher_.max_clients_seen, message["result"].value("clients", std::uint64_t{0}));
+    }
+}
+
+void Soak::sample(std::int64_t t) {
+    next_sample_ = t + 1'000'000'000;
+    const auto p = sample_process(o_.pid);
+    if (!p.alive || ::kill(o_.pid, 0) != 0) {
+        daemon_died_ = true;
+        return;
+    }
+    rss_.push_back(p.rss_kib);
+    const auto request =
+        R"({"id":)" + std::to_string(watcher_.next_id++) + R"(,"method":"status"})" + "\n";
+    write_all(watcher_.fd.get(), request, 1000);
+}
+
+json Soak::summary(bool pass) const {
+    json errors = json::object();
+    for (const auto& [code, count] : tally_.errors) {
+        errors[std::to_string(code)] = count;
+    }
+    json reasons = json::object();
+    for (const auto& [reason, count] : deadman_.end_reasons()) {
+        reasons[reason] = count;
+    }
+    return {
+        {"verdict", pass ? "PASS" : "FAIL"},
+        {"seconds", o_.seconds},
+        {"clients", o_.clients},
+        {"daemon_alive_throughout", !daemon_died_},
+        {"requests", tally_.requests},
+        {"replies", tally_.replies},
+        {"error_replies_by_code", errors},
+        {"attitude_lines", tally_.attitude_lines},
+        {"connects", tally_.connects},
+        {"disconnects", tally_.disconnects},
+        {"closed_by_daemon_or_send_failed", tally_.refused},
+        {"max_clients_seen", watcher_.max_clients_seen},
+        {"link_notifications", watcher_.link_states},
+        {"deadman",
+         {{"orphaned_speed_motions", deadman_.orphaned()},
+          {"ended_after_owner_left_by_reason", reasons},
+          {"worst_owner_left_to_end_ms", deadman_.max_end_ms()},
+          {"violations", deadman_.violations()},
+          {"notes", deadman_.violation_notes()}}},
+        {"counters",
+         {{"samples", counters_.samples()},
+          {"problems", counters_.problems()},
+          {"final", counters_.last()}}},
+        {"rss_kib",
+         {{"samples", rss_.size()},
+          {"first_half_max", rss_verdict_.first_half_max_kib},
+          {"second_half_max", rss_verdict_.second_half_max_kib},
+          {"max", rss_verdict_.max_kib},
+          {"margin", o_.rss_margin_kib},
+          {"limit", o_.rss_limit_kib},
+          {"ok", rss_verdict_.ok}}},
+    };
+}
+
+}  // namespace
+}  // namespace gport::bench
+
+int main(int argc, char** argv) {
+    ::signal(SIGPIPE, SIG_IGN);
+    const auto options = gport::bench::parse(argc, argv);
+    if (!options) {
+        return 64;
+    }
+    gport::bench::Soak soak(*options);
+    return soak.run();
+}

@@ -1,0 +1,109 @@
+#!/usr/bin/env bash
+# Soak test (minutes; not part of CI): gport-sim with every fault mode on,
+# gportd on it, and 100 clients subscribing, commanding and disconnecting at
+# random while the device vanishes and returns every few seconds.
+#
+#   scripts/soak.sh [SECONDS] [BUILD_DIR]        (defaults: 600, ./build)
+#
+# Checks: gportd never crashes and exits 0 on SIGTERM; its resident memory
+# stays bounded (the largest VmRSS of the second half is within a small
+# margin of the first half's, and under a limit); every speed motion whose
+# owner left ends within 1 s (the deadman, seen as `motion` notifications);
+# the status counters only grow and agree with each other. Prints the
+# figures and PASS or FAIL; exits 0 on PASS. Environment: SOAK_WRITE_MODE
+# (merge, the default, or split) chooses how the simulator chunks its
+# output; SOAK_KEEP=1 keeps the work directory (trace, logs, JSON).
+set -euo pipefail
+
+seconds=${1:-600}
+build_dir=${2:-build}
+sim="$build_dir/sim/gport-sim"
+daemon="$build_dir/daemon/gportd"
+driver="$build_dir/bench/e2e/gport_soak"
+for binary in "$sim" "$daemon" "$driver"; do
+    if [[ ! -x $binary ]]; then
+        echo "soak.sh: $binary not found; build it first:" >&2
+        echo "  ninja -C $build_dir gport-sim gportd gport_soak" >&2
+        exit 66
+    fi
+done
+
+work=$(mktemp -d /tmp/gport-soak-XXXXXX)
+sim_pid=""
+daemon_pid=""
+cleanup() {
+    [[ -n $daemon_pid ]] && kill "$daemon_pid" 2>/dev/null || true
+    [[ -n $sim_pid ]] && kill "$sim_pid" 2>/dev/null || true
+    wait 2>/dev/null || true
+    if [[ ${SOAK_KEEP:-0} == 1 ]]; then
+        echo "soak.sh: work directory kept: $work"
+    else
+        rm -rf "$work"
+    fi
+}
+trap cleanup EXIT
+
+case ${SOAK_WRITE_MODE:-merge} in
+    merge) chunking=(--merge 3) ;;
+    split) chunking=(--split) ;;
+    *) echo "soak.sh: SOAK_WRITE_MODE must be merge or split" >&2; exit 64 ;;
+esac
+
+# Every fault at once: line noise, bad CRCs, odd chunking, silences long
+# enough to make the link stale, and the device vanishing every few seconds.
+"$sim" --link "$work/gimbal" --trace --rate 50 --form 24 --noise 300 --corrupt-crc 0.02 \
+    "${chunking[@]}" --silence-every 4000 --silence-for 700 \
+    --vanish-every 6000 --vanish-for 1500 --seed 7 >"$work/trace.jsonl" &
+sim_pid=$!
+for _ in $(seq 100); do
+    [[ -L $work/gimbal ]] && break
+    sleep 0.05
+done
+
+cat >"$work/gportd.json" <<CONFIG
+// Soak configuration: room for the 100 clients and the watcher.
+{
+    "socket": {"max_clients": 128, "mode": "0600"},
+    "log": {"level": "info"}
+}
+CONFIG
+"$daemon" --config "$work/gportd.json" --device "$work/gimbal" --socket "$work/gportd.sock" \
+    >"$work/gportd.log" 2>&1 &
+daemon_pid=$!
+
+echo "soak.sh: ${seconds}s, gport-sim pid $sim_pid, gportd pid $daemon_pid, work dir $work"
+echo "soak.sh: load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
+driver_status=0
+"$driver" --socket "$work/gportd.sock" --pid "$daemon_pid" --seconds "$seconds" \
+    --json "$work/soak.json" || driver_status=$?
+
+alive=no
+kill -0 "$daemon_pid" 2>/dev/null && alive=yes
+daemon_status=none
+if [[ $alive == yes ]]; then
+    kill -TERM "$daemon_pid"
+    daemon_status=0
+    wait "$daemon_pid" || daemon_status=$?
+fi
+daemon_pid=""
+kill -TERM "$sim_pid" 2>/dev/null || true
+wait "$sim_pid" 2>/dev/null || true
+sim_pid=""
+
+count() { grep -c -- "$1" "$work/trace.jsonl" || true; }
+echo "soak.sh: load average at end: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "soak.sh: simulator trace: $(count '"mode":"speed"') speed frames received," \
+    "$(count '"speed":\[0,0,0\]') of them stops, $(count '"event":"vanish"') vanishes," \
+    "$(count '"event":"silence_start"') silences, $(count '"cmd":"0x15"') settings writes"
+echo "soak.sh: gportd log: $(wc -l <"$work/gportd.log") lines," \
+    "$(grep -ci 'error\|critical' "$work/gportd.log" || true) at error level or above"
+echo "soak.sh: gportd alive at the end: $alive; exit status after SIGTERM: $daemon_status"
+echo "soak.sh: driver verdict: $([[ $driver_status == 0 ]] && echo PASS || echo "FAIL ($driver_status)")"
+
+if [[ $driver_status == 0 && $alive == yes && $daemon_status == 0 ]]; then
+    echo "SOAK PASS"
+    exit 0
+fi
+echo "SOAK FAIL"
+SOAK_KEEP=1
+exit 1
