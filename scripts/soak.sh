@@ -91,16 +91,25 @@ wait "$sim_pid" 2>/dev/null || true
 sim_pid=""
 
 count() { grep -c -- "$1" "$work/trace.jsonl" || true; }
+# Every zero-speed frame the simulator saw was queued by gportd (stops_sent);
+# a frame queued just as the device vanished may be lost, never invented.
+trace_stops=$(count '"mode":"speed","speed":\[0,0,0\]')
+stops_sent=$(grep -o '"stops_sent": [0-9]*' "$work/soak.json" 2>/dev/null | grep -o '[0-9]*$' || echo 0)
+stops_ok=yes
+if (( trace_stops > stops_sent + 1 )); then
+    stops_ok=no
+fi
 echo "soak.sh: load average at end: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "soak.sh: simulator trace: $(count '"mode":"speed"') speed frames received," \
-    "$(count '"speed":\[0,0,0\]') of them stops, $(count '"event":"vanish"') vanishes," \
+    "$trace_stops of them stops (gportd queued $stops_sent; consistent: $stops_ok)," \
+    "$(count '"event":"vanish"') vanishes," \
     "$(count '"event":"silence_start"') silences, $(count '"cmd":"0x15"') settings writes"
 echo "soak.sh: gportd log: $(wc -l <"$work/gportd.log") lines," \
-    "$(grep -ci 'error\|critical' "$work/gportd.log" || true) at error level or above"
+    "$(grep -c '\[error\]\|\[critical\]' "$work/gportd.log" || true) at error level or above"
 echo "soak.sh: gportd alive at the end: $alive; exit status after SIGTERM: $daemon_status"
 echo "soak.sh: driver verdict: $([[ $driver_status == 0 ]] && echo PASS || echo "FAIL ($driver_status)")"
 
-if [[ $driver_status == 0 && $alive == yes && $daemon_status == 0 ]]; then
+if [[ $driver_status == 0 && $alive == yes && $daemon_status == 0 && $stops_ok == yes ]]; then
     echo "SOAK PASS"
     exit 0
 fi

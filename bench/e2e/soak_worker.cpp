@@ -66,6 +66,7 @@ std::uint64_t Worker::disconnect(WorkerTally& tally) {
     }
     fd_.reset();
     broken_ = false;
+    holds_control_ = false;
     ++tally.disconnects;
     const auto id = id_;
     id_ = 0;
@@ -110,7 +111,17 @@ void Worker::random_request(std::int64_t t_ns, WorkerTally& tally) {
     } else if (pick < 81) {
         send(pick == 80 ? "photo" : "record", "", tally);
     } else if (pick < 83) {
-        send(pick == 82 ? "acquire" : "release", "", tally);
+        // Control is held rarely and briefly: a holder makes everyone else's
+        // commands fail (-32003), which would leave little motion to stop.
+        if (holds_control_) {
+            send("release", "", tally);
+            holds_control_ = false;
+        } else if (std::uniform_int_distribution<int>(0, 9)(rng_) == 0) {
+            send("acquire", "", tally);
+            holds_control_ = true;
+        } else {
+            send("status", "", tally);
+        }
     } else if (pick < 86) {
         stalled_until_ = after_ms(t_ns, 1000, 6000);  // stop reading for a while
     } else {

@@ -57,7 +57,9 @@ class Worker {
     std::uint64_t next_request_ = 1;
     std::int64_t next_ns_ = 0;
     std::int64_t stalled_until_ = 0;
-    bool broken_ = false;  // a request could not be sent: the connection is given up
+    bool broken_ = false;
+    bool holds_control_ = false;  // it sent acquire and has not released yet  // a request could
+                                  // not be sent: the connection is given up
 };
 
 }  // namespace gport::bench
