@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and shows gportd working against its
+# simulated gimbal: gportctl reads status, watches attitude, moves the
+# gimbal, and changes a setting. Everything runs from build/release; nothing
+# is installed and the daemon is stopped at the end.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source scripts/deps.sh
+gport_install_deps
+
+echo "== building (Release)"
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build/release -j "$(nproc)" --target gportd gportctl gport-sim
+
+workdir=$(mktemp -d)
+socket="$workdir/gportd.sock"
+gportd=build/release/daemon/gportd
+gportctl=build/release/cli/gportctl
+export GPORT_SOCKET="$socket"
+
+echo "== starting: gportd --simulate --socket $socket"
+"$gportd" --simulate --socket "$socket" 2>"$workdir/gportd.log" &
+daemon=$!
+cleanup() {
+  kill "$daemon" 2>/dev/null && wait "$daemon" 2>/dev/null
+  echo "== gportd's log:"
+  cat "$workdir/gportd.log"
+  rm -rf "$workdir"
+}
+trap cleanup EXIT
+for _ in $(seq 100); do [ -S "$socket" ] && break; sleep 0.1; done
+
+run() {
+  echo
+  echo "\$ gportctl $*"
+  "$gportctl" "$@"
+}
+
+sleep 0.5
+run status
+run settings
+run settings --dead-zone 20
+echo
+echo "\$ gportctl watch attitude motion --rate 4   (while: gportctl speed --yaw 30 --for 2s)"
+"$gportctl" watch attitude motion --rate 4 &
+watcher=$!
+sleep 0.6
+"$gportctl" speed --yaw 30 --for 2s
+sleep 2.6
+kill -INT "$watcher"; wait "$watcher" || true
+run angle --pitch -30 --yaw 45
+sleep 1
+run attitude
+run center
+run photo
+run status
+echo
+echo "The daemon is stopped now. Next: docs/api.md, docs/operations.md."
