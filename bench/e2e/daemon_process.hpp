@@ -17,6 +17,9 @@ struct DaemonOptions {
     int max_clients = 1100;
     int max_duration_ms = 600000;
     std::string log_level = "warn";
+    // Run gportd SCHED_FIFO (what a unit's CPUSchedulingPolicy=fifo does), to
+    // tell the daemon's own delays from the time it waits for a CPU.
+    bool realtime = false;
 };
 
 // Writes a gportd config (JSON with comments) for a benchmark run.

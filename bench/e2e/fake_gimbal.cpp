@@ -2,6 +2,8 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <pthread.h>
+#include <sched.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -38,6 +40,15 @@ void make_raw(int fd) {
         ::cfmakeraw(&tio);
         ::tcsetattr(fd, TCSANOW, &tio);
     }
+}
+
+// The measuring threads run SCHED_FIFO when allowed (root, or CAP_SYS_NICE),
+// so that a stamp is taken when the byte moves, not when a busy 2-core
+// machine gets round to scheduling the benchmark. Falls back silently.
+bool make_realtime() {
+    sched_param param{};
+    param.sched_priority = 10;
+    return ::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &param) == 0;
 }
 
 proto::Frame frame_for(std::uint32_t counter) {
@@ -107,6 +118,7 @@ void FakeGimbal::stop_reader() {
 // Frame n falls due at start + n * period (absolute deadlines: no drift). A
 // writer that fell behind sends the overdue frames at once and counts them.
 void FakeGimbal::write_loop(double rate_hz, std::size_t max_frames) {
+    realtime_ = make_realtime();
     const auto period_ns = static_cast<std::int64_t>(1e9 / rate_hz);
     const auto start = now_ns() + period_ns;
     for (std::uint32_t n = 1; n <= max_frames && writing_; ++n) {
@@ -134,6 +146,7 @@ void FakeGimbal::write_loop(double rate_hz, std::size_t max_frames) {
 }
 
 void FakeGimbal::read_loop() {
+    make_realtime();
     proto::Decoder decoder;
     std::uint8_t buffer[4096];
     while (reading_) {

@@ -49,6 +49,8 @@ class FakeGimbal {
     std::uint32_t frames_written() const { return written_.load(); }
     // Frames the writer fell behind its schedule by more than one period.
     std::uint32_t late_frames() const { return late_.load(); }
+    // Whether the writer (and reader) threads got SCHED_FIFO priority.
+    bool realtime() const { return realtime_.load(); }
 
     // Stops the reader; afterwards control_frames() is stable.
     void stop_reader();
@@ -65,6 +67,7 @@ class FakeGimbal {
     std::atomic<std::uint32_t> written_{0};
     std::atomic<std::uint32_t> late_{0};
     std::atomic<bool> writing_{false};
+    std::atomic<bool> realtime_{false};
     std::atomic<bool> reading_{true};
     std::vector<ControlStamp> control_;
     std::thread writer_;

@@ -70,6 +70,7 @@ CellResult run_cell(const Options& options, const std::string& dir) {
     daemon_options.config_path = dir + "/gportd.json";
     daemon_options.log_path = dir + "/gportd.log";
     daemon_options.max_clients = options.subscribers + options.flooders + 16;
+    daemon_options.realtime = options.daemon_fifo;
     DaemonProcess daemon(daemon_options);
 
     auto control = connect_unix_retry(daemon_options.socket, 10000);
@@ -112,10 +113,13 @@ CellResult run_cell(const Options& options, const std::string& dir) {
 
     const double wall = static_cast<double>(t1 - t0) / 1e9;
     r.cpu_percent = 100.0 * (after.cpu_seconds - before.cpu_seconds) / wall;
+    r.system_percent = 100.0 * (after.system_seconds - before.system_seconds) / wall;
     r.rss_kib = after.rss_kib;
     r.hwm_kib = after.hwm_kib;
     r.frames_written = gimbal.frames_written();
     r.writer_late = gimbal.late_frames();
+    r.realtime = gimbal.realtime();
+    r.daemon_fifo = options.daemon_fifo;
     r.delivery = delivery_of(hub.subscribers(), r.frames_written);
     r.latency = latency_of(hub.subscribers(), gimbal.write_times());
     r.keepalive = keepalive_of(gimbal.control_frames(), t0, t1, 1000.0 / options.keepalive_hz);

@@ -37,6 +37,8 @@ std::string usage() {
            "  --gportd PATH      the daemon binary (default: the one built with this bench)\n"
            "  --json FILE        also write the results as JSON to FILE\n"
            "  --no-header        print only the table row\n"
+           "  --daemon-fifo      run gportd SCHED_FIFO (needs root or CAP_SYS_NICE): shows how\n"
+           "                     much of a delay is waiting for a CPU on a loaded machine\n"
            "  -h, --help         this text\n";
 }
 
@@ -51,6 +53,10 @@ std::optional<Options> parse_options(int argc, char** argv) {
         }
         if (arg == "--no-header") {
             o.no_header = true;
+            continue;
+        }
+        if (arg == "--daemon-fifo") {
+            o.daemon_fifo = true;
             continue;
         }
         if (i + 1 >= argc) {

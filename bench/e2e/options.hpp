@@ -15,6 +15,7 @@ struct Options {
     std::string gportd;        // the daemon binary
     std::string json_path;     // where to write the JSON summary ("" = nowhere)
     bool no_header = false;    // print only the table row
+    bool daemon_fifo = false;  // run gportd SCHED_FIFO (diagnosis of scheduling delays)
     bool help = false;
 };
 

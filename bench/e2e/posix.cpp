@@ -165,8 +165,9 @@ ProcSample sample_process(pid_t pid) {
     unsigned long long utime = 0;
     unsigned long long stime = 0;
     fields >> utime >> stime;
-    sample.cpu_seconds =
-        static_cast<double>(utime + stime) / static_cast<double>(::sysconf(_SC_CLK_TCK));
+    const auto ticks = static_cast<double>(::sysconf(_SC_CLK_TCK));
+    sample.cpu_seconds = static_cast<double>(utime + stime) / ticks;
+    sample.system_seconds = static_cast<double>(stime) / ticks;
     std::ifstream status_file("/proc/" + std::to_string(pid) + "/status");
     std::stringstream status;
     status << status_file.rdbuf();

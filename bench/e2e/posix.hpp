@@ -55,10 +55,11 @@ bool read_line(int fd, std::string& pending, std::string& line, int timeout_ms =
 
 // What /proc says about a process: CPU time used (user + system) and memory.
 struct ProcSample {
-    double cpu_seconds = 0;  // utime + stime from /proc/<pid>/stat
-    long rss_kib = 0;        // VmRSS from /proc/<pid>/status
-    long hwm_kib = 0;        // VmHWM: the peak resident size
-    bool alive = false;      // false when the process is gone
+    double cpu_seconds = 0;     // utime + stime from /proc/<pid>/stat
+    double system_seconds = 0;  // stime alone: time in the kernel (syscalls)
+    long rss_kib = 0;           // VmRSS from /proc/<pid>/status
+    long hwm_kib = 0;           // VmHWM: the peak resident size
+    bool alive = false;         // false when the process is gone
 };
 ProcSample sample_process(pid_t pid);
 

@@ -122,7 +122,8 @@ std::string table_row(const CellResult& r) {
         streaming ? fmt::format("{:.0f}", r.latency.max_us) : "-",
         streaming ? fmt::format("{:.0f}", r.latency.first_p99_us) : "-", r.cpu_percent,
         mib(r.rss_kib), mib(r.hwm_kib), r.keepalive.p99_dev_ms, r.keepalive.max_dev_ms,
-        r.keepalive.intervals, r.flood_replies_per_s, r.load_start);
+        r.keepalive.intervals, r.flood_replies_per_s,
+        r.daemon_fifo ? r.load_start + " (gportd FIFO)" : r.load_start);
 }
 
 nlohmann::json to_json(const CellResult& r) {
@@ -136,6 +137,8 @@ nlohmann::json to_json(const CellResult& r) {
         {"loadavg_end", r.load_end},
         {"frames_written", r.frames_written},
         {"writer_late_frames", r.writer_late},
+        {"measuring_threads_sched_fifo", r.realtime},
+        {"daemon_sched_fifo", r.daemon_fifo},
         {"lines",
          {{"expected", d.expected},
           {"delivered", d.delivered},
@@ -158,6 +161,7 @@ nlohmann::json to_json(const CellResult& r) {
           {"max", r.keepalive.max_dev_ms}}},
         {"daemon",
          {{"cpu_percent_of_one_core", r.cpu_percent},
+          {"system_cpu_percent_of_one_core", r.system_percent},
           {"vm_rss_kib", r.rss_kib},
           {"vm_hwm_kib", r.hwm_kib},
           {"exit_status", r.daemon_exit},

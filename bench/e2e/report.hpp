@@ -48,11 +48,15 @@ struct CellResult {
     std::string load_start;
     std::string load_end;
     std::uint32_t frames_written = 0;
-    std::uint32_t writer_late = 0;  // frames our writer sent more than a period late
+    std::uint32_t writer_late = 0;
+    bool realtime = false;  // the measuring threads ran SCHED_FIFO  // frames our writer sent more
+    bool daemon_fifo = false;  // gportd itself ran SCHED_FIFO (--daemon-fifo)
+                               // than a period late
     DeliveryStats delivery;
     LatencyStats latency;
     KeepaliveStats keepalive;
-    double cpu_percent = 0;  // daemon utime+stime over the stream, % of one core
+    double cpu_percent = 0;     // daemon utime+stime over the stream, % of one core
+    double system_percent = 0;  // the stime part of it
     long rss_kib = 0;
     long hwm_kib = 0;
     double flood_replies_per_s = 0;
