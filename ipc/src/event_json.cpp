@@ -5,6 +5,8 @@
 #include <chrono>
 #include <iterator>
 
+#include "result_json.hpp"
+
 namespace gport::ipc {
 namespace {
 
@@ -35,13 +37,9 @@ void append_time(fmt::memory_buffer& out, daemon::WallTime time) {
     fmt::format_to(std::back_inserter(out), "{}.{:06}", seconds, fraction);
 }
 
-std::string dump_line(const json& message) {
-    return message.dump(-1, ' ', false, json::error_handler_t::replace) + '\n';
-}
-
 Line notification(std::string_view topic, json params) {
     json message = {{"jsonrpc", "2.0"}, {"method", topic}, {"params", std::move(params)}};
-    return std::make_shared<const std::string>(dump_line(message));
+    return std::make_shared<const std::string>(detail::json_line(message));
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "methods.hpp"
 #include "params.hpp"
+#include "result_json.hpp"
 
 namespace gport::ipc {
 namespace {
@@ -22,10 +23,6 @@ using nlohmann::json;
 // A JSON-RPC reply object; `done` receives it, or is not called at all for
 // a notification.
 using ReplyDone = std::function<void(json)>;
-
-std::string dump_line(const json& message) {
-    return message.dump(-1, ' ', false, json::error_handler_t::replace) + '\n';
-}
 
 json error_object(const json& id, int code, std::string_view message) {
     return {{"jsonrpc", "2.0"},
@@ -181,7 +178,7 @@ class Batch {
             }
         }
         if (!out.empty()) {
-            sink_(dump_line(out));
+            sink_(detail::json_line(out));
         }
     }
 
@@ -216,7 +213,7 @@ int to_rpc_code(daemon::ErrorCode code) {
 }
 
 std::string error_line(int code, std::string_view message) {
-    return dump_line(error_object(nullptr, code, message));
+    return detail::json_line(error_object(nullptr, code, message));
 }
 
 Dispatcher::Dispatcher(daemon::Api& api, std::function<ServerStats()> stats)
@@ -239,7 +236,7 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const R
     detail::MethodContext context{api_, client, stats_};
     if (!request.is_array()) {
         // The reply may come after this returns (settings): keep a copy of the sink.
-        run_request(request, context, [sink](json reply) { sink(dump_line(reply)); });
+        run_request(request, context, [sink](json reply) { sink(detail::json_line(reply)); });
         return;
     }
     if (request.empty() || request.size() > kMaxBatch) {

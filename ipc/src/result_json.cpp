@@ -7,6 +7,10 @@
 #endif
 
 namespace gport::ipc::detail {
+
+std::string json_line(const nlohmann::json& message) {
+    return message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + '\n';
+}
 namespace {
 
 using nlohmann::json;

@@ -3,10 +3,14 @@
 
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <string>
 
 #include "gport/ipc/json_rpc.hpp"
 
 namespace gport::ipc::detail {
+
+// One message as an NDJSON line: compact, invalid UTF-8 replaced, newline-ended.
+std::string json_line(const nlohmann::json& message);
 
 nlohmann::json status_json(const daemon::Status& status, const ServerStats& stats,
                            const ClientState& client);

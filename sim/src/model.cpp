@@ -5,17 +5,14 @@
 #include <stdexcept>
 #include <variant>
 
+#include "overloaded.hpp"
+
 namespace gport::sim {
 namespace {
 
 namespace p = gport::protocol;
 
-template <typename... F>
-struct Overloaded : F... {
-    using F::operator()...;
-};
-template <typename... F>
-Overloaded(F...) -> Overloaded<F...>;
+using detail::Overloaded;
 
 std::array<double, 3> to_array(const Vec3& v) {
     return {v.roll, v.pitch, v.yaw};

@@ -6,18 +6,15 @@
 #include <nlohmann/json.hpp>
 #include <variant>
 
+#include "overloaded.hpp"
+
 namespace gport::sim {
 namespace {
 
 namespace p = gport::protocol;
 using Json = nlohmann::ordered_json;  // keeps t_ms first, as documented
 
-template <typename... F>
-struct Overloaded : F... {
-    using F::operator()...;
-};
-template <typename... F>
-Overloaded(F...) -> Overloaded<F...>;
+using detail::Overloaded;
 
 Json start(double t_ms) {
     Json j;
