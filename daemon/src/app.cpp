@@ -63,7 +63,7 @@ class Daemon {
                 stop(sig);
             }
         });
-        log_->info("gportd {} ready on {}", GPORT_VERSION, config_.socket.path);
+        log_->info("gportd {} ready", GPORT_VERSION);
         io_.run();
         log_->info("gportd stopped");
         return 0;
