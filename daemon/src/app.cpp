@@ -122,7 +122,7 @@ class Daemon {
     config::Config config_;
     std::shared_ptr<systemd::LogContext> context_;
     std::shared_ptr<spdlog::logger> log_;
-    asio::io_context io_;
+    asio::io_context io_{1};  // one thread: Asio may skip its locking
     systemd::Notifier notifier_;
     systemd::WatchdogDriver watchdog_;
     asio::signal_set signals_;

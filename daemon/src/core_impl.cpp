@@ -331,7 +331,9 @@ void Core::Impl::shutdown(std::function<void()> done) {
             finish();
         }
     });
-    link_.when_drained([finish] { asio::post([finish] { finish(); }); });
+    // Posted to the loop (never to asio's system executor, another thread),
+    // so that finish() does not run inside SerialLink's own completion.
+    link_.when_drained([this, finish] { asio::post(io_, [finish] { finish(); }); });
 }
 
 Status Core::Impl::status() const {

@@ -29,6 +29,9 @@ Session::Session(Socket socket, daemon::ClientInfo info, Server& server)
       outbox_(server.config().queue_limit) {}
 
 void Session::start() {
+    // Writes are tried at once (see flush); reads stay asynchronous.
+    boost::system::error_code ignored;
+    socket_.non_blocking(true, ignored);
     read();
 }
 
@@ -205,18 +208,42 @@ void Session::flush() {
     if (writing_ || closed_) {
         return;
     }
-    if (outbox_.empty()) {
-        if (closing_) {
-            close();
+    // Most batches fit in the socket's buffer: they are sent at once, with no
+    // asynchronous operation to set up. Only what does not fit waits for the
+    // socket to drain, with one async_write in flight.
+    while (!outbox_.empty()) {
+        in_flight_.clear();
+        outbox_.take(in_flight_, kLinesPerWrite);
+        buffers_.clear();
+        for (const auto& line : in_flight_) {
+            buffers_.push_back(asio::buffer(*line));
         }
-        return;
+        boost::system::error_code error;
+        const std::size_t sent = socket_.write_some(buffers_, error);
+        if (error && error != asio::error::would_block && error != asio::error::try_again) {
+            close();  // the client went away
+            return;
+        }
+        if (sent < asio::buffer_size(buffers_)) {
+            write_rest(sent);
+            return;
+        }
     }
     in_flight_.clear();
-    outbox_.take(in_flight_, kLinesPerWrite);
-    buffers_.clear();
-    for (const auto& line : in_flight_) {
-        buffers_.push_back(asio::buffer(*line));
+    if (closing_) {
+        close();
     }
+}
+
+// Sends what write_some left of the batch in flight, skipping `sent` bytes.
+void Session::write_rest(std::size_t sent) {
+    auto first = buffers_.begin();
+    while (sent > 0 && sent >= first->size()) {
+        sent -= first->size();
+        ++first;
+    }
+    *first += sent;
+    buffers_.erase(buffers_.begin(), first);
     writing_ = true;
     asio::async_write(socket_, buffers_,
                       [self = shared_from_this()](const boost::system::error_code& error,

@@ -44,6 +44,7 @@ class Session : public std::enable_shared_from_this<Session> {
     void queue_attitude(const Line& line);
     void on_rate_timer();
     void flush();
+    void write_rest(std::size_t sent);
     void on_written(const boost::system::error_code& error);
     void overflow();
 
