@@ -81,12 +81,13 @@ Line with_dropped(const std::string& attitude_notification, std::uint64_t droppe
 }
 
 Line link_line(const daemon::LinkEvent& event) {
-    return notification("link", {{"state", link_name(event.state)}, {"reason", event.reason}});
+    return notification("link",
+                        {{"state", daemon::to_string(event.state)}, {"reason", event.reason}});
 }
 
 Line motion_line(const daemon::MotionEvent& event) {
-    json params = {{"change", change_name(event.change)},
-                   {"mode", mode_name(event.mode)},
+    json params = {{"change", daemon::to_string(event.change)},
+                   {"mode", daemon::to_string(event.mode)},
                    {"owner", event.owner ? client_json(*event.owner) : json(nullptr)}};
     if (event.mode == daemon::MotionMode::kSpeed) {
         params["speed"] = axes_json(event.speed);
@@ -95,65 +96,9 @@ Line motion_line(const daemon::MotionEvent& event) {
         params["angle"] = axes_json(event.angle);
     }
     if (event.reason) {
-        params["reason"] = reason_name(*event.reason);
+        params["reason"] = daemon::to_string(*event.reason);
     }
     return notification("motion", std::move(params));
-}
-
-std::string_view link_name(daemon::LinkState state) {
-    switch (state) {
-        case daemon::LinkState::kUp:
-            return "up";
-        case daemon::LinkState::kStale:
-            return "stale";
-        case daemon::LinkState::kDown:
-            break;
-    }
-    return "down";
-}
-
-std::string_view mode_name(daemon::MotionMode mode) {
-    switch (mode) {
-        case daemon::MotionMode::kAngle:
-            return "angle";
-        case daemon::MotionMode::kCenter:
-            return "center";
-        case daemon::MotionMode::kLock:
-            return "lock";
-        case daemon::MotionMode::kSpeed:
-            break;
-    }
-    return "speed";
-}
-
-std::string_view change_name(daemon::MotionChange change) {
-    switch (change) {
-        case daemon::MotionChange::kReplaced:
-            return "replaced";
-        case daemon::MotionChange::kEnded:
-            return "ended";
-        case daemon::MotionChange::kStarted:
-            break;
-    }
-    return "started";
-}
-
-std::string_view reason_name(daemon::EndReason reason) {
-    switch (reason) {
-        case daemon::EndReason::kStop:
-            return "stop";
-        case daemon::EndReason::kOwnerGone:
-            return "owner_gone";
-        case daemon::EndReason::kShutdown:
-            return "shutdown";
-        case daemon::EndReason::kSuperseded:
-            return "superseded";
-        case daemon::EndReason::kLinkDown:
-            return "link_down";
-        case daemon::EndReason::kDuration:
-            break;
-    }
-    return "duration";
 }
 
 json client_json(const daemon::ClientInfo& client) {

@@ -41,7 +41,7 @@ json motion_json(const std::optional<daemon::MotionStatus>& motion) {
     if (!motion) {
         return nullptr;
     }
-    return {{"mode", mode_name(motion->mode)},
+    return {{"mode", daemon::to_string(motion->mode)},
             {"owner", motion->owner ? client_json(*motion->owner) : json(nullptr)},
             {"speed", axes_json(motion->speed)},
             {"time_left_ms", motion->time_left.count()}};
@@ -59,7 +59,7 @@ json status_json(const daemon::Status& status, const ServerStats& stats,
     you["dropped"] = client.dropped;
     return {{"api_version", kApiVersion},
             {"daemon_version", GPORT_VERSION},
-            {"link", {{"state", link_name(status.link)}, {"reason", status.link_reason}}},
+            {"link", {{"state", daemon::to_string(status.link)}, {"reason", status.link_reason}}},
             {"device", status.device},
             {"device_open", status.device_open},
             {"uptime_ms", status.uptime.count()},

@@ -28,7 +28,6 @@ struct ClientInfo {
 };
 
 enum class LinkState { kDown, kStale, kUp };
-std::string_view to_string(LinkState state);
 
 // One 0x87 frame as received.
 struct AttitudeSample {
@@ -44,14 +43,11 @@ struct LinkEvent {
 };
 
 enum class MotionMode { kSpeed, kAngle, kCenter, kLock };
-std::string_view to_string(MotionMode mode);
 
 enum class MotionChange { kStarted, kReplaced, kEnded };
-std::string_view to_string(MotionChange change);
 
 // Why a speed motion ended.
 enum class EndReason { kDuration, kStop, kOwnerGone, kShutdown, kSuperseded, kLinkDown };
-std::string_view to_string(EndReason reason);
 
 struct MotionEvent {
     MotionChange change = MotionChange::kStarted;
@@ -71,5 +67,62 @@ class CoreObserver {
     virtual void on_link(const LinkEvent& event) = 0;
     virtual void on_motion(const MotionEvent& event) = 0;
 };
+
+// Names as they appear in logs and on the client API.
+constexpr std::string_view to_string(LinkState state) {
+    switch (state) {
+        case LinkState::kDown:
+            return "down";
+        case LinkState::kStale:
+            return "stale";
+        case LinkState::kUp:
+            return "up";
+    }
+    return "unknown";
+}
+
+constexpr std::string_view to_string(MotionMode mode) {
+    switch (mode) {
+        case MotionMode::kSpeed:
+            return "speed";
+        case MotionMode::kAngle:
+            return "angle";
+        case MotionMode::kCenter:
+            return "center";
+        case MotionMode::kLock:
+            return "lock";
+    }
+    return "unknown";
+}
+
+constexpr std::string_view to_string(MotionChange change) {
+    switch (change) {
+        case MotionChange::kStarted:
+            return "started";
+        case MotionChange::kReplaced:
+            return "replaced";
+        case MotionChange::kEnded:
+            return "ended";
+    }
+    return "unknown";
+}
+
+constexpr std::string_view to_string(EndReason reason) {
+    switch (reason) {
+        case EndReason::kDuration:
+            return "duration";
+        case EndReason::kStop:
+            return "stop";
+        case EndReason::kOwnerGone:
+            return "owner_gone";
+        case EndReason::kShutdown:
+            return "shutdown";
+        case EndReason::kSuperseded:
+            return "superseded";
+        case EndReason::kLinkDown:
+            return "link_down";
+    }
+    return "unknown";
+}
 
 }  // namespace gport::daemon

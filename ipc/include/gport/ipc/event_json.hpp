@@ -34,12 +34,6 @@ Line motion_line(const daemon::MotionEvent& event);
 // params: how this one client learns how many samples it has lost so far.
 Line with_dropped(const std::string& attitude_notification, std::uint64_t dropped);
 
-// Names used on the API (snake_case).
-std::string_view link_name(daemon::LinkState state);
-std::string_view mode_name(daemon::MotionMode mode);
-std::string_view change_name(daemon::MotionChange change);
-std::string_view reason_name(daemon::EndReason reason);
-
 // Shared pieces of results and notifications.
 nlohmann::json client_json(const daemon::ClientInfo& client);
 nlohmann::json axes_json(const protocol::Axes& axes);  // degrees from 0.01 units
