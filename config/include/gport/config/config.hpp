@@ -17,7 +17,7 @@ namespace gport::config {
 
 using Millis = std::chrono::milliseconds;
 
-struct SerialConfig {          // "serial"
+struct SerialConfig {                    // "serial"
     std::string device = "/dev/gimbal";  // "device"
     unsigned baud = 115200;              // "baud": one of the standard termios rates
 };
@@ -31,33 +31,33 @@ struct SocketConfig {                       // "socket"
     std::size_t queue_limit = 256;          // "queue_limit": outbound lines per client
 };
 
-struct KeepaliveConfig {                 // "keepalive"
-    double rate_hz = 10.0;               // "rate_hz": re-send rate of speed commands
-    Millis default_duration{1000};       // "default_duration_ms"
-    Millis max_duration{60000};          // "max_duration_ms"
+struct KeepaliveConfig {            // "keepalive"
+    double rate_hz = 10.0;          // "rate_hz": re-send rate of speed commands
+    Millis default_duration{1000};  // "default_duration_ms"
+    Millis max_duration{60000};     // "max_duration_ms"
 };
 
-struct LinkConfig {                      // "link"
-    Millis stale_after{500};             // "stale_ms": no attitude this long -> stale
-    Millis reconnect_initial{250};       // "reconnect_initial_ms": first reopen delay
-    Millis reconnect_max{5000};          // "reconnect_max_ms": backoff cap
+struct LinkConfig {                 // "link"
+    Millis stale_after{500};        // "stale_ms": no attitude this long -> stale
+    Millis reconnect_initial{250};  // "reconnect_initial_ms": first reopen delay
+    Millis reconnect_max{5000};     // "reconnect_max_ms": backoff cap
 };
 
-struct RequestConfig {                   // "requests": settings requests to the gimbal
-    Millis timeout{300};                 // "timeout_ms": per attempt
-    unsigned retries = 2;                // "retries": attempts after the first
+struct RequestConfig {     // "requests": settings requests to the gimbal
+    Millis timeout{300};   // "timeout_ms": per attempt
+    unsigned retries = 2;  // "retries": attempts after the first
 };
 
-struct AccessConfig {                    // "access"
+struct AccessConfig {  // "access"
     // Peers allowed to command the gimbal. Both empty: every peer that can
     // connect may command (the socket's mode is the only gate). Root and the
     // daemon's own uid may always command.
-    std::vector<uid_t> control_uids;     // "control_uids"
-    std::vector<gid_t> control_gids;     // "control_gids"
+    std::vector<uid_t> control_uids;  // "control_uids"
+    std::vector<gid_t> control_gids;  // "control_gids"
 };
 
-struct LogConfig {                       // "log"
-    std::string level = "info";          // "level": trace, debug, info, warn, error, critical, off
+struct LogConfig {               // "log"
+    std::string level = "info";  // "level": trace, debug, info, warn, error, critical, off
 };
 
 struct Config {
@@ -68,7 +68,7 @@ struct Config {
     RequestConfig requests;
     AccessConfig access;
     LogConfig log;
-    bool simulate = false;               // command line only: --simulate
+    bool simulate = false;  // command line only: --simulate
 };
 
 }  // namespace gport::config
