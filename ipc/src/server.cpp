@@ -195,23 +195,22 @@ void Server::on_attitude(const daemon::AttitudeSample& sample) {
 }
 
 void Server::on_link(const daemon::LinkEvent& event) {
-    Line line;
-    for_each_session([&](Session& session) {
-        if (session.subscriptions().link) {
-            if (!line) {
-                line = link_line(event);
-            }
-            session.deliver_event(line);
-        }
-    });
+    publish_event(&Subscriptions::link, [&] { return link_line(event); });
 }
 
 void Server::on_motion(const daemon::MotionEvent& event) {
+    publish_event(&Subscriptions::motion, [&] { return motion_line(event); });
+}
+
+// Delivers a link or motion notification to its subscribers, encoding it
+// once, on the first subscriber found.
+template <typename Build>
+void Server::publish_event(bool Subscriptions::*topic, Build build) {
     Line line;
     for_each_session([&](Session& session) {
-        if (session.subscriptions().motion) {
+        if (session.subscriptions().*topic) {
             if (!line) {
-                line = motion_line(event);
+                line = build();
             }
             session.deliver_event(line);
         }

@@ -74,6 +74,8 @@ class Server final : public daemon::CoreObserver {
     void reject(boost::asio::local::stream_protocol::socket socket);
     template <typename F>
     void for_each_session(F&& visit);
+    template <typename Build>
+    void publish_event(bool Subscriptions::*topic, Build build);
 
     boost::asio::io_context& io_;
     daemon::Api& api_;
