@@ -86,4 +86,8 @@ void Core::client_gone(const ClientInfo& client) {
     impl_->client_gone(client);
 }
 
+void Core::client_closed(const ClientInfo& client) {
+    impl_->client_closed(client);
+}
+
 }  // namespace gport::daemon

@@ -204,7 +204,6 @@ void Core::Impl::settings(const ClientInfo& client, std::optional<SettingsChange
 }
 
 void Core::Impl::client_gone(const ClientInfo& client) {
-    access.forget(client);
     const auto owner = keepalive_.owner();
     if (owner && owner->id == client.id) {
         keepalive_.end(EndReason::kOwnerGone, true);  // the deadman
@@ -213,6 +212,10 @@ void Core::Impl::client_gone(const ClientInfo& client) {
         log_->info("control released: pid {} disconnected", client.pid);
         controller_.reset();
     }
+}
+
+void Core::Impl::client_closed(const ClientInfo& client) {
+    access.forget(client);
 }
 
 // ---- the read path -----------------------------------------------------------

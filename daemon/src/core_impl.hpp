@@ -40,6 +40,7 @@ class Core::Impl {
     void settings(const ClientInfo& client, std::optional<SettingsChange> change,
                   SettingsCallback done);
     void client_gone(const ClientInfo& client);
+    void client_closed(const ClientInfo& client);
 
     CoreObserver* observer = nullptr;
     std::vector<std::function<void(const LinkEvent&)>> link_listeners;

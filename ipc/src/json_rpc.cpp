@@ -206,6 +206,8 @@ int to_rpc_code(daemon::ErrorCode code) {
             return rpc_error::kPermission;
         case daemon::ErrorCode::kNoAnswer:
             return rpc_error::kNoAnswer;
+        case daemon::ErrorCode::kTooMany:
+            return rpc_error::kTooMany;
         case daemon::ErrorCode::kBusy:
             break;
     }

@@ -25,7 +25,7 @@ std::optional<daemon::ClientInfo> peer_of(stream_protocol::socket& socket) {
     if (::getsockopt(socket.native_handle(), SOL_SOCKET, SO_PEERCRED, &credentials, &size) != 0) {
         return std::nullopt;
     }
-    return daemon::ClientInfo{0, credentials.pid, credentials.uid, credentials.gid};
+    return daemon::ClientInfo{0, credentials.pid, credentials.uid, credentials.gid, {}};
 }
 
 }  // namespace
@@ -178,6 +178,7 @@ void Server::session_closed(const Session& session) {
     }
     // Last: the core may publish a motion event (owner gone) right away.
     api_.client_gone(info);
+    api_.client_closed(info);
 }
 
 // ---- events -------------------------------------------------------------------------

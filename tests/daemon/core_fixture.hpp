@@ -129,8 +129,8 @@ class CoreFixture : public ::testing::Test {
     std::unique_ptr<daemon::Core> core;
     Recorder recorder;
     std::vector<Json> trace;
-    daemon::ClientInfo alice{1, 1001, 1001, 1001};
-    daemon::ClientInfo bob{2, 1002, 1002, 1002};
+    daemon::ClientInfo alice{1, 1001, 1001, 1001, {}};
+    daemon::ClientInfo bob{2, 1002, 1002, 1002, {}};
 };
 
 }  // namespace gport::testing

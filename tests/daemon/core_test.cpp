@@ -266,9 +266,9 @@ TEST_F(CoreFixture, ReadOnlyPeersMayNotCommand) {
     auto r = core->center(bob);
     ASSERT_FALSE(r.ok());
     EXPECT_EQ(r.error().code, ErrorCode::kPermission);
-    daemon::ClientInfo listed{3, 77, 4242, 4242};
+    daemon::ClientInfo listed{3, 77, 4242, 4242, {}};
     EXPECT_TRUE(core->center(listed).ok());
-    daemon::ClientInfo root{4, 1, 0, 0};
+    daemon::ClientInfo root{4, 1, 0, 0, {}};
     EXPECT_TRUE(core->may_command(root));
 }
 

@@ -48,7 +48,7 @@ class DispatcherTest : public ::testing::Test {
     }
 
     testing::FakeApi api_;
-    ClientState client_{{7, 4242, 1000, 1000}, {}, 0};
+    ClientState client_{{7, 4242, 1000, 1000, {}}, {}, 0};
     Dispatcher dispatcher_{api_, [] { return ServerStats{3, 11}; }};
     std::vector<std::string> lines_;
 };

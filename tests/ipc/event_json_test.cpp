@@ -63,7 +63,7 @@ TEST(EventJson, LinkAndMotion) {
 
     daemon::MotionEvent ended;
     ended.change = daemon::MotionChange::kEnded;
-    ended.owner = daemon::ClientInfo{3, 100, 1000, 1000};
+    ended.owner = daemon::ClientInfo{3, 100, 1000, 1000, {}};
     ended.speed = {0, 0, 1500};
     ended.duration = daemon::Millis(2000);
     ended.reason = daemon::EndReason::kOwnerGone;

@@ -27,6 +27,7 @@ class FakeApi final : public daemon::Api {
     bool emit_motion = false;  // speed() publishes a motion "started" event
     std::vector<std::string> calls;
     std::vector<daemon::ClientInfo> gone;
+    std::vector<daemon::ClientInfo> closed;
     // Settings answers wait here until the test (or run_settings) runs them.
     std::vector<std::function<void()>> pending_settings;
     // When set, settings answers are handed to it instead (e.g. asio::post).
@@ -108,6 +109,7 @@ class FakeApi final : public daemon::Api {
         answer(std::move(done));
     }
     void client_gone(const daemon::ClientInfo& c) override { gone.push_back(c); }
+    void client_closed(const daemon::ClientInfo& c) override { closed.push_back(c); }
 
     void run_settings() {
         auto pending = std::move(pending_settings);

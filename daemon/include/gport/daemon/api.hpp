@@ -106,8 +106,15 @@ class Api {
     virtual void set_settings(const ClientInfo& client, SettingsChange change,
                               SettingsCallback done) = 0;
 
-    // The client's connection closed: stop its motion, release its control.
+    // The client hung up (EOF) or its connection closed: the deadman. Stops
+    // its motion and releases its control at once. Its settings requests
+    // still complete (a half-closed client still reads its replies).
     virtual void client_gone(const ClientInfo& client) = 0;
+    // The connection is closed for good: nothing more is delivered to it.
+    // Its queued settings requests are dropped (their callbacks never run)
+    // and anything kept per connection is forgotten. Called after
+    // client_gone, once per connection.
+    virtual void client_closed(const ClientInfo& client) = 0;
 };
 
 }  // namespace gport::daemon

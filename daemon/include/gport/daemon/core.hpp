@@ -48,6 +48,7 @@ class Core final : public Api {
     void set_settings(const ClientInfo& client, SettingsChange change,
                       SettingsCallback done) override;
     void client_gone(const ClientInfo& client) override;
+    void client_closed(const ClientInfo& client) override;
 
   private:
     class Impl;

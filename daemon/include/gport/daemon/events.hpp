@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "gport/protocol/messages.hpp"
 
@@ -19,12 +20,14 @@ using SteadyTime = std::chrono::steady_clock::time_point;
 using WallTime = std::chrono::system_clock::time_point;
 using Millis = std::chrono::milliseconds;
 
-// A connected client, identified by the IPC layer (SO_PEERCRED).
+// A connected client, identified by the IPC layer (SO_PEERCRED and
+// SO_PEERGROUPS: the credentials the peer process had when it connected).
 struct ClientInfo {
     std::uint64_t id = 0;  // unique per connection, never reused
     pid_t pid = 0;
     uid_t uid = 0;
     gid_t gid = 0;
+    std::vector<gid_t> groups;  // the peer's supplementary groups
 };
 
 enum class LinkState { kDown, kStale, kUp };
@@ -47,7 +50,15 @@ enum class MotionMode { kSpeed, kAngle, kCenter, kLock };
 enum class MotionChange { kStarted, kReplaced, kEnded };
 
 // Why a speed motion ended.
-enum class EndReason { kDuration, kStop, kOwnerGone, kShutdown, kSuperseded, kLinkDown };
+enum class EndReason {
+    kDuration,
+    kStop,
+    kOwnerGone,
+    kShutdown,
+    kSuperseded,
+    kLinkDown,
+    kPreempted,  // another client acquired control
+};
 
 struct MotionEvent {
     MotionChange change = MotionChange::kStarted;
@@ -121,6 +132,8 @@ constexpr std::string_view to_string(EndReason reason) {
             return "superseded";
         case EndReason::kLinkDown:
             return "link_down";
+        case EndReason::kPreempted:
+            return "preempted";
     }
     return "unknown";
 }

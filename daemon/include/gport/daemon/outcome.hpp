@@ -14,6 +14,7 @@ enum class ErrorCode {
     kPermission,     // -32001: this peer may only read
     kNoAnswer,       // -32002: the gimbal did not answer
     kBusy,           // -32003: another client holds control
+    kTooMany,        // -32005: too many requests from this client (or in total)
 };
 
 struct CommandError {

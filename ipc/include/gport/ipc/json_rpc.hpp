@@ -37,6 +37,7 @@ inline constexpr int kPermission = -32001;
 inline constexpr int kNoAnswer = -32002;
 inline constexpr int kBusy = -32003;
 inline constexpr int kServerFull = -32004;  // sent once to a client over max_clients
+inline constexpr int kTooMany = -32005;     // request rate or outstanding requests over a limit
 }  // namespace rpc_error
 
 int to_rpc_code(daemon::ErrorCode code);
