@@ -1,11 +1,12 @@
 #include "gport/config/loader.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
-#include <memory>
 
 #include "checks.hpp"
 #include "parse.hpp"
@@ -19,30 +20,80 @@ struct FileText {
     std::string text;
     int error = 0;  // errno of the failed open or read; 0 when `text` is the whole file
     bool too_large = false;
+    const char* not_regular = nullptr;  // what the path is, when not a regular file
 };
 
-FileText read_file(const std::string& path) {
-    FileText result;
-    // "e": close-on-exec, so that no child of the daemon inherits the descriptor.
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rbe"),
-                                                         &std::fclose);
-    if (!file) {
-        result.error = errno;
-        return result;
+const char* kind_of(mode_t mode) {
+    switch (mode & S_IFMT) {
+        case S_IFDIR:
+            return "a directory";
+        case S_IFIFO:
+            return "a FIFO";
+        case S_IFCHR:
+            return "a character device";
+        case S_IFBLK:
+            return "a block device";
+        case S_IFSOCK:
+            return "a socket";
+        default:
+            return "not a regular file";
     }
-    // Read one byte past the limit to tell "exactly the limit" from "larger".
+}
+
+// Reads up to the limit plus one byte, to tell "exactly the limit" from "larger".
+void read_all(int fd, FileText& result) {
     result.text.resize(kMaxConfigBytes + 1);
-    const auto got = std::fread(result.text.data(), 1, result.text.size(), file.get());
-    if (std::ferror(file.get()) != 0) {
-        result.error = errno != 0 ? errno : EIO;
-        return result;
+    std::size_t got = 0;
+    while (got < result.text.size()) {
+        const auto n = ::read(fd, result.text.data() + got, result.text.size() - got);
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n < 0) {
+            result.error = errno;
+            return;
+        }
+        if (n == 0) {
+            break;
+        }
+        got += static_cast<std::size_t>(n);
     }
     result.too_large = got > kMaxConfigBytes;
     result.text.resize(got);
+}
+
+FileText read_file(const std::string& path) {
+    FileText result;
+    // O_NONBLOCK: opening a FIFO would otherwise wait for a writer forever.
+    // O_CLOEXEC: no child of the daemon inherits the descriptor.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) {
+        result.error = errno;
+        return result;
+    }
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) {
+        result.error = errno;
+    } else if (!S_ISREG(st.st_mode)) {
+        result.not_regular = kind_of(st.st_mode);
+    } else {
+        read_all(fd, result);  // O_NONBLOCK changes nothing for a regular file
+    }
+    ::close(fd);
     return result;
 }
 
+bool failed(const FileText& file) {
+    return file.error != 0 || file.too_large || file.not_regular != nullptr;
+}
+
 Errors file_errors(const std::string& path, const FileText& file) {
+    if (file.not_regular != nullptr) {
+        return Errors{
+            {fmt::format("{}: cannot read the config file: it is {}; a regular file "
+                         "is needed",
+                         path, file.not_regular)}};
+    }
     if (file.too_large) {
         return Errors{
             {fmt::format("{}: the config file is larger than {} bytes; is this the "
@@ -95,7 +146,7 @@ Result<Config> load_config_text(std::string_view text, std::string_view origin) 
 
 Result<Config> load_config_file(const std::string& path) {
     const auto file = read_file(path);
-    if (file.error != 0 || file.too_large) {
+    if (failed(file)) {
         return file_errors(path, file);
     }
     return load_config_text(file.text, path);
@@ -108,7 +159,7 @@ Result<Config> load_config(const CommandLine& command_line, std::string_view def
     if (!given && file.error == ENOENT) {
         return apply_command_line(Config{}, command_line);  // no file: built-in defaults
     }
-    if (file.error != 0 || file.too_large) {
+    if (failed(file)) {
         return file_errors(path, file);
     }
     auto loaded = load_config_text(file.text, path);

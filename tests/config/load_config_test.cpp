@@ -111,7 +111,25 @@ TEST_F(LoadConfig, ADirectoryIsNotAConfigFile) {
     CommandLine command_line;
     command_line.config_path = dir_.string();
     EXPECT_THAT(load_config(command_line, missing()).errors(),
-                ElementsAre(ErrorWith("cannot read the config file", "Is a directory")));
+                ElementsAre(ErrorWith(dir_.string(), "cannot read the config file",
+                                      "it is a directory; a regular file is needed")));
+}
+
+// Opening a FIFO for reading waits for a writer: start-up must not hang on it.
+TEST_F(LoadConfig, AFifoIsRefusedWithoutWaitingForAWriter) {
+    const auto path = (dir_ / "fifo.json").string();
+    ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+    CommandLine command_line;
+    command_line.config_path = path;
+    EXPECT_THAT(load_config(command_line, missing()).errors(),
+                ElementsAre(ErrorWith(path, "it is a FIFO; a regular file is needed")));
+    EXPECT_THAT(load_config_file(path).errors(),
+                ElementsAre(ErrorWith(path, "it is a FIFO; a regular file is needed")));
+}
+
+TEST_F(LoadConfig, ADeviceIsNotAConfigFile) {
+    EXPECT_THAT(load_config_file("/dev/zero").errors(),
+                ElementsAre(ErrorWith("/dev/zero", "it is a character device")));
 }
 
 TEST_F(LoadConfig, AnOversizedFileIsRefused) {
