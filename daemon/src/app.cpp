@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 
+#include "gport/config/loader.hpp"
 #include "gport/daemon/core.hpp"
 #include "gport/ipc/server.hpp"
 #include "gport/sim/simulator.hpp"
@@ -18,6 +19,7 @@
 #include "gport/systemd/logger.hpp"
 #include "gport/systemd/notifier.hpp"
 #include "gport/systemd/watchdog.hpp"
+#include "reload.hpp"
 
 namespace gport::daemon {
 namespace {
@@ -27,6 +29,19 @@ namespace asio = boost::asio;
 constexpr int kExitFailure = 1;
 constexpr int kExitConfig = 78;
 
+const char* signal_name(int sig) {
+    switch (sig) {
+        case SIGTERM:
+            return "SIGTERM";
+        case SIGINT:
+            return "SIGINT";
+        case SIGQUIT:
+            return "SIGQUIT";
+        default:
+            return "a signal";
+    }
+}
+
 std::string status_text(const std::string& device, const LinkEvent& event) {
     return fmt::format("{}: link {} ({})", device, to_string(event.state), event.reason);
 }
@@ -34,14 +49,18 @@ std::string status_text(const std::string& device, const LinkEvent& event) {
 // Everything that lives for the daemon's lifetime, in construction order.
 class Daemon {
   public:
-    Daemon(const config::Config& config, std::shared_ptr<systemd::LogContext> context,
-           std::shared_ptr<spdlog::logger> log)
-        : config_(config),
+    Daemon(const config::Config& config, const config::CommandLine& command_line,
+           std::shared_ptr<systemd::LogContext> context, std::shared_ptr<spdlog::logger> log)
+        : command_line_(command_line),
+          loaded_(config),
+          config_(config),
           context_(std::move(context)),
           log_(std::move(log)),
           notifier_(log_),
           watchdog_(io_, notifier_),
-          signals_(io_, SIGINT, SIGTERM) {}
+          signals_(io_, SIGINT, SIGTERM, SIGQUIT) {
+        signals_.add(SIGHUP);
+    }
 
     int run() {
         if (config_.simulate) {
@@ -58,11 +77,7 @@ class Daemon {
         if (auto interval = watchdog_.start()) {
             log_->info("watchdog enabled: pinging every {} ms", interval->count() / 1000);
         }
-        signals_.async_wait([this](boost::system::error_code ec, int sig) {
-            if (!ec) {
-                stop(sig);
-            }
-        });
+        wait_for_signal();
         log_->info("gportd {} ready", GPORT_VERSION);
         io_.run();
         log_->info("gportd stopped");
@@ -101,10 +116,64 @@ class Daemon {
         notifier_.status(status_text(config_.serial.device, event));
     }
 
+    // SIGHUP reloads and waits again; the others stop the daemon. The set
+    // stays installed while stopping, so a second signal cannot kill the
+    // process before the gimbal heard its zero speed.
+    void wait_for_signal() {
+        signals_.async_wait([this](boost::system::error_code ec, int sig) {
+            if (ec) {
+                return;
+            }
+            if (sig == SIGHUP) {
+                reload();
+                wait_for_signal();
+            } else if (!stopping_) {
+                stop(sig);
+            }
+        });
+    }
+
+    void reload() {
+        if (stopping_) {
+            return;
+        }
+        notifier_.reloading();
+        const auto path =
+            command_line_.config_path.value_or(std::string(config::kDefaultConfigPath));
+        auto next = config::load_config(command_line_);
+        if (!next) {
+            for (const auto& message : next.errors()) {
+                log_->error("reload: {}", message);
+            }
+            log_->error(
+                "configuration not reloaded: {} error(s) in {}; still running on the "
+                "previous configuration",
+                next.errors().size(), path);
+        } else {
+            apply(path, plan_reload(loaded_, *next));
+        }
+        notifier_.ready();
+    }
+
+    void apply(const std::string& path, ReloadPlan plan) {
+        log_->set_level(spdlog::level::from_str(plan.in_effect.log.level));
+        core_->reload(plan.in_effect);
+        for (const auto& key : plan.applied) {
+            log_->info("reload: {} changed; applied", key);
+        }
+        for (const auto& key : plan.need_restart) {
+            log_->warn("reload: {} changed; it needs a restart to take effect", key);
+        }
+        log_->info("reloaded configuration from {}: {} keys applied, {} need a restart", path,
+                   plan.applied.size(), plan.need_restart.size());
+        loaded_ = std::move(plan.in_effect);
+    }
+
     // Motion is stopped on the wire first, then clients are closed, so the
     // last thing the gimbal hears from us is a zero speed.
     void stop(int sig) {
-        log_->info("stopping on {}", sig == SIGTERM ? "SIGTERM" : "SIGINT");
+        stopping_ = true;
+        log_->info("stopping on {}", signal_name(sig));
         notifier_.stopping();
         core_->shutdown([this] {
             server_->close();
@@ -119,6 +188,8 @@ class Daemon {
     int exit_status() const { return exit_status_; }
 
   private:
+    config::CommandLine command_line_;  // re-read on SIGHUP, with the same overrides
+    config::Config loaded_;             // as loaded (and reloaded), before --simulate
     config::Config config_;
     std::shared_ptr<systemd::LogContext> context_;
     std::shared_ptr<spdlog::logger> log_;
@@ -130,11 +201,12 @@ class Daemon {
     std::optional<Core> core_;
     std::optional<ipc::Server> server_;
     int exit_status_ = kExitFailure;
+    bool stopping_ = false;
 };
 
 }  // namespace
 
-int run_daemon(const config::Config& config) {
+int run_daemon(const config::Config& config, const config::CommandLine& command_line) {
     std::signal(SIGPIPE, SIG_IGN);
     auto context = std::make_shared<systemd::LogContext>();
     systemd::LoggerOptions options;
@@ -142,7 +214,7 @@ int run_daemon(const config::Config& config) {
     auto log = systemd::make_logger(options, context);
     spdlog::set_default_logger(log);
     try {
-        Daemon daemon(config, context, log);
+        Daemon daemon(config, command_line, context, log);
         const int status = daemon.run();
         return status == 0 ? 0 : daemon.exit_status();
     } catch (const std::exception& e) {

@@ -21,6 +21,17 @@ void Core::start() {
 void Core::shutdown(std::function<void()> done) {
     impl_->shutdown(std::move(done));
 }
+void Core::reload(const config::Config& config) {
+    impl_->reload(config);
+}
+
+// Kept here, apart from core_impl.cpp: the only state a reload touches.
+void Core::Impl::reload(const config::Config& config) {
+    access = AccessPolicy(config.access);
+    config_.keepalive.default_duration = config.keepalive.default_duration;
+    config_.keepalive.max_duration = config.keepalive.max_duration;
+}
+
 void Core::add_link_listener(std::function<void(const LinkEvent&)> listener) {
     impl_->link_listeners.push_back(std::move(listener));
 }

@@ -41,6 +41,7 @@ class Core::Impl {
                   SettingsCallback done);
     void client_gone(const ClientInfo& client);
     void client_closed(const ClientInfo& client);
+    void reload(const config::Config& config);  // defined in core.cpp
 
     CoreObserver* observer = nullptr;
     std::vector<std::function<void(const LinkEvent&)>> link_listeners;

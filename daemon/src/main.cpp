@@ -27,5 +27,5 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "gportd: configuration error:\n%s", config.error_text().c_str());
         return cfg::kExitConfig;
     }
-    return gport::daemon::run_daemon(*config);
+    return gport::daemon::run_daemon(*config, *command_line);
 }

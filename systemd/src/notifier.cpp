@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <string>
 
 namespace gport::systemd {
@@ -31,6 +32,14 @@ bool Notifier::status(std::string_view text) {
         last_status_ = std::string(text);
     }
     return sent;
+}
+
+bool Notifier::reloading() {
+    timespec now{};
+    ::clock_gettime(CLOCK_MONOTONIC, &now);
+    const auto usec = static_cast<unsigned long long>(now.tv_sec) * 1000000ULL +
+                      static_cast<unsigned long long>(now.tv_nsec) / 1000ULL;
+    return send("RELOADING=1\nMONOTONIC_USEC=" + std::to_string(usec));
 }
 
 bool Notifier::stopping() {

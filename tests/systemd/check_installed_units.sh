@@ -44,14 +44,16 @@ done
 grep -qx "ExecStart=/usr/bin/gportd" "$root$unit" || fail "$unit does not start /usr/bin/gportd"
 
 # verify --root resolves everything inside the root: the units ours depend on
-# (sysinit.target, sockets.target, ...) and the template's /bin/sh. Give it
-# the host's, as an installed system has them, without touching our files.
+# (sysinit.target, sockets.target, ...), the template's /bin/sh and
+# ExecReload's /bin/kill. Give it the host's, as an installed system has
+# them, without touching our files.
 host_units=$root/usr/local/lib/systemd/system
 mkdir -p "$host_units" "$root/bin"
 for dir in /lib/systemd/system /usr/lib/systemd/system; do
     [ -d "$dir" ] && tar -C "$dir" --exclude='gportd*' -cf - . | tar -C "$host_units" -xf -
 done
 [ -e "$root/bin/sh" ] || cp /bin/sh "$root/bin/sh"
+[ -e "$root/bin/kill" ] || cp /bin/kill "$root/bin/kill"   # ExecReload=
 
 units="gportd.service gportd.socket gportd@gimbal0.service gportd@gimbal0.socket"
 echo "\$ systemd-analyze verify --root=ROOT $units"

@@ -89,6 +89,15 @@ TEST_F(NotifierTest, SendsReadyStatusAndStopping) {
     EXPECT_EQ(systemd.receive(kPatience), "STOPPING=1");
 }
 
+TEST_F(NotifierTest, SendsReloadingWithItsMonotonicTime) {
+    EXPECT_TRUE(notifier.reloading());
+    const auto message = systemd.receive(kPatience);
+    ASSERT_TRUE(message.has_value());
+    EXPECT_TRUE(message->starts_with("RELOADING=1\nMONOTONIC_USEC=")) << *message;
+    EXPECT_TRUE(notifier.ready());
+    EXPECT_EQ(systemd.receive(kPatience), "READY=1");
+}
+
 TEST_F(NotifierTest, SendsStatusOnlyWhenItChanges) {
     EXPECT_TRUE(notifier.status("link up"));
     EXPECT_FALSE(notifier.status("link up"));

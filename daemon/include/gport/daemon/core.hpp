@@ -27,6 +27,10 @@ class Core final : public Api {
     // Stops any running motion with a zero-speed frame, waits (bounded) for it
     // to reach the device, closes the device, then calls done.
     void shutdown(std::function<void()> done);
+    // SIGHUP: applies the keys that may change at run time — who may command
+    // (a fresh access policy, so no cached decision survives) and the default
+    // and longest speed durations. A running motion is left as it is.
+    void reload(const config::Config& config);
     // Also told of every link change (e.g. for the service manager's status).
     void add_link_listener(std::function<void(const LinkEvent&)> listener);
 

@@ -1,4 +1,5 @@
-// sd_notify(3) for gportd: READY=1, STATUS=, WATCHDOG=1 and STOPPING=1.
+// sd_notify(3) for gportd: READY=1, RELOADING=1, STATUS=, WATCHDOG=1 and
+// STOPPING=1.
 //
 // Every call is a no-op when NOTIFY_SOCKET is unset (the daemon runs without
 // systemd, or under a Type= that does not listen), so the daemon calls these
@@ -32,6 +33,11 @@ class Notifier {
     // STATUS=<text>, shown by `systemctl status`. Sent only when the text
     // differs from the last one sent, so callers may call on every event.
     bool status(std::string_view text);
+
+    // RELOADING=1 (with MONOTONIC_USEC=, which newer systemd wants): a
+    // configuration reload began; send ready() when it is over, whatever its
+    // outcome, so `systemctl reload` returns.
+    bool reloading();
 
     // STOPPING=1: shutdown began (send before the last log lines and exit).
     bool stopping();

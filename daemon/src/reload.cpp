@@ -1,0 +1,71 @@
+#include "reload.hpp"
+
+#include <functional>
+
+namespace gport::daemon {
+namespace {
+
+using config::Config;
+
+struct Key {
+    const char* name;
+    bool live;  // may change while the daemon runs
+    std::function<bool(const Config&, const Config&)> differs;
+    std::function<void(Config&, const Config&)> copy;
+};
+
+// One key: the member `Field` of the section `Section` of a Config.
+template <auto Section, auto Field>
+Key key(const char* name, bool live) {
+    return Key{
+        name, live,
+        [](const Config& a, const Config& b) { return (a.*Section).*Field != (b.*Section).*Field; },
+        [](Config& to, const Config& from) { (to.*Section).*Field = (from.*Section).*Field; }};
+}
+
+const std::vector<Key>& keys() {
+    using namespace config;
+    static const std::vector<Key> all{
+        key<&Config::serial, &SerialConfig::device>("serial.device", false),
+        key<&Config::serial, &SerialConfig::baud>("serial.baud", false),
+        key<&Config::socket, &SocketConfig::path>("socket.path", false),
+        key<&Config::socket, &SocketConfig::mode>("socket.mode", false),
+        key<&Config::socket, &SocketConfig::group>("socket.group", false),
+        key<&Config::socket, &SocketConfig::line_limit>("socket.line_limit", false),
+        key<&Config::socket, &SocketConfig::max_clients>("socket.max_clients", false),
+        key<&Config::socket, &SocketConfig::queue_limit>("socket.queue_limit", false),
+        key<&Config::keepalive, &KeepaliveConfig::rate_hz>("keepalive.rate_hz", false),
+        key<&Config::keepalive, &KeepaliveConfig::default_duration>("keepalive.default_duration_ms",
+                                                                    true),
+        key<&Config::keepalive, &KeepaliveConfig::max_duration>("keepalive.max_duration_ms", true),
+        key<&Config::link, &LinkConfig::stale_after>("link.stale_ms", false),
+        key<&Config::link, &LinkConfig::reconnect_initial>("link.reconnect_initial_ms", false),
+        key<&Config::link, &LinkConfig::reconnect_max>("link.reconnect_max_ms", false),
+        key<&Config::requests, &RequestConfig::timeout>("requests.timeout_ms", false),
+        key<&Config::requests, &RequestConfig::retries>("requests.retries", false),
+        key<&Config::access, &AccessConfig::control_uids>("access.control_uids", true),
+        key<&Config::access, &AccessConfig::control_gids>("access.control_gids", true),
+        key<&Config::log, &LogConfig::level>("log.level", true),
+    };
+    return all;
+}
+
+}  // namespace
+
+ReloadPlan plan_reload(const Config& running, const Config& next) {
+    ReloadPlan plan{running, {}, {}};
+    for (const auto& k : keys()) {
+        if (!k.differs(running, next)) {
+            continue;
+        }
+        if (k.live) {
+            k.copy(plan.in_effect, next);
+            plan.applied.emplace_back(k.name);
+        } else {
+            plan.need_restart.emplace_back(k.name);
+        }
+    }
+    return plan;
+}
+
+}  // namespace gport::daemon
