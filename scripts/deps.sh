@@ -9,6 +9,10 @@ GPORT_PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev
   systemd dpkg-dev
+  # Tools the tests call that a minimal Debian 12 (debootstrap --variant=minbase)
+  # lacks: `file` (CPackDeb, in the systemd_deb_package test) and procps
+  # (/bin/kill, the units' ExecReload, which systemd_units verifies).
+  file procps
 )
 
 gport_install_deps() {
