@@ -2,7 +2,9 @@
 // simulator and gportd, then this). A hundred clients subscribe, move the
 // gimbal, change settings, stall and disconnect at random while a watcher
 // follows `motion` and `link` notifications and samples `status` and the
-// daemon's memory once a second. Prints the figures and PASS or FAIL.
+// daemon's memory once a second. Alongside, the attacks of soak_attacks.hpp
+// run, and a well-behaved subscriber measures its attitude gaps. Prints the
+// figures and PASS or FAIL.
 #include <poll.h>
 #include <signal.h>
 
@@ -15,7 +17,9 @@
 #include <vector>
 
 #include "posix.hpp"
+#include "soak_attacks.hpp"
 #include "soak_checks.hpp"
+#include "soak_probe.hpp"
 #include "soak_worker.hpp"
 
 namespace gport::bench {
@@ -32,6 +36,9 @@ struct SoakOptions {
     long rss_limit_kib = 32 * 1024;
     long rss_margin_kib = 1024;
     std::string json_path;
+    std::string trace_path;  // gport-sim's --trace output, for the burst check
+    AttackOptions attacks;
+    double max_gap_ms = 500;
 };
 
 std::optional<SoakOptions> parse(int argc, char** argv) {
@@ -55,6 +62,16 @@ std::optional<SoakOptions> parse(int argc, char** argv) {
             o.rss_margin_kib = std::atol(value);
         } else if (arg == "--json") {
             o.json_path = value;
+        } else if (arg == "--trace") {
+            o.trace_path = value;
+        } else if (arg == "--sighup-every-ms") {
+            o.attacks.sighup_every_ms = std::atoi(value);
+        } else if (arg == "--hoarders") {
+            o.attacks.hoarders = std::atoi(value);
+        } else if (arg == "--idle-timeout-s") {
+            o.attacks.idle_timeout_s = std::atoi(value);
+        } else if (arg == "--max-gap-ms") {
+            o.max_gap_ms = std::atof(value);
         } else {
             std::cerr << "gport_soak: unknown option " << arg << "\n";
             return std::nullopt;
@@ -63,9 +80,13 @@ std::optional<SoakOptions> parse(int argc, char** argv) {
     if (argc % 2 == 0 || o.socket.empty() || o.pid <= 0 || o.seconds < 2 || o.clients < 1) {
         std::cerr << "usage: gport_soak --socket PATH --pid GPORTD_PID [--seconds S (>= 2)]\n"
                      "         [--clients N (>= 1)] [--seed N] [--rss-limit-mib N]\n"
-                     "         [--rss-margin-kib N] [--json FILE]\n";
+                     "         [--rss-margin-kib N] [--json FILE] [--trace SIM_TRACE]\n"
+                     "         [--sighup-every-ms N (0: none)] [--hoarders N]\n"
+                     "         [--idle-timeout-s N] [--max-gap-ms N]\n";
         return std::nullopt;
     }
+    o.attacks.socket = o.socket;
+    o.attacks.pid = o.pid;
     return o;
 }
 
@@ -80,7 +101,11 @@ struct Watcher {
 
 class Soak {
   public:
-    explicit Soak(SoakOptions o) : o_(std::move(o)), deadman_(1'000'000'000) {}
+    explicit Soak(SoakOptions o)
+        : o_(std::move(o)),
+          deadman_(1'000'000'000),
+          attacks_(o_.attacks),
+          probe_(o_.socket, o_.max_gap_ms) {}
     int run();
 
   private:
@@ -88,6 +113,7 @@ class Soak {
     void on_watcher_line(const std::string& line, std::int64_t t);
     void sample(std::int64_t t);
     json summary(bool pass) const;
+    bool attacks_pass() const;
 
     SoakOptions o_;
     Watcher watcher_;
@@ -99,6 +125,9 @@ class Soak {
     std::int64_t next_sample_ = 0;
     bool daemon_died_ = false;
     RssVerdict rss_verdict_;
+    Attacks attacks_;
+    SubscriberProbe probe_;
+    TraceVerdict trace_verdict_;
 };
 
 int Soak::run() {
@@ -111,6 +140,7 @@ int Soak::run() {
     write_all(watcher_.fd.get(),
               R"({"id":0,"method":"subscribe","params":{"topics":["motion","link"]}})"
               "\n");
+    probe_.start();
     for (int i = 0; i < o_.clients; ++i) {
         workers_.emplace_back(o_.socket, o_.seed * 1000 + static_cast<std::uint32_t>(i));
     }
@@ -124,10 +154,15 @@ int Soak::run() {
         }
     }
     serve(now_ns() + 1'500'000'000, false);
+    attacks_.finish();
+    probe_.stop();
+    if (!o_.trace_path.empty()) {
+        trace_verdict_ = check_burst_trace(o_.trace_path, attacks_.bursts());
+    }
     deadman_.check(now_ns());
     rss_verdict_ = judge_rss(rss_, o_.rss_margin_kib, o_.rss_limit_kib);
     const bool pass = !daemon_died_ && deadman_.violations() == 0 && counters_.problems().empty() &&
-                      counters_.samples() > 0 && rss_verdict_.ok;
+                      counters_.samples() > 0 && rss_verdict_.ok && attacks_pass();
     const auto result = summary(pass);
     std::cout << result.dump(2) << "\n" << (pass ? "PASS" : "FAIL") << "\n";
     if (!o_.json_path.empty()) {
@@ -149,6 +184,9 @@ void Soak::serve(std::int64_t until_ns, bool act) {
                 deadman_.on_disconnect(id, t);
             }
         }
+        if (act) {
+            attacks_.act(t);
+        }
         fds.assign(1, pollfd{watcher_.fd.get(), POLLIN, 0});
         owners.assign(1, nullptr);
         for (auto& w : workers_) {
@@ -157,9 +195,12 @@ void Soak::serve(std::int64_t until_ns, bool act) {
                 owners.push_back(&w);
             }
         }
+        const auto first_attack = fds.size();
+        attacks_.append_pollfds(fds);
         ::poll(fds.data(), fds.size(), 10);
         const auto t_read = now_ns();
-        for (std::size_t i = 0; i < fds.size(); ++i) {
+        attacks_.on_polled(fds.data() + first_attack, fds.size() - first_attack, t_read);
+        for (std::size_t i = 0; i < first_attack; ++i) {
             if (fds[i].revents == 0) {
                 continue;
             }
@@ -192,6 +233,7 @@ void Soak::on_watcher_line(const std::string& line, std::int64_t t) {
         deadman_.on_motion(message["params"], t);
     } else if (method == "link") {
         ++watcher_.link_states[message["params"].value("state", "?")];
+        attacks_.on_link(message["params"].value("state", "?"), t);
     } else if (message.contains("result") && message["result"].contains("counters")) {
         counters_.on_status(message["result"]["counters"]);
         watcher_.max_clients_seen = std::max<std::uint64_t>(
@@ -212,7 +254,14 @@ void Soak::sample(std::int64_t t) {
     write_all(watcher_.fd.get(), request, 1000);
 }
 
+bool Soak::attacks_pass() const {
+    const auto probe = probe_.figures();
+    return attacks_.problems().empty() && trace_verdict_.problems.empty() && probe.connected &&
+           !probe.closed_by_daemon && probe.attitude_lines > 0 && probe.gaps_over_limit == 0;
+}
+
 json Soak::summary(bool pass) const {
+    const auto probe = probe_.figures();
     json errors = json::object();
     for (const auto& [code, count] : tally_.errors) {
         errors[std::to_string(code)] = count;
@@ -253,6 +302,21 @@ json Soak::summary(bool pass) const {
           {"margin", o_.rss_margin_kib},
           {"limit", o_.rss_limit_kib},
           {"ok", rss_verdict_.ok}}},
+        {"attacks", attacks_.figures()},
+        {"attack_problems", attacks_.problems()},
+        {"burst_trace",
+         {{"checked", trace_verdict_.checked},
+          {"excused_by_vanish", trace_verdict_.excused},
+          {"not_on_the_wire", trace_verdict_.unseen},
+          {"problems", trace_verdict_.problems},
+          {"trace", o_.trace_path}}},
+        {"subscriber",
+         {{"attitude_lines", probe.attitude_lines},
+          {"max_gap_ms", probe.max_gap_ms},
+          {"limit_ms", o_.max_gap_ms},
+          {"gaps_over_limit", probe.gaps_over_limit},
+          {"gaps_excused_by_link_changes", probe.excused_gaps},
+          {"closed_by_daemon", probe.closed_by_daemon}}},
     };
 }
 
