@@ -21,7 +21,7 @@ constexpr std::int64_t kMs = 1'000'000;
 constexpr std::int64_t kFloodPatience = 20'000 * kMs;
 constexpr std::int64_t kBurstPatience = 5'000 * kMs;
 
-bool open(Conn& c, const std::string& socket, std::int64_t t_ns) {
+bool open_conn(Conn& c, const std::string& socket, std::int64_t t_ns) {
     try {
         c.fd = connect_unix(socket);
     } catch (const std::runtime_error&) {
@@ -117,7 +117,7 @@ void Attacks::start_burst(std::int64_t t_ns) {
         t_ns - bursts_.back().sent_ns < kBurstPatience) {
         return;  // the last burst's stop is still unanswered
     }
-    if (!burst_.fd.valid() && !open(burst_, o_.socket, t_ns)) {
+    if (!burst_.fd.valid() && !open_conn(burst_, o_.socket, t_ns)) {
         return;
     }
     Burst b;
@@ -173,7 +173,7 @@ void Attacks::start_flood(std::int64_t t_ns) {
     }
     flood_.resize(static_cast<std::size_t>(o_.flood_clients));
     for (auto& c : flood_) {
-        if (open(c, o_.socket, t_ns) && write_all(c.fd.get(), text, 200)) {
+        if (open_conn(c, o_.socket, t_ns) && write_all(c.fd.get(), text, 200)) {
             c.expected = o_.flood_depth;
         }
     }
@@ -202,7 +202,7 @@ void Attacks::feed_batches(std::int64_t t_ns) {
     static const std::string batch = batch_line();
     for (std::size_t i = 0; i < batchers_.size(); ++i) {
         auto& c = batchers_[i];
-        if (!c.fd.valid() && !open(c, o_.socket, t_ns)) {
+        if (!c.fd.valid() && !open_conn(c, o_.socket, t_ns)) {
             continue;
         }
         if (unsent_[i].empty()) {
@@ -227,7 +227,7 @@ void Attacks::keep_hoarding(std::int64_t t_ns) {
         if (c.fd.valid()) {
             max_hoard_age_ns_ = std::max(max_hoard_age_ns_, t_ns - c.opened_ns);
         } else if (t_ns >= c.opened_ns) {  // opened_ns: not before, while closed
-            open(c, o_.socket, t_ns);
+            open_conn(c, o_.socket, t_ns);
         }
     }
 }

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
@@ -40,6 +41,18 @@ const char* signal_name(int sig) {
         default:
             return "a signal";
     }
+}
+
+// What a reload reads, for its log lines.
+std::string config_source(const config::CommandLine& command_line) {
+    if (command_line.config_path) {
+        return *command_line.config_path;
+    }
+    std::string path(config::kDefaultConfigPath);
+    if (::access(path.c_str(), F_OK) != 0) {
+        return "the built-in defaults (" + path + " does not exist)";
+    }
+    return path;
 }
 
 std::string status_text(const std::string& device, const LinkEvent& event) {
@@ -138,8 +151,7 @@ class Daemon {
             return;
         }
         notifier_.reloading();
-        const auto path =
-            command_line_.config_path.value_or(std::string(config::kDefaultConfigPath));
+        const auto path = config_source(command_line_);
         auto next = config::load_config(command_line_);
         if (!next) {
             for (const auto& message : next.errors()) {
