@@ -91,8 +91,11 @@ wait "$sim_pid" 2>/dev/null || true
 sim_pid=""
 
 count() { grep -c -- "$1" "$work/trace.jsonl" || true; }
-# Every zero-speed frame the simulator saw was queued by gportd (stops_sent);
-# a frame queued just as the device vanished may be lost, never invented.
+# Every zero-speed frame the simulator saw was written by gportd (stops_sent
+# counts zero speeds written to the device; a stop waiting behind an unwritten
+# stop coalesces with it and is not counted twice). A frame written just as
+# the device vanished may be lost, never invented; one such frame is also
+# written again on reopen (an owed stop), hence the slack of one.
 trace_stops=$(count '"mode":"speed","speed":\[0,0,0\]')
 stops_sent=$(grep -o '"stops_sent": [0-9]*' "$work/soak.json" 2>/dev/null | grep -o '[0-9]*$' || echo 0)
 stops_ok=yes
@@ -101,7 +104,7 @@ if (( trace_stops > stops_sent + 1 )); then
 fi
 echo "soak.sh: load average at end: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "soak.sh: simulator trace: $(count '"mode":"speed"') speed frames received," \
-    "$trace_stops of them stops (gportd queued $stops_sent; consistent: $stops_ok)," \
+    "$trace_stops of them stops (gportd wrote $stops_sent; consistent: $stops_ok)," \
     "$(count '"event":"vanish"') vanishes," \
     "$(count '"event":"silence_start"') silences, $(count '"cmd":"0x15"') settings writes"
 echo "soak.sh: gportd log: $(wc -l <"$work/gportd.log") lines," \
