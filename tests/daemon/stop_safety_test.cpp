@@ -196,6 +196,23 @@ TEST_F(StopSafety, AnObserverMayDropTheOwnerFromInsideItsStartedEvent) {
     core->set_observer(&recorder);
 }
 
+// A settings request whose frame cannot be queued (the line is stuck) fails
+// later, from the loop: never inside the call that made it.
+TEST_F(StopSafety, ASettingsResultNeverArrivesInsideTheRequest) {
+    start();
+    ASSERT_TRUE(run_until([&] { return link_up(); }));
+    ASSERT_NO_FATAL_FAILURE(stall_line());
+    bool requesting = true;
+    std::optional<bool> called_inside;
+    core->get_settings(alice, [&](daemon::Outcome<daemon::Settings> r) {
+        called_inside = requesting;
+        EXPECT_EQ(r.error().code, ErrorCode::kLinkDown);
+    });
+    requesting = false;
+    ASSERT_TRUE(run_until([&] { return called_inside.has_value(); }));
+    EXPECT_FALSE(*called_inside);
+}
+
 TEST_F(StopSafety, SettingsRequestsAreCappedPerClientAndInTotal) {
     start();
     ASSERT_TRUE(run_until([&] { return link_up(); }));
