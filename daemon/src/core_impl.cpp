@@ -74,15 +74,21 @@ std::optional<CommandError> Core::Impl::check_command(const ClientInfo& client) 
     if (auto error = check_access(client)) {
         return error;
     }
-    if (controller_ && controller_->id != client.id) {
-        return CommandError{
-            ErrorCode::kBusy,
-            fmt::format("control is held by another client (pid {})", controller_->pid)};
+    if (auto busy = held_by_other(client)) {
+        return *busy;
     }
     if (!link_.is_open() || stopping_) {
         return link_down();
     }
     return std::nullopt;
+}
+
+std::optional<CommandError> Core::Impl::held_by_other(const ClientInfo& client) const {
+    if (!controller_ || controller_->id == client.id) {
+        return std::nullopt;
+    }
+    return CommandError{ErrorCode::kBusy, fmt::format("control is held by another client (pid {})",
+                                                      controller_->pid)};
 }
 
 CommandError Core::Impl::link_down() const {
@@ -172,13 +178,11 @@ Outcome<Done> Core::Impl::camera(const ClientInfo& client, gp::CameraAction acti
 }
 
 Outcome<std::optional<ClientInfo>> Core::Impl::acquire(const ClientInfo& client) {
-    if (!access.may_command(client)) {
-        return *check_command(client);
+    if (auto error = check_access(client)) {
+        return *error;
     }
-    if (controller_ && controller_->id != client.id) {
-        return CommandError{
-            ErrorCode::kBusy,
-            fmt::format("control is held by another client (pid {})", controller_->pid)};
+    if (auto busy = held_by_other(client)) {
+        return *busy;
     }
     if (!controller_) {
         log_->info("control acquired by pid {}", client.pid);
@@ -339,7 +343,7 @@ void Core::Impl::report_line_quality() {
     reported_ = now;
 }
 
-// ---- shutdown and status -----------------------------------------------------------
+// ---- shutdown -----------------------------------------------------------
 
 void Core::Impl::shutdown(std::function<void()> done) {
     keepalive_.end(EndReason::kShutdown, true);
@@ -365,42 +369,6 @@ void Core::Impl::shutdown(std::function<void()> done) {
     // Posted to the loop (never to asio's system executor, another thread),
     // so that finish() does not run inside SerialLink's own completion.
     link_.when_drained([this, finish] { asio::post(io_, [finish] { finish(); }); });
-}
-
-Status Core::Impl::status() const {
-    Status s;
-    s.link = monitor_.state();
-    s.link_reason = monitor_.reason();
-    s.device = config_.serial.device;
-    s.device_open = link_.is_open();
-    const auto now = std::chrono::steady_clock::now();
-    s.uptime = std::chrono::duration_cast<Millis>(now - started_);
-    if (latest) {
-        s.attitude_age = std::chrono::duration_cast<Millis>(now - latest->received);
-    }
-    const auto& d = decoder_.stats();
-    const auto& l = link_.stats();
-    auto& c = s.counters;
-    c.frames_in = d.frames;
-    c.bytes_in = d.bytes;
-    c.frames_out = l.frames_out;
-    c.bytes_out = l.bytes_out;
-    c.attitude_frames = seq_;
-    c.crc_errors = d.crc_errors;
-    c.header_errors = d.header_errors;
-    c.garbage_bytes = d.garbage_bytes;
-    c.resyncs = d.resyncs;
-    c.bad_messages = bad_messages_;
-    c.device_opens = l.opens;
-    c.device_failures = l.failures;
-    c.keepalive_frames = keepalive_.frames_sent();
-    c.stops_sent = l.stops_written;
-    c.frames_replaced = l.frames_replaced;
-    c.frames_refused = l.queue_overflows;
-    c.settings_timeouts = settings_.timeouts();
-    s.motion = keepalive_.status();
-    s.controller = controller_;
-    return s;
 }
 
 }  // namespace gport::daemon

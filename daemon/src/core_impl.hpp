@@ -50,6 +50,7 @@ class Core::Impl {
   private:
     std::optional<CommandError> check_access(const ClientInfo& client) const;
     std::optional<CommandError> check_command(const ClientInfo& client) const;
+    std::optional<CommandError> held_by_other(const ClientInfo& client) const;
     CommandError link_down() const;
     bool send(const protocol::Frame& frame);
     bool send_control(const protocol::Control& control);
