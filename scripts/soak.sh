@@ -100,19 +100,15 @@ sim_pid=""
 
 count() { grep -c -- "$1" "$work/trace.jsonl" || true; }
 counter() { grep -o "\"$1\": [0-9]*" "$work/soak.json" 2>/dev/null | tail -n 1 | grep -o '[0-9]*$' || true; }
-# Stops on the wire against the stops gportd counted: stops_written when the
-# core counts stops written to the device (queued stops may be coalesced),
-# else stops_sent. None invented (one more is allowed: a deadman stop after
-# the last status sample), and none lost but those queued when the device
-# vanished (at most two per vanish).
+# Stops on the wire against gportd's stops_sent, which counts zero speeds
+# written to the device (a stop waiting behind an unwritten stop coalesces
+# with it and is written once). None invented (one more is allowed: a
+# deadman stop after the last status sample, or an owed stop written again
+# on reopen), and none lost but those written as the device vanished (at
+# most two per vanish).
 trace_stops=$(count '"mode":"speed","speed":\[0,0,0\]')
 vanishes=$(count '"event":"vanish"')
-stops_counted=$(counter stops_written)
-stops_key=stops_written
-if [[ -z $stops_counted ]]; then
-    stops_counted=$(counter stops_sent)
-    stops_key=stops_sent
-fi
+stops_counted=$(counter stops_sent)
 stops_counted=${stops_counted:-0}
 stops_ok=yes
 if (( trace_stops > stops_counted + 1 || trace_stops < stops_counted - 2 * vanishes )); then
@@ -120,7 +116,7 @@ if (( trace_stops > stops_counted + 1 || trace_stops < stops_counted - 2 * vanis
 fi
 echo "soak.sh: load average at end: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "soak.sh: simulator trace: $(count '"mode":"speed"') speed frames received," \
-    "$trace_stops of them stops (gportd's $stops_key: $stops_counted; consistent: $stops_ok)," \
+    "$trace_stops of them stops (gportd's stops_sent: $stops_counted; consistent: $stops_ok)," \
     "$vanishes vanishes," \
     "$(count '"event":"silence_start"') silences, $(count '"cmd":"0x15"') settings writes"
 echo "soak.sh: gportd log: $(wc -l <"$work/gportd.log") lines," \

@@ -60,38 +60,52 @@ void Core::Impl::start() {
 
 // ---- commands --------------------------------------------------------------
 
-std::optional<CommandError> Core::Impl::check_command(const ClientInfo& client) const {
+std::optional<CommandError> Core::Impl::check_access(const ClientInfo& client) const {
     if (!access.may_command(client)) {
         return CommandError{ErrorCode::kPermission,
                             fmt::format("permission denied: uid {} may only read "
                                         "(status, attitude, subscribe, unsubscribe)",
                                         client.uid)};
     }
-    if (controller_ && controller_->id != client.id) {
-        return CommandError{
-            ErrorCode::kBusy,
-            fmt::format("control is held by another client (pid {})", controller_->pid)};
+    return std::nullopt;
+}
+
+std::optional<CommandError> Core::Impl::check_command(const ClientInfo& client) const {
+    if (auto error = check_access(client)) {
+        return error;
+    }
+    if (auto busy = held_by_other(client)) {
+        return *busy;
     }
     if (!link_.is_open() || stopping_) {
-        return CommandError{
-            ErrorCode::kLinkDown,
-            fmt::format("gimbal link down: serial device {} is not open", config_.serial.device)};
+        return link_down();
     }
     return std::nullopt;
+}
+
+std::optional<CommandError> Core::Impl::held_by_other(const ClientInfo& client) const {
+    if (!controller_ || controller_->id == client.id) {
+        return std::nullopt;
+    }
+    return CommandError{ErrorCode::kBusy, fmt::format("control is held by another client (pid {})",
+                                                      controller_->pid)};
+}
+
+CommandError Core::Impl::link_down() const {
+    return CommandError{
+        ErrorCode::kLinkDown,
+        fmt::format("gimbal link down: serial device {} is not open", config_.serial.device)};
 }
 
 bool Core::Impl::send(const gp::Frame& frame) {
     return !stopping_ && link_.send(frame);
 }
 
+// 0x85 frames are never refused for queue space: a stop goes next, and a
+// newer position command replaces a waiting one (write_queue.hpp).
 bool Core::Impl::send_control(const gp::Control& control) {
-    if (!link_.send(gp::encode(control))) {
-        return false;
-    }
-    if (control == gp::Control::stop()) {
-        ++stops_sent_;
-    }
-    return true;
+    const auto kind = control == gp::Control::stop() ? FrameKind::kStop : FrameKind::kMotion;
+    return link_.send(gp::encode(control), kind);
 }
 
 Outcome<SpeedStarted> Core::Impl::speed(const ClientInfo& client, gp::Axes speed,
@@ -106,20 +120,27 @@ Outcome<SpeedStarted> Core::Impl::speed(const ClientInfo& client, gp::Axes speed
         return *error;
     }
     if (!send_control(gp::Control::speed_of(speed))) {
-        return CommandError{ErrorCode::kLinkDown, "gimbal link down: the device takes no data"};
+        return link_down();
     }
     return keepalive_.start(client, speed, duration.value_or(config_.keepalive.default_duration));
 }
 
+// Any client that may command may stop, whoever holds control: stopping is
+// always safe. The motion ends whatever happens to the frame; a device that
+// is closed owes the zero speed and gets it first when it reopens.
 Outcome<Done> Core::Impl::stop(const ClientInfo& client) {
-    if (auto error = check_command(client)) {
+    if (auto error = check_access(client)) {
         return *error;
     }
-    // Never deduplicated: every stop asked for goes on the wire.
-    if (!send_control(gp::Control::stop())) {
-        return CommandError{ErrorCode::kLinkDown, "gimbal link down: the device takes no data"};
-    }
+    const bool queued = send_control(gp::Control::stop());
     keepalive_.end(EndReason::kStop, false);
+    if (!queued) {
+        return CommandError{
+            ErrorCode::kLinkDown,
+            fmt::format("gimbal link down: serial device {} is not open; zero speed will be "
+                        "the first frame sent when it reopens",
+                        config_.serial.device)};
+    }
     return Done{};
 }
 
@@ -129,7 +150,7 @@ Outcome<Done> Core::Impl::position(const ClientInfo& client, const gp::Control& 
         return *error;
     }
     if (!send_control(control)) {
-        return CommandError{ErrorCode::kLinkDown, "gimbal link down: the device takes no data"};
+        return link_down();
     }
     keepalive_.end(EndReason::kSuperseded, false);
     MotionEvent e;
@@ -146,7 +167,10 @@ Outcome<Done> Core::Impl::camera(const ClientInfo& client, gp::CameraAction acti
         return *error;
     }
     if (!send(gp::encode(gp::Camera{action}))) {
-        return CommandError{ErrorCode::kLinkDown, "gimbal link down: the device takes no data"};
+        return CommandError{ErrorCode::kLinkDown,
+                            fmt::format("gimbal link down: serial device {} takes no data "
+                                        "({} frames wait for it)",
+                                        config_.serial.device, SerialLink::kMaxQueuedFrames)};
     }
     log_->info("camera {} by pid {}",
                action == gp::CameraAction::kPhoto ? "photo" : "record toggle", client.pid);
@@ -154,18 +178,21 @@ Outcome<Done> Core::Impl::camera(const ClientInfo& client, gp::CameraAction acti
 }
 
 Outcome<std::optional<ClientInfo>> Core::Impl::acquire(const ClientInfo& client) {
-    if (!access.may_command(client)) {
-        return *check_command(client);
+    if (auto error = check_access(client)) {
+        return *error;
     }
-    if (controller_ && controller_->id != client.id) {
-        return CommandError{
-            ErrorCode::kBusy,
-            fmt::format("control is held by another client (pid {})", controller_->pid)};
+    if (auto busy = held_by_other(client)) {
+        return *busy;
     }
     if (!controller_) {
         log_->info("control acquired by pid {}", client.pid);
     }
     controller_ = client;
+    // Set first: an observer called from end() sees the new holder.
+    const auto owner = keepalive_.owner();
+    if (owner && owner->id != client.id) {
+        keepalive_.end(EndReason::kPreempted, true);
+    }
     return controller_;
 }
 
@@ -185,7 +212,11 @@ Outcome<std::optional<ClientInfo>> Core::Impl::release(const ClientInfo& client)
 
 void Core::Impl::settings(const ClientInfo& client, std::optional<SettingsChange> change,
                           SettingsCallback done) {
-    if (auto error = check_command(client)) {
+    auto error = check_command(client);
+    if (!error) {
+        error = settings_.admit(client.id);
+    }
+    if (error) {
         asio::post(io_, [done = std::move(done), e = *error] { done(e); });
         return;
     }
@@ -197,9 +228,9 @@ void Core::Impl::settings(const ClientInfo& client, std::optional<SettingsChange
         done(Settings{r->dead_zone, r->follow_speed, r->inverted()});
     };
     if (change) {
-        settings_.set(*change, std::move(reply));
+        settings_.set(client.id, *change, std::move(reply));
     } else {
-        settings_.get(std::move(reply));
+        settings_.get(client.id, std::move(reply));
     }
 }
 
@@ -215,6 +246,7 @@ void Core::Impl::client_gone(const ClientInfo& client) {
 }
 
 void Core::Impl::client_closed(const ClientInfo& client) {
+    settings_.forget(client.id);
     access.forget(client);
 }
 
@@ -311,7 +343,7 @@ void Core::Impl::report_line_quality() {
     reported_ = now;
 }
 
-// ---- shutdown and status -----------------------------------------------------------
+// ---- shutdown -----------------------------------------------------------
 
 void Core::Impl::shutdown(std::function<void()> done) {
     keepalive_.end(EndReason::kShutdown, true);
@@ -337,40 +369,6 @@ void Core::Impl::shutdown(std::function<void()> done) {
     // Posted to the loop (never to asio's system executor, another thread),
     // so that finish() does not run inside SerialLink's own completion.
     link_.when_drained([this, finish] { asio::post(io_, [finish] { finish(); }); });
-}
-
-Status Core::Impl::status() const {
-    Status s;
-    s.link = monitor_.state();
-    s.link_reason = monitor_.reason();
-    s.device = config_.serial.device;
-    s.device_open = link_.is_open();
-    const auto now = std::chrono::steady_clock::now();
-    s.uptime = std::chrono::duration_cast<Millis>(now - started_);
-    if (latest) {
-        s.attitude_age = std::chrono::duration_cast<Millis>(now - latest->received);
-    }
-    const auto& d = decoder_.stats();
-    const auto& l = link_.stats();
-    auto& c = s.counters;
-    c.frames_in = d.frames;
-    c.bytes_in = d.bytes;
-    c.frames_out = l.frames_out;
-    c.bytes_out = l.bytes_out;
-    c.attitude_frames = seq_;
-    c.crc_errors = d.crc_errors;
-    c.header_errors = d.header_errors;
-    c.garbage_bytes = d.garbage_bytes;
-    c.resyncs = d.resyncs;
-    c.bad_messages = bad_messages_;
-    c.device_opens = l.opens;
-    c.device_failures = l.failures;
-    c.keepalive_frames = keepalive_.frames_sent();
-    c.stops_sent = stops_sent_;
-    c.settings_timeouts = settings_.timeouts();
-    s.motion = keepalive_.status();
-    s.controller = controller_;
-    return s;
 }
 
 }  // namespace gport::daemon

@@ -49,7 +49,10 @@ class Core::Impl {
     AccessPolicy access;
 
   private:
+    std::optional<CommandError> check_access(const ClientInfo& client) const;
     std::optional<CommandError> check_command(const ClientInfo& client) const;
+    std::optional<CommandError> held_by_other(const ClientInfo& client) const;
+    CommandError link_down() const;
     bool send(const protocol::Frame& frame);
     bool send_control(const protocol::Control& control);
     void on_bytes(std::span<const std::uint8_t> bytes);
@@ -75,7 +78,6 @@ class Core::Impl {
     protocol::DecoderStats reported_{};
     std::uint64_t seq_ = 0;
     std::uint64_t bad_messages_ = 0;
-    std::uint64_t stops_sent_ = 0;
     bool stopping_ = false;
 };
 

@@ -13,22 +13,28 @@ SpeedStarted Keepalive::start(const ClientInfo& owner, protocol::Axes speed, Mil
     const bool replacing = motion_.has_value();
     const auto now = Clock::now();
     motion_ = Motion{owner, speed, duration, now + duration, now + period_};
-    emit_(event(replacing ? MotionChange::kReplaced : MotionChange::kStarted, std::nullopt));
     arm();
     const auto wall_end = std::chrono::system_clock::now() + duration;
-    return SpeedStarted{duration, std::chrono::time_point_cast<WallTime::duration>(wall_end)};
+    const SpeedStarted started{duration,
+                               std::chrono::time_point_cast<WallTime::duration>(wall_end)};
+    // Last, and nothing of motion_ afterwards: the listener may end it
+    // (its owner dropped for a full outbox) before emit_ returns.
+    emit_(event(replacing ? MotionChange::kReplaced : MotionChange::kStarted, std::nullopt));
+    return started;
 }
 
+// The motion ends whatever happens to the zero speed: the link queues a stop
+// ahead of everything else, and owes it while the device is closed.
 void Keepalive::end(EndReason reason, bool send_zero) {
     if (!motion_) {
         return;
     }
     timer_.cancel();
+    const auto ended = event(MotionChange::kEnded, reason);
+    motion_.reset();  // before anything that could call back into us
     if (send_zero) {
         send_(protocol::Control::stop());
     }
-    const auto ended = event(MotionChange::kEnded, reason);
-    motion_.reset();
     emit_(ended);
 }
 

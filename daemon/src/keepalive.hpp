@@ -23,6 +23,7 @@ class Keepalive {
     Keepalive(boost::asio::io_context& io, Millis period, Send send, Emit emit);
 
     // Starts (or replaces) the motion; the first frame has already been sent.
+    // Both start() and end() emit last, so the listener may call back in.
     SpeedStarted start(const ClientInfo& owner, protocol::Axes speed, Millis duration);
     // Ends the motion, if any, with the reason; sends zero speed if asked.
     void end(EndReason reason, bool send_zero);

@@ -42,7 +42,8 @@ void SerialLink::stop() {
         handlers_.on_close("daemon stopping");
     }
     queue_.clear();
-    writing_ = false;
+    in_flight_.reset();
+    owed_stop_.reset();  // the daemon is going away: nothing will reopen
     notify_drained();
 }
 
@@ -71,6 +72,9 @@ void SerialLink::try_open() {
     log_->info("device {} opened at {} baud", device_, baud_);
     handlers_.on_open();
     read_more();
+    if (owed_stop_) {
+        queue_.push(*std::exchange(owed_stop_, std::nullopt), FrameKind::kStop);
+    }
     write_next();
 }
 
@@ -137,27 +141,30 @@ void SerialLink::read_more() {
                           });
 }
 
-bool SerialLink::send(const protocol::Frame& frame) {
+bool SerialLink::send(const protocol::Frame& frame, FrameKind kind) {
     if (!port_.is_open()) {
+        if (kind == FrameKind::kStop && !stopped_) {
+            owed_stop_ = frame;
+        }
         return false;
     }
-    if (queue_.size() >= kMaxQueuedFrames) {
-        ++stats_.queue_overflows;
+    if (!queue_.push(frame, kind)) {
         return false;
     }
-    queue_.push_back(frame);
     write_next();
     return true;
 }
 
 void SerialLink::write_next() {
-    if (writing_ || queue_.empty() || !port_.is_open()) {
+    if (in_flight_ || queue_.empty() || !port_.is_open()) {
         return;
     }
-    writing_ = true;
-    asio::async_write(port_, asio::buffer(queue_.front().bytes().data(), queue_.front().size()),
+    in_flight_ = queue_.pop();
+    const auto bytes = in_flight_->frame.bytes();
+    asio::async_write(port_, asio::buffer(bytes.data(), bytes.size()),
                       [this](boost::system::error_code ec, std::size_t n) {
-                          writing_ = false;
+                          // Aborted: the port was closed, which already
+                          // dropped in_flight_ (and may have reopened since).
                           if (ec == asio::error::operation_aborted || !port_.is_open()) {
                               return;
                           }
@@ -167,7 +174,10 @@ void SerialLink::write_next() {
                           }
                           stats_.bytes_out += n;
                           ++stats_.frames_out;
-                          queue_.pop_front();
+                          if (in_flight_->kind == FrameKind::kStop) {
+                              ++stats_.stops_written;
+                          }
+                          in_flight_.reset();
                           if (queue_.empty()) {
                               notify_drained();
                           }
@@ -179,8 +189,9 @@ void SerialLink::fail(const std::string& reason) {
     ++stats_.failures;
     boost::system::error_code ignored;
     port_.close(ignored);
+    owe_stop_if_unwritten();
     queue_.clear();
-    writing_ = false;
+    in_flight_.reset();
     if (auto count = losses_log_.occur()) {
         log_->warn("device {} lost: {} ({} loss{} since last report); reopening", device_, reason,
                    *count, *count == 1 ? "" : "es");
@@ -190,8 +201,25 @@ void SerialLink::fail(const std::string& reason) {
     schedule_reopen();
 }
 
+// A stop the device may not have received completely is written again on
+// reopen: a repeated zero speed is harmless, a lost one is not.
+void SerialLink::owe_stop_if_unwritten() {
+    if (in_flight_ && in_flight_->kind == FrameKind::kStop) {
+        owed_stop_ = in_flight_->frame;
+    } else if (queue_.holds_stop()) {
+        owed_stop_ = queue_.pop().frame;
+    }
+}
+
+SerialLink::Stats SerialLink::stats() const {
+    Stats s = stats_;
+    s.queue_overflows = queue_.refused();
+    s.frames_replaced = queue_.replaced();
+    return s;
+}
+
 void SerialLink::when_drained(std::function<void()> done) {
-    if (queue_.empty() || !port_.is_open()) {
+    if ((queue_.empty() && !in_flight_) || !port_.is_open()) {
         done();
         return;
     }

@@ -1,5 +1,6 @@
 // The serial device: opened raw at the configured baud, read continuously,
-// written through a queue with one write in flight (the loop never blocks),
+// written through a queue with one write in flight (the loop never blocks;
+// write_queue.hpp says which frames wait and which replace each other),
 // and reopened with capped exponential backoff whenever it fails or vanishes.
 #pragma once
 
@@ -9,15 +10,16 @@
 #include <boost/asio/serial_port.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
 #include "gport/config/config.hpp"
 #include "gport/protocol/frame.hpp"
 #include "repeat_limiter.hpp"
+#include "write_queue.hpp"
 
 namespace gport::daemon {
 
@@ -35,9 +37,12 @@ class SerialLink {
         std::uint64_t opens = 0;
         std::uint64_t failures = 0;         // failed opens and lost devices
         std::uint64_t queue_overflows = 0;  // frames refused: the device took nothing
+        std::uint64_t frames_replaced = 0;  // waiting 0x85 frames a newer one replaced
+        std::uint64_t stops_written = 0;    // zero-speed frames written to the device
     };
 
-    // At most this many frames wait for the device; more means it is stuck.
+    // At most this many camera and settings frames wait for the device; more
+    // means it is stuck. 0x85 frames are never refused (write_queue.hpp).
     static constexpr std::size_t kMaxQueuedFrames = 64;
 
     SerialLink(boost::asio::io_context& io, const config::SerialConfig& serial,
@@ -49,10 +54,13 @@ class SerialLink {
 
     bool is_open() const { return port_.is_open(); }
     const std::string& device() const { return device_; }
-    const Stats& stats() const { return stats_; }
+    Stats stats() const;
 
-    // Queues a frame for the device. False when the device is closed or stuck.
-    bool send(const protocol::Frame& frame);
+    // Queues a frame for the device. False when the device is closed, or for
+    // a kOther frame when the device is stuck. A stop that cannot be written
+    // because the device is closed (or closes before it is written) is owed:
+    // it is the first frame written when the device opens again.
+    bool send(const protocol::Frame& frame, FrameKind kind = FrameKind::kOther);
     // Calls done once every queued frame is written or the device is closed.
     void when_drained(std::function<void()> done);
 
@@ -64,6 +72,7 @@ class SerialLink {
     void write_next();
     void fail(const std::string& reason);
     void notify_drained();
+    void owe_stop_if_unwritten();
 
     boost::asio::serial_port port_;
     boost::asio::steady_timer reopen_timer_;
@@ -77,8 +86,9 @@ class SerialLink {
     RepeatLimiter open_failures_log_;
     RepeatLimiter losses_log_;
     std::array<std::uint8_t, 4096> read_buffer_{};
-    std::deque<protocol::Frame> queue_;
-    bool writing_ = false;
+    WriteQueue queue_{kMaxQueuedFrames};
+    std::optional<WriteQueue::Entry> in_flight_;  // its bytes are what async_write reads
+    std::optional<protocol::Frame> owed_stop_;
     bool stopped_ = true;
     bool healthy_ = false;  // bytes arrived since the last open
     std::vector<std::function<void()>> drained_waiters_;

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 namespace gport::daemon {
 
 namespace gp = gport::protocol;
@@ -10,14 +12,48 @@ SettingsExchange::SettingsExchange(boost::asio::io_context& io, const config::Re
                                    Send send)
     : timer_(io), config_(config), send_(std::move(send)) {}
 
-void SettingsExchange::get(Done done) {
-    jobs_.push_back(Job{std::nullopt, std::move(done), Step::kRead, 0, {}});
+std::optional<CommandError> SettingsExchange::admit(std::uint64_t client) const {
+    const auto mine =
+        std::ranges::count_if(jobs_, [&](const Job& j) { return j.client == client; });
+    if (static_cast<std::size_t>(mine) >= kMaxPerClient) {
+        return CommandError{ErrorCode::kTooMany,
+                            fmt::format("too many settings requests: at most {} per client may "
+                                        "wait for the gimbal; wait for a reply, then retry",
+                                        kMaxPerClient)};
+    }
+    if (jobs_.size() >= kMaxTotal) {
+        return CommandError{ErrorCode::kTooMany,
+                            fmt::format("too many settings requests: at most {} from all clients "
+                                        "may wait for the gimbal; retry later",
+                                        kMaxTotal)};
+    }
+    return std::nullopt;
+}
+
+void SettingsExchange::get(std::uint64_t client, Done done) {
+    enqueue(Job{client, std::nullopt, std::move(done), Step::kRead, 0, {}, false});
+}
+
+void SettingsExchange::set(std::uint64_t client, SettingsChange change, Done done) {
+    enqueue(Job{client, change, std::move(done), Step::kRead, 0, {}, false});
+}
+
+void SettingsExchange::enqueue(Job job) {
+    jobs_.push_back(std::move(job));
     begin_next();
 }
 
-void SettingsExchange::set(SettingsChange change, Done done) {
-    jobs_.push_back(Job{change, std::move(done), Step::kRead, 0, {}});
-    begin_next();
+void SettingsExchange::forget(std::uint64_t client) {
+    for (auto& job : jobs_) {
+        if (job.client == client) {
+            job.done = nullptr;
+        }
+    }
+    // The running one stays: its exchange with the gimbal completes.
+    const auto first_waiting = jobs_.begin() + (running_ ? 1 : 0);
+    jobs_.erase(std::remove_if(first_waiting, jobs_.end(),
+                               [&](const Job& j) { return j.client == client; }),
+                jobs_.end());
 }
 
 void SettingsExchange::begin_next() {
@@ -32,11 +68,10 @@ void SettingsExchange::send_step() {
     Job& job = jobs_.front();
     const gp::Frame frame = job.step == Step::kWrite ? gp::encode(gp::SetSettings{job.block})
                                                      : gp::encode(gp::GetSettings{});
-    if (!send_(frame)) {
-        finish(CommandError{ErrorCode::kLinkDown, "gimbal link down: serial device not open"});
-        return;
-    }
-    timer_.expires_after(config_.timeout);
+    // A refused frame fails the request from the timer, never from inside
+    // get()/set(): the caller must not be called back from its own call.
+    job.unsent = !send_(frame);
+    timer_.expires_after(job.unsent ? config::Millis{0} : config_.timeout);
     timer_.async_wait([this](boost::system::error_code ec) {
         if (!ec) {
             on_timeout();
@@ -46,6 +81,10 @@ void SettingsExchange::send_step() {
 
 void SettingsExchange::on_timeout() {
     Job& job = jobs_.front();
+    if (job.unsent) {
+        finish(CommandError{ErrorCode::kLinkDown, "gimbal link down: serial device not open"});
+        return;
+    }
     ++timeouts_;
     if (job.attempt < config_.retries) {
         ++job.attempt;
@@ -100,7 +139,9 @@ void SettingsExchange::finish(Outcome<gp::SettingsBlock> result) {
     Job job = std::move(jobs_.front());
     jobs_.pop_front();
     running_ = false;
-    job.done(std::move(result));
+    if (job.done) {
+        job.done(std::move(result));
+    }
     begin_next();
 }
 
@@ -109,7 +150,9 @@ void SettingsExchange::abort_all(const CommandError& error) {
     auto jobs = std::exchange(jobs_, {});
     running_ = false;
     for (auto& job : jobs) {
-        job.done(error);
+        if (job.done) {
+            job.done(error);
+        }
     }
 }
 

@@ -4,6 +4,10 @@
 // 0x15 -> 0x16, then 0x13 -> 0x14 again to report what the gimbal now holds.
 // Each step waits the configured timeout and is retried the configured
 // number of times; a gimbal that never answers gives kNoAnswer.
+// Requests are capped per client and in total (a gimbal that never answers
+// must not let them pile up), and a closed client's requests are dropped.
+// Results are always delivered from the loop (a timer or a received frame),
+// never from inside get()/set().
 #pragma once
 
 #include <boost/asio/io_context.hpp>
@@ -23,10 +27,19 @@ class SettingsExchange {
     using Send = std::function<bool(const protocol::Frame&)>;
     using Done = std::function<void(Outcome<protocol::SettingsBlock>)>;
 
+    static constexpr std::size_t kMaxPerClient = 4;
+    static constexpr std::size_t kMaxTotal = 64;
+
     SettingsExchange(boost::asio::io_context& io, const config::RequestConfig& config, Send send);
 
-    void get(Done done);
-    void set(SettingsChange change, Done done);
+    // kTooMany when the client, or everyone together, has too many requests
+    // waiting; check before get()/set().
+    std::optional<CommandError> admit(std::uint64_t client) const;
+    void get(std::uint64_t client, Done done);
+    void set(std::uint64_t client, SettingsChange change, Done done);
+    // The client's connection closed: its waiting requests are dropped and
+    // the running one, if its, finishes without calling back.
+    void forget(std::uint64_t client);
     // Offer a received 0x14 or 0x16; other messages are ignored.
     void on_report(const protocol::SettingsBlock& block);
     void on_ack();
@@ -38,13 +51,16 @@ class SettingsExchange {
   private:
     enum class Step { kRead, kWrite, kReadBack };
     struct Job {
+        std::uint64_t client = 0;
         std::optional<SettingsChange> change;  // empty: a get
-        Done done;
+        Done done;                             // empty once the client is gone
         Step step = Step::kRead;
         unsigned attempt = 0;
         protocol::SettingsBlock block;
+        bool unsent = false;  // the frame could not be queued: fail at the timer
     };
 
+    void enqueue(Job job);
     void begin_next();
     void send_step();
     void on_timeout();

@@ -33,6 +33,8 @@ json counters_json(const daemon::Counters& c, std::uint64_t dropped) {
             {"device_failures", c.device_failures},
             {"keepalive_frames", c.keepalive_frames},
             {"stops_sent", c.stops_sent},
+            {"frames_replaced", c.frames_replaced},
+            {"frames_refused", c.frames_refused},
             {"settings_timeouts", c.settings_timeouts},
             {"dropped_notifications", dropped}};
 }

@@ -54,6 +54,9 @@ Observation:
 
   -h, --help             this text
 
+Signals: SIGUSR1 stops reading what the client writes (a stalled gimbal:
+the client's writes fill the pty buffer, then block); SIGUSR2 resumes.
+
 Values may be given as "--rate 100" or "--rate=100". Exit status: 0 after
 SIGINT/SIGTERM, 64 for a bad command line, 66 for an unreadable recording,
 71 when the pty or link cannot be made.

@@ -243,7 +243,7 @@ void PtySimulator::Impl::check_peer() {
     } else if (!present && peer_) {
         peer_gone();
     }
-    if (peer_ && !reading_) {
+    if (peer_ && !reading_ && !paused_) {
         arm_read();
     }
 }
@@ -259,13 +259,14 @@ void PtySimulator::Impl::peer_gone() {
 // master is permanently readable (POLLHUP) and would spin the loop.
 void PtySimulator::Impl::arm_read() {
     reading_ = true;
-    device_.async_wait(asio::posix::stream_descriptor::wait_read,
-                       [self = shared_from_this()](const boost::system::error_code& ec) {
-                           self->reading_ = false;
-                           if (!ec && !self->stopped_ && self->device_.is_open()) {
-                               self->on_readable();
-                           }
-                       });
+    device_.async_wait(
+        asio::posix::stream_descriptor::wait_read,
+        [self = shared_from_this()](const boost::system::error_code& ec) {
+            self->reading_ = false;
+            if (!ec && !self->stopped_ && !self->paused_ && self->device_.is_open()) {
+                self->on_readable();
+            }
+        });
 }
 
 void PtySimulator::Impl::on_readable() {
@@ -283,7 +284,9 @@ void PtySimulator::Impl::on_readable() {
             continue;
         }
         if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-            arm_read();
+            if (!paused_) {
+                arm_read();
+            }
             return;
         }
         // EIO (or EOF): the client closed the slave. The tick notices when
@@ -292,6 +295,26 @@ void PtySimulator::Impl::on_readable() {
             peer_gone();
         }
         return;
+    }
+}
+
+// A gimbal whose UART stops draining: the bytes stay in the kernel's pty
+// buffer and, once it is full, the client's writes block (or time out).
+void PtySimulator::Impl::pause_reading() {
+    if (!paused_) {
+        paused_ = true;
+        event("reading_paused", slave_path_);
+    }
+}
+
+void PtySimulator::Impl::resume_reading() {
+    if (!paused_) {
+        return;
+    }
+    paused_ = false;
+    event("reading_resumed", slave_path_);
+    if (peer_ && !reading_ && device_.is_open()) {
+        arm_read();
     }
 }
 
@@ -326,6 +349,15 @@ const std::string& PtySimulator::slave_path() const {
 }
 void PtySimulator::stop() {
     impl_->stop();
+}
+void PtySimulator::pause_reading() {
+    impl_->pause_reading();
+}
+void PtySimulator::resume_reading() {
+    impl_->resume_reading();
+}
+bool PtySimulator::reading_paused() const {
+    return impl_->reading_paused();
 }
 bool PtySimulator::stopped() const {
     return impl_->stopped();

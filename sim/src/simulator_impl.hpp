@@ -32,6 +32,9 @@ class PtySimulator::Impl : public std::enable_shared_from_this<PtySimulator::Imp
     const std::string& slave_path() const { return slave_path_; }
     bool stopped() const { return stopped_; }
     bool peer_connected() const { return peer_; }
+    void pause_reading();
+    void resume_reading();
+    bool reading_paused() const { return paused_; }
     SimStats stats() const;
     const GimbalModel& model() const { return model_; }
 
@@ -82,6 +85,7 @@ class PtySimulator::Impl : public std::enable_shared_from_this<PtySimulator::Imp
     bool peer_ = false;
     bool reading_ = false;
     bool pacing_ = false;
+    bool paused_ = false;  // pause_reading(): the client's bytes stay in the pty
     bool stopped_ = false;
 
     std::deque<Chunk> queue_;  // paced output waiting for the wire

@@ -25,6 +25,21 @@ void print_line(const std::string& line) {
     std::fflush(stdout);
 }
 
+// SIGUSR1 stalls the gimbal's side of the line, SIGUSR2 lets it drain again.
+void watch_stall_signals(boost::asio::signal_set& signals, PtySimulator& sim) {
+    signals.async_wait([&signals, &sim](const boost::system::error_code& ec, int number) {
+        if (ec || sim.stopped()) {
+            return;
+        }
+        if (number == SIGUSR1) {
+            sim.pause_reading();
+        } else {
+            sim.resume_reading();
+        }
+        watch_stall_signals(signals, sim);
+    });
+}
+
 int run(CommandLine cl) {
     if (cl.trace) {
         cl.options.trace = print_line;
@@ -33,12 +48,15 @@ int run(CommandLine cl) {
     PtySimulator sim(io, std::move(cl.options));
     print_line(sim.slave_path());
 
+    boost::asio::signal_set signals_stall(io, SIGUSR1, SIGUSR2);
     boost::asio::signal_set signals(io, SIGINT, SIGTERM);
     signals.async_wait([&](const boost::system::error_code& ec, int) {
         if (!ec) {
             sim.stop();
+            signals_stall.cancel();
         }
     });
+    watch_stall_signals(signals_stall, sim);
     io.run();
     return 0;
 }

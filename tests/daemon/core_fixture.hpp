@@ -116,6 +116,16 @@ class CoreFixture : public ::testing::Test {
         return n;
     }
 
+    std::vector<Json> trace_of(const std::string& cmd) const {
+        std::vector<Json> out;
+        for (const auto& t : trace) {
+            if (t.value("cmd", "") == cmd) {
+                out.push_back(t);
+            }
+        }
+        return out;
+    }
+
     std::size_t frames_with(const std::string& cmd) const {
         std::size_t n = 0;
         for (const auto& t : trace) {

@@ -68,14 +68,21 @@ TEST_F(CoreFixture, DeadmanStopsWhenTheOwnerGoes) {
     EXPECT_EQ(speed_frames().size(), before) << "keepalive must end with its owner";
 }
 
-TEST_F(CoreFixture, StopsAreNeverDeduplicated) {
+// Every stop is followed on the wire by a zero speed; one that finds a stop
+// still waiting (not yet written) is that stop. stops_sent counts what went
+// on the wire, so it matches the gimbal's count.
+TEST_F(CoreFixture, EveryStopReachesTheWireAndWaitingStopsCoalesce) {
     start();
     ASSERT_TRUE(run_until([&] { return link_up(); }));
     for (int i = 0; i < 3; ++i) {
-        ASSERT_TRUE(core->stop(alice).ok());
+        ASSERT_TRUE(core->stop(alice).ok());  // one written, one waiting, one coalesced
     }
+    ASSERT_TRUE(run_until([&] { return zero_speed_frames() == 2; }, 5s));
+    ASSERT_TRUE(run_until([&] { return core->status().counters.stops_sent == 2; }, 5s));
+    EXPECT_EQ(core->status().counters.frames_replaced, 1U);
+    ASSERT_TRUE(core->stop(alice).ok());  // the line is idle again: it goes out
     ASSERT_TRUE(run_until([&] { return zero_speed_frames() == 3; }, 5s));
-    EXPECT_EQ(core->status().counters.stops_sent, 3U);
+    ASSERT_TRUE(run_until([&] { return core->status().counters.stops_sent == 3; }, 5s));
 }
 
 TEST_F(CoreFixture, NewSpeedReplacesAndAngleEndsTheKeepalive) {
@@ -86,7 +93,9 @@ TEST_F(CoreFixture, NewSpeedReplacesAndAngleEndsTheKeepalive) {
     EXPECT_EQ(recorder.motions.back().change, MotionChange::kReplaced);
     EXPECT_EQ(recorder.motions.back().owner->id, bob.id);
     ASSERT_TRUE(core->angle(alice, {0, 0, 4500}).ok());
-    ASSERT_TRUE(run_until([&] { return frames_with("0x85") >= 3; }));
+    // Bob's speed was still waiting behind alice's: the angle replaced it.
+    ASSERT_TRUE(run_until([&] { return frames_with("0x85") >= 2; }));
+    EXPECT_EQ(trace_of("0x85").back().value("mode", ""), "angle");
     const auto before = speed_frames().size();
     run_for(400ms);
     EXPECT_EQ(speed_frames().size(), before);

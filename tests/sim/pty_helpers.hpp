@@ -113,6 +113,10 @@ class Client {
     void write(std::span<const std::uint8_t> bytes) {
         ASSERT_EQ(::write(fd_, bytes.data(), bytes.size()), static_cast<ssize_t>(bytes.size()));
     }
+    // One non-blocking write; what ::write returned (-1 with EAGAIN when full).
+    ssize_t try_write(std::span<const std::uint8_t> bytes) {
+        return ::write(fd_, bytes.data(), bytes.size());
+    }
     void send(const protocol::Message& m) {
         const auto f = protocol::encode(m);
         write(f.bytes());

@@ -83,6 +83,40 @@ TEST(PtySimulator, AClientThatDoesNotReadNeverBlocksTheSimulator) {
     EXPECT_FALSE(decode_all(client.read_for(200ms)).attitudes().empty());
 }
 
+TEST(PtySimulator, PausedReadingFillsTheLineAndResumingDrainsItInOrder) {
+    SimThread sim({});
+    Client client(sim.path());
+    ASSERT_TRUE(eventually([&] { return sim.stats().peer_opens == 1; }));
+    sim.on_io([](PtySimulator& s) {
+        s.pause_reading();
+        return 0;
+    });
+    EXPECT_TRUE(sim.traced("\"event\":\"reading_paused\""));
+    const auto photo = p::encode(p::Camera{p::CameraAction::kPhoto});
+    std::size_t written = 0;
+    // Until the kernel's buffer is full (EAGAIN); a partly written frame
+    // would never complete, so only whole writes count.
+    while (written < 100000 &&
+           client.try_write(photo.bytes()) == static_cast<ssize_t>(photo.size())) {
+        ++written;
+    }
+    ASSERT_LT(written, 100000U) << "writes never blocked: the simulator kept reading";
+    client.read_for(200ms);  // attitude keeps coming while the line is stalled
+    EXPECT_FALSE(sim.traced("\"action\":\"photo\""));
+    sim.on_io([](PtySimulator& s) {
+        s.resume_reading();
+        return 0;
+    });
+    ASSERT_TRUE(eventually([&] {
+        const auto t = sim.trace();
+        return std::count_if(t.begin(), t.end(), [](const std::string& l) {
+                   return l.find("\"action\":\"photo\"") != std::string::npos;
+               }) >= static_cast<long>(written);
+    }));
+    EXPECT_TRUE(sim.traced("\"event\":\"reading_resumed\""));
+    EXPECT_EQ(sim.stats().model.crc_errors, 0U);
+}
+
 TEST(PtyFaults, NoiseShowsAsGarbageAndFramesStillDecode) {
     SimOptions o;
     o.faults.noise_bytes_per_s = 500;

@@ -50,7 +50,9 @@ struct Counters {
     std::uint64_t device_opens = 0;
     std::uint64_t device_failures = 0;  // failed opens and lost devices
     std::uint64_t keepalive_frames = 0;
-    std::uint64_t stops_sent = 0;
+    std::uint64_t stops_sent = 0;       // zero-speed frames written to the device
+    std::uint64_t frames_replaced = 0;  // waiting 0x85 frames a newer 0x85 replaced
+    std::uint64_t frames_refused = 0;   // camera/settings frames refused: the device is stuck
     std::uint64_t settings_timeouts = 0;
 };
 

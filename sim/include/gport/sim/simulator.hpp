@@ -78,6 +78,14 @@ class PtySimulator {
     void stop();
     bool stopped() const;
 
+    // Stops reading what the client writes, as a gimbal whose UART stalled:
+    // the bytes wait in the kernel's pty buffer (a few KiB) and then the
+    // client's writes block. Output (attitude) goes on. resume_reading()
+    // reads the backlog and carries on. Both are idempotent.
+    void pause_reading();
+    void resume_reading();
+    bool reading_paused() const;
+
     // True while a client has the slave open (as last seen by the simulator).
     bool peer_connected() const;
     SimStats stats() const;

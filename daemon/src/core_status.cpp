@@ -1,0 +1,42 @@
+// Core::Impl::status(): the figures of every part, gathered for the client API.
+#include "core_impl.hpp"
+
+namespace gport::daemon {
+
+Status Core::Impl::status() const {
+    Status s;
+    s.link = monitor_.state();
+    s.link_reason = monitor_.reason();
+    s.device = config_.serial.device;
+    s.device_open = link_.is_open();
+    const auto now = std::chrono::steady_clock::now();
+    s.uptime = std::chrono::duration_cast<Millis>(now - started_);
+    if (latest) {
+        s.attitude_age = std::chrono::duration_cast<Millis>(now - latest->received);
+    }
+    const auto& d = decoder_.stats();
+    const auto& l = link_.stats();
+    auto& c = s.counters;
+    c.frames_in = d.frames;
+    c.bytes_in = d.bytes;
+    c.frames_out = l.frames_out;
+    c.bytes_out = l.bytes_out;
+    c.attitude_frames = seq_;
+    c.crc_errors = d.crc_errors;
+    c.header_errors = d.header_errors;
+    c.garbage_bytes = d.garbage_bytes;
+    c.resyncs = d.resyncs;
+    c.bad_messages = bad_messages_;
+    c.device_opens = l.opens;
+    c.device_failures = l.failures;
+    c.keepalive_frames = keepalive_.frames_sent();
+    c.stops_sent = l.stops_written;
+    c.frames_replaced = l.frames_replaced;
+    c.frames_refused = l.queue_overflows;
+    c.settings_timeouts = settings_.timeouts();
+    s.motion = keepalive_.status();
+    s.controller = controller_;
+    return s;
+}
+
+}  // namespace gport::daemon
