@@ -221,6 +221,21 @@ bool RequestRate::take(std::chrono::steady_clock::time_point now) {
     return true;
 }
 
+std::chrono::steady_clock::duration RequestRate::wait_for(
+    double needed, std::chrono::steady_clock::time_point now) const {
+    if (per_second <= 0 || tokens < 0) {
+        return {};
+    }
+    const double elapsed = std::chrono::duration<double>(now - last).count();
+    const double have = std::min(per_second, tokens + elapsed * per_second);
+    const double missing = std::min(needed, per_second) - have;
+    if (missing <= 0) {
+        return {};
+    }
+    return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(missing / per_second));
+}
+
 int to_rpc_code(daemon::ErrorCode code) {
     switch (code) {
         case daemon::ErrorCode::kInvalidParams:

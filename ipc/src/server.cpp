@@ -61,6 +61,7 @@ Server::Server(asio::io_context& io, daemon::Api& api, config::SocketConfig conf
                       return ServerStats{clients(), dropped_total_};
                   }),
       max_clients_(config_.max_clients),
+      trim_timer_(io),
       accept_pause_(io) {}
 
 Server::~Server() {
@@ -129,6 +130,7 @@ void Server::close() {
     boost::system::error_code ignored;
     acceptor_.close(ignored);
     accept_pause_.cancel();
+    trim_timer_.cancel();
     for_each_session([](Session& session) { session.close(); });
     if (created_file_) {
         ::unlink(config_.path.c_str());

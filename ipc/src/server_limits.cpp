@@ -33,6 +33,11 @@ constexpr auto kTrimInterval = std::chrono::seconds(1);
 // ... or after this many sessions closed (each held buffers of its own).
 constexpr std::size_t kTrimAfterClosed = 8;
 
+// A summary is due for the first event, then at most once per interval.
+bool due(Clock::time_point last, Clock::time_point now) {
+    return last == Clock::time_point{} || now - last >= kAcceptLogInterval;
+}
+
 }  // namespace
 
 // Each client costs a descriptor: make sure max_clients of them fit under
@@ -69,7 +74,7 @@ void Server::fit_descriptor_limit() {
 void Server::on_accept_error(const boost::system::error_code& error) {
     ++accept_failures_;
     const auto now = Clock::now();
-    if (accept_failures_ == 1 || now - accept_logged_ >= kAcceptLogInterval) {
+    if (due(accept_logged_, now)) {
         log_->warn("accepting clients failed {} time(s) since the last report: {}; pausing {} ms",
                    accept_failures_, error.message(), kAcceptPause.count());
         accept_failures_ = 0;
@@ -117,7 +122,7 @@ std::optional<std::string> Server::admission(const daemon::ClientInfo& client, b
 void Server::reject(stream_protocol::socket socket, const std::string& why) {
     ++refused_;
     const auto now = Clock::now();
-    if (refused_ == 1 || now - refused_logged_ >= kAcceptLogInterval) {
+    if (due(refused_logged_, now)) {
         log_->warn("refused {} client(s) since the last report; the latest: {}", refused_, why);
         refused_ = 0;
         refused_logged_ = now;
@@ -150,6 +155,18 @@ void Server::trim_memory() {
     }
     const auto now = Clock::now();
     if (now - last_trim_ < kTrimInterval) {
+        // Due, but too soon: trim once the interval is over, or a burst of
+        // closes would leave everything after its first few untrimmed.
+        if (!trim_armed_ && !closed_) {
+            trim_armed_ = true;
+            trim_timer_.expires_at(last_trim_ + kTrimInterval);
+            trim_timer_.async_wait([this](const boost::system::error_code& error) {
+                trim_armed_ = false;
+                if (!error) {
+                    trim_memory();
+                }
+            });
+        }
         return;
     }
     last_trim_ = now;

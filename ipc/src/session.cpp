@@ -47,6 +47,7 @@ Session::Session(Socket socket, daemon::ClientInfo info, Server& server)
       state_{info, {}, 0, {static_cast<double>(server.config().max_requests_per_s)}},
       outbox_(server.config().queue_limit),
       idle_timer_(socket_.get_executor()),
+      throttle_timer_(socket_.get_executor()),
       last_request_(Clock::now()) {}
 
 void Session::start() {
@@ -66,6 +67,7 @@ void Session::close() {
     socket_.shutdown(Socket::shutdown_both, ignored);
     socket_.close(ignored);
     idle_timer_.cancel();
+    throttle_timer_.cancel();
     if (rate_timer_) {
         rate_timer_->cancel();
     }
@@ -115,7 +117,7 @@ void Session::schedule_input() {
 // Handles up to kLinesPerTurn complete lines, then yields; reads more only
 // when no complete line is left and the client's replies are drained.
 void Session::process_input() {
-    if (closed_ || closing_ || reading_) {
+    if (closed_ || closing_ || reading_ || throttled_) {
         return;
     }
     const std::size_t limit = server_.config().line_limit;
@@ -143,6 +145,9 @@ void Session::process_input() {
         const std::string_view line(input_.data() + consumed_, newline - consumed_);
         consumed_ = newline + 1;
         handle_line(line);
+        if (throttle()) {
+            return;
+        }
     }
     if (closed_ || closing_) {
         return;
@@ -175,6 +180,29 @@ void Session::handle_line(std::string_view line) {
         }
         pending->finish();
     });
+}
+
+// Out of request tokens (the client was just refused, or is about to be):
+// wait until a whole batch would be allowed, rather than answer the rest of
+// a flood with errors at full speed.
+bool Session::throttle() {
+    const auto& rate = state_.rate;
+    if (rate.per_second <= 0 || rate.tokens >= 1 || closed_) {
+        return false;
+    }
+    const auto wait = rate.wait_for(static_cast<double>(kMaxBatch), Clock::now());
+    if (wait <= Clock::duration::zero()) {
+        return false;
+    }
+    throttled_ = true;
+    throttle_timer_.expires_after(wait);
+    throttle_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
+        self->throttled_ = false;
+        if (!error) {
+            self->process_input();
+        }
+    });
+    return true;
 }
 
 void Session::request_done() {

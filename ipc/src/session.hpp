@@ -10,6 +10,9 @@
 //   kPauseBytes (or the server is over its memory budget and this client has
 //   anything queued), no further request is handled and nothing is read;
 //   handling resumes when the client has read its replies.
+// - Over the request rate, requests get -32005; once its tokens run out the
+//   client is not read until a batch's worth of requests is allowed again,
+//   so a flood costs neither CPU nor memory.
 // - Half-close: at EOF the deadman runs at once (Server::client_hung_up) but
 //   the connection stays open until every outstanding reply is written.
 #pragma once
@@ -69,6 +72,7 @@ class Session : public std::enable_shared_from_this<Session> {
     void refuse_long_line();
     void hang_up();
     bool backlogged() const;
+    bool throttle();
     void arm_idle_timer(Clock::duration after);
     void on_idle_timer();
     bool busy() const;
@@ -96,8 +100,9 @@ class Session : public std::enable_shared_from_this<Session> {
     std::size_t outstanding_ = 0;  // requests whose reply has not been queued
     bool reading_ = false;
     bool input_posted_ = false;
-    bool paused_ = false;   // back-pressure: resumes when the outbox drains
-    bool closing_ = false;  // no more input; close once replies are written
+    bool paused_ = false;     // back-pressure: resumes when the outbox drains
+    bool throttled_ = false;  // over the request rate: resumes on throttle_timer_
+    bool closing_ = false;    // no more input; close once replies are written
     bool hung_up_ = false;
     bool closed_ = false;
 
@@ -108,6 +113,7 @@ class Session : public std::enable_shared_from_this<Session> {
     bool writing_ = false;
 
     boost::asio::steady_timer idle_timer_;
+    boost::asio::steady_timer throttle_timer_;
     Clock::time_point last_request_;
 
     // Attitude rate limit (only when the client asked for max_rate_hz): the

@@ -68,6 +68,9 @@ struct RequestRate {
 
     // Takes one token; false when none is left.
     bool take(std::chrono::steady_clock::time_point now);
+    // How long until `needed` tokens (at most one second's worth) are there.
+    std::chrono::steady_clock::duration wait_for(double needed,
+                                                 std::chrono::steady_clock::time_point now) const;
 };
 
 // Per-connection state the methods read and change.

@@ -116,6 +116,8 @@ class Server final : public daemon::CoreObserver {
     std::size_t queued_peak_ = 0;  // highest queued_bytes_ since the last trim
     std::chrono::steady_clock::time_point last_trim_{};
     std::size_t closed_since_trim_ = 0;
+    boost::asio::steady_timer trim_timer_;  // a trim that was due too soon after the last
+    bool trim_armed_ = false;
     // Refused clients are summarised in the log, not one line each.
     std::uint64_t refused_ = 0;
     std::chrono::steady_clock::time_point refused_logged_{};
