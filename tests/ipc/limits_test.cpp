@@ -1,8 +1,12 @@
 // The server's limits over real sockets: re-entrancy, back-pressure, slots,
 // idle timeout, fairness per turn, half-close and the peer's groups.
+#include <fcntl.h>
 #include <gmock/gmock.h>
 #include <grp.h>
 #include <gtest/gtest.h>
+#include <poll.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <sys/wait.h>
@@ -11,6 +15,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <sstream>
 #include <thread>
 
 #include "server_harness.hpp"
@@ -220,6 +225,57 @@ TEST(Limits, PeerGroupsAreTheConnectingProcesssOwn) {
     ASSERT_TRUE(h.eventually([&] { return h.api.gone.size() == 1; }));
     const auto groups = h.on_io([&] { return h.api.gone[0].groups; });
     EXPECT_THAT(groups, ::testing::UnorderedElementsAre(4242, 4343));
+}
+
+sockaddr_un address_of(const std::string& path) {
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    std::strncpy(address.sun_path, path.c_str(), sizeof(address.sun_path) - 1);
+    return address;
+}
+
+// Accept failing with EMFILE busy-looped (100 % CPU, 1.2 M log lines): now it
+// pauses, logs a summary, and serves the waiting clients once descriptors free up.
+TEST(Limits, OutOfDescriptorsAcceptPausesLogsOnceAndResumes) {
+    std::ostringstream out;
+    auto log = std::make_shared<spdlog::logger>(
+        "test", std::make_shared<spdlog::sinks::ostream_sink_mt>(out));
+    ServerHarness h({}, log);
+    std::vector<int> fds;
+    for (int i = 0; i < 5; ++i) {
+        fds.push_back(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+    }
+    rlimit saved{};
+    ASSERT_EQ(::getrlimit(RLIMIT_NOFILE, &saved), 0);
+    const int lowest_free = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+    ::close(lowest_free);
+    rlimit low = saved;
+    low.rlim_cur = static_cast<rlim_t>(lowest_free);  // no new descriptor fits
+    ASSERT_EQ(::setrlimit(RLIMIT_NOFILE, &low), 0);
+    const auto address = address_of(h.path());
+    for (int fd : fds) {
+        ::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address));
+    }
+    std::this_thread::sleep_for(1s);
+    ASSERT_EQ(::setrlimit(RLIMIT_NOFILE, &saved), 0);
+    EXPECT_TRUE(h.eventually([&] { return h.server->clients() == fds.size(); }));
+    const std::string request = "{\"id\":1,\"method\":\"stop\"}\n";
+    for (int fd : fds) {
+        ASSERT_EQ(::write(fd, request.data(), request.size()),
+                  static_cast<ssize_t>(request.size()));
+        pollfd p{fd, POLLIN, 0};
+        EXPECT_EQ(::poll(&p, 1, 10000), 1) << "a reply comes";
+        ::close(fd);
+    }
+    h.stop();
+    const auto text = out.str();
+    std::size_t failures = 0;
+    for (auto at = text.find("accepting clients failed"); at != std::string::npos;
+         at = text.find("accepting clients failed", at + 1)) {
+        ++failures;
+    }
+    EXPECT_GE(failures, 1u) << text;
+    EXPECT_LE(failures, 2u) << "a summary, not a flood";
 }
 
 }  // namespace
