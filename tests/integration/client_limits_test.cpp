@@ -3,9 +3,12 @@
 // and request floods.
 #include <fcntl.h>
 #include <gmock/gmock.h>
+#include <grp.h>
 #include <gtest/gtest.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -27,9 +30,12 @@ using ::testing::HasSubstr;
 // optionally under a lower RLIMIT_NOFILE (soft and hard, as `ulimit -n` sets).
 class LimitedDaemon {
   public:
-    LimitedDaemon(const TempDir& dir, const std::string& socket_keys, int nofile = 0)
+    LimitedDaemon(const TempDir& dir, const std::string& socket_keys, int nofile = 0,
+                  const std::string& more_config = "")
         : socket_(dir.file("gportd.sock")), log_(dir.file("gportd.log")) {
-        const auto config = write_test_config(dir, "\"socket\": {" + socket_keys + "}");
+        const auto config =
+            write_test_config(dir, "\"socket\": {" + socket_keys + "}" +
+                                       (more_config.empty() ? "" : ",\n  ") + more_config);
         std::string script = nofile > 0 ? "ulimit -n " + std::to_string(nofile) + " && " : "";
         script += "exec \"$0\" \"$@\" 2>" + log_;
         process_ = std::make_unique<Process>(
@@ -283,6 +289,55 @@ TEST(ClientLimits, FloodingClientsAreRateLimitedAndTheStreamFlows) {
     EXPECT_GT(refused.load(), 0);
     EXPECT_GT(samples, 30);
     EXPECT_LT(cpu, 3 * 0.7) << "not a whole core";
+}
+
+// Runs `method` as uid/gid 65534 with exactly `groups` in a forked child;
+// returns the child's exit code: 0 result, 1 error -32001, 2 anything else.
+int command_as_nobody(const std::string& socket_path, std::vector<gid_t> groups,
+                      const std::string& method) {
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    std::strncpy(address.sun_path, socket_path.c_str(), sizeof(address.sun_path) - 1);
+    const std::string request = R"({"id":1,"method":")" + method + "\"}\n";
+    const pid_t child = ::fork();
+    if (child == 0) {
+        // Plain system calls only: other threads may hold locks (malloc) at fork.
+        if (::setgroups(groups.size(), groups.data()) != 0 || ::setgid(65534) != 0 ||
+            ::setuid(65534) != 0) {
+            ::_exit(3);
+        }
+        const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+        if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0 ||
+            ::write(fd, request.data(), request.size()) <= 0) {
+            ::_exit(4);
+        }
+        char reply[1024] = {};
+        if (::read(fd, reply, sizeof(reply) - 1) <= 0) {
+            ::_exit(5);
+        }
+        ::_exit(std::strstr(reply, "\"result\"") != nullptr ? 0
+                : std::strstr(reply, "-32001") != nullptr   ? 1
+                                                            : 2);
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// A process given the control group (systemd's SupplementaryGroups=) may
+// command; one without it may not, whatever the user database says.
+TEST(ClientLimits, CommandAccessFollowsThePeersOwnGroups) {
+    if (::geteuid() != 0) {
+        GTEST_SKIP() << "needs root to run clients with other uids and groups";
+    }
+    TempDir dir;
+    ::chmod(dir.path().c_str(), 0755);  // nobody must reach the socket
+    LimitedDaemon daemon(dir, R"("mode": "0666")", 0, R"("access": {"control_gids": [4242]})");
+    Client watcher(daemon.socket());
+    ASSERT_TRUE(link_up(watcher));
+    EXPECT_EQ(command_as_nobody(daemon.socket(), {4242}, "center"), 0);
+    EXPECT_EQ(command_as_nobody(daemon.socket(), {}, "center"), 1);
+    EXPECT_EQ(command_as_nobody(daemon.socket(), {}, "status"), 0) << "reading is open to all";
 }
 
 }  // namespace
