@@ -31,7 +31,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         api.error = gport::daemon::CommandError{gport::daemon::ErrorCode::kBusy, "busy"};
     }
     gport::ipc::Dispatcher dispatcher(api, [] { return gport::ipc::ServerStats{1, 0}; });
-    gport::ipc::ClientState client{{1, 100, 1000, 1000}, {}, 0};
+    gport::ipc::ClientState client{{1, 100, 1000, 1000, {}}, {}, 0, {}};
     const gport::ipc::ReplySink sink = [](std::string line) { check_reply(line); };
 
     std::string_view input(reinterpret_cast<const char*>(data), size);

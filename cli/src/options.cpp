@@ -96,9 +96,9 @@ void build_watch(Invocation& inv, const Raw& raw) {
     inv.params["topics"] = inv.topics;
     for (const auto& [option, value] : raw.options) {  // only --rate is allowed here
         auto rate = parse_number(value);
-        if (!rate || *rate <= 0 || *rate > 1000) {
+        if (!rate || !(*rate >= 0.01 && *rate <= 1000)) {  // the daemon's max_rate_hz range
             throw UsageError{
-                fmt::format("--rate {}: expected a rate in Hz above 0, at most 1000", value)};
+                fmt::format("--rate {}: expected a rate in Hz from 0.01 to 1000", value)};
         }
         inv.rate_hz = rate;
         inv.params["max_rate_hz"] = *rate;

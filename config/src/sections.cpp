@@ -146,6 +146,21 @@ void check_order(Reader& r, const Json& given, std::string_view section, std::st
     r.error(fmt::format("{} must not exceed {}", show(low_key, low), show(high_key, high)));
 }
 
+// Reserved slots must leave at least one slot for everyone else.
+void check_slots(Reader& r, const Json& given, const Config& c) {
+    const auto refused = [&](std::string_view key) {
+        return r.refused(fmt::format("socket.{}", key));
+    };
+    if (c.socket.reserved_command_slots < c.socket.max_clients ||
+        refused("reserved_command_slots") || refused("max_clients")) {
+        return;
+    }
+    r.error(fmt::format(
+        "socket.reserved_command_slots ({}) must be less than socket.max_clients ({}{})",
+        c.socket.reserved_command_slots, c.socket.max_clients,
+        given.contains("max_clients") ? "" : ", the default"));
+}
+
 const std::vector<Section>& sections() {
     static const std::vector<Section> kSections = {
         {"serial",
@@ -188,7 +203,31 @@ const std::vector<Section>& sections() {
                if (auto n = r.integer(v, p, 8, 65536)) {
                    c.socket.queue_limit = static_cast<std::size_t>(*n);
                }
-           }}}},
+           }},
+          {"max_clients_per_uid",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               if (auto n = r.integer(v, p, 1, 4096)) {
+                   c.socket.max_clients_per_uid = static_cast<std::size_t>(*n);
+               }
+           }},
+          {"reserved_command_slots",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               if (auto n = r.integer(v, p, 0, 4095)) {
+                   c.socket.reserved_command_slots = static_cast<std::size_t>(*n);
+               }
+           }},
+          {"idle_timeout_ms",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               c.socket.idle_timeout =
+                   r.millis(v, p, 100, 86400000).value_or(c.socket.idle_timeout);
+           }},
+          {"max_requests_per_s",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               if (auto n = r.integer(v, p, 1, 100000)) {
+                   c.socket.max_requests_per_s = static_cast<unsigned>(*n);
+               }
+           }}},
+         check_slots},
         {"keepalive",
          {{"rate_hz",
            [](Reader& r, const Json& v, const std::string& p, Config& c) {

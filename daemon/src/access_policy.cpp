@@ -1,7 +1,5 @@
 #include "access_policy.hpp"
 
-#include <grp.h>
-#include <pwd.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -23,33 +21,20 @@ bool AccessPolicy::listed_gid(gid_t gid) const {
     return std::find(gids_.begin(), gids_.end(), gid) != gids_.end();
 }
 
+// Groups are the peer process's own, as the kernel reported them at connect
+// (SO_PEERCRED and SO_PEERGROUPS): a process that dropped a group has lost
+// it, one given a group by its service manager has it, whatever the user
+// database says, and nothing here blocks the loop on NSS.
 bool AccessPolicy::decide(const ClientInfo& client) const {
     if (uids_.empty() && gids_.empty()) {
         return true;
     }
     if (client.uid == 0 || client.uid == self_ ||
-        std::find(uids_.begin(), uids_.end(), client.uid) != uids_.end() ||
-        listed_gid(client.gid)) {
+        std::find(uids_.begin(), uids_.end(), client.uid) != uids_.end()) {
         return true;
     }
-    if (gids_.empty()) {
-        return false;
-    }
-    // Supplementary groups are not in SO_PEERCRED; ask the user database.
-    std::vector<char> buf(16384);
-    passwd pw{};
-    passwd* found = nullptr;
-    if (::getpwuid_r(client.uid, &pw, buf.data(), buf.size(), &found) != 0 || found == nullptr) {
-        return false;
-    }
-    int count = 64;
-    std::vector<gid_t> groups(static_cast<std::size_t>(count));
-    if (::getgrouplist(pw.pw_name, client.gid, groups.data(), &count) < 0) {
-        groups.resize(static_cast<std::size_t>(count));
-        ::getgrouplist(pw.pw_name, client.gid, groups.data(), &count);
-    }
-    groups.resize(static_cast<std::size_t>(std::max(count, 0)));
-    return std::any_of(groups.begin(), groups.end(), [this](gid_t g) { return listed_gid(g); });
+    return listed_gid(client.gid) || std::any_of(client.groups.begin(), client.groups.end(),
+                                                 [this](gid_t g) { return listed_gid(g); });
 }
 
 }  // namespace gport::daemon

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -106,6 +107,12 @@ std::string unknown_method(const std::string& name) {
     return fmt::format("unknown method \"{}\"; methods: {}", shown, detail::method_list());
 }
 
+std::string over_rate(const RequestRate& rate) {
+    return fmt::format(
+        "too many requests: the limit is {} per second (socket.max_requests_per_s); slow down",
+        rate.per_second);
+}
+
 void run_method(detail::Handler handler, detail::MethodContext& context, const json& params,
                 const detail::Respond& respond) {
     try {
@@ -131,6 +138,10 @@ void run_request(const json& request, detail::MethodContext& context, const Repl
             done(reply_object(id, std::move(reply)));
         }
     };
+    if (!context.client.rate.take(std::chrono::steady_clock::now())) {
+        respond(RpcError{rpc_error::kTooMany, over_rate(context.client.rate)});
+        return;
+    }
     const auto& name = request["method"].get_ref<const std::string&>();
     auto handler = detail::find_method(name);
     if (handler == nullptr) {
@@ -195,6 +206,35 @@ bool is_notification(const json& request) {
 }
 
 }  // namespace
+
+bool RequestRate::take(std::chrono::steady_clock::time_point now) {
+    if (per_second <= 0) {
+        return true;
+    }
+    const double elapsed = tokens < 0 ? 1.0 : std::chrono::duration<double>(now - last).count();
+    tokens = std::min(per_second, std::max(tokens, 0.0) + elapsed * per_second);
+    last = now;
+    if (tokens < 1) {
+        return false;
+    }
+    tokens -= 1;
+    return true;
+}
+
+std::chrono::steady_clock::duration RequestRate::wait_for(
+    double needed, std::chrono::steady_clock::time_point now) const {
+    if (per_second <= 0 || tokens < 0) {
+        return {};
+    }
+    const double elapsed = std::chrono::duration<double>(now - last).count();
+    const double have = std::min(per_second, tokens + elapsed * per_second);
+    const double missing = std::min(needed, per_second) - have;
+    if (missing <= 0) {
+        return {};
+    }
+    return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(missing / per_second));
+}
 
 int to_rpc_code(daemon::ErrorCode code) {
     switch (code) {

@@ -3,6 +3,8 @@
 // and answers with a result object or the core's error.
 #include "methods.hpp"
 
+#include <fmt/format.h>
+
 #include <array>
 #include <chrono>
 #include <utility>
@@ -85,8 +87,9 @@ void subscribe(MethodContext& c, const json& params, Respond respond) {
         throw InvalidParams("topics is required: a non-empty array of attitude, link and motion");
     }
     auto rate = p.number("max_rate_hz");
-    if (rate && !(*rate > 0.0 && *rate <= kMaxRateHz)) {
-        throw InvalidParams("max_rate_hz must be a number above 0 and at most 1000");
+    if (rate && !(*rate >= kMinRateHz && *rate <= kMaxRateHz)) {
+        throw InvalidParams(fmt::format("max_rate_hz = {} is out of range; allowed {} to {}", *rate,
+                                        kMinRateHz, kMaxRateHz));
     }
     auto& subs = c.client.subscriptions;
     set_topics(subs, *topics, true);

@@ -18,6 +18,7 @@ bool Outbox::drop_oldest_attitude() {
         return false;
     }
     bytes_ -= it->line->size();
+    attitude_bytes_ -= it->line->size();
     queue_.erase(it);
     ++dropped_;
     report_drops_ = true;
@@ -26,6 +27,7 @@ bool Outbox::drop_oldest_attitude() {
 
 void Outbox::append(Line line, bool attitude) {
     bytes_ += line->size();
+    attitude_bytes_ += attitude ? line->size() : 0;
     queue_.push_back({std::move(line), attitude});
 }
 
@@ -55,9 +57,17 @@ std::size_t Outbox::push_attitude(const Line& line) {
     return static_cast<std::size_t>(dropped_ - before);
 }
 
+std::size_t Outbox::drop_attitude() {
+    ++dropped_;
+    report_drops_ = true;
+    return 1;
+}
+
 void Outbox::take(std::vector<Line>& out, std::size_t max_lines) {
     while (!queue_.empty() && max_lines-- > 0) {
-        bytes_ -= queue_.front().line->size();
+        const auto size = queue_.front().line->size();
+        bytes_ -= size;
+        attitude_bytes_ -= queue_.front().attitude ? size : 0;
         out.push_back(std::move(queue_.front().line));
         queue_.pop_front();
     }

@@ -4,7 +4,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <boost/asio/write.hpp>
+#include <boost/asio/post.hpp>
+#include <cerrno>
 #include <stdexcept>
 #include <utility>
 
@@ -18,14 +19,31 @@ namespace {
 namespace asio = boost::asio;
 using stream_protocol = asio::local::stream_protocol;
 
-// SO_PEERCRED: who is on the other end, as the kernel saw it at connect().
+// SO_PEERCRED: who is on the other end, as the kernel saw it at connect();
+// SO_PEERGROUPS: its supplementary groups at that moment. Both come from the
+// peer's own credentials, not the user database, so access follows what the
+// process really holds (and nothing here can block on NSS).
 std::optional<daemon::ClientInfo> peer_of(stream_protocol::socket& socket) {
+    const int fd = socket.native_handle();
     ucred credentials{};
     socklen_t size = sizeof(credentials);
-    if (::getsockopt(socket.native_handle(), SOL_SOCKET, SO_PEERCRED, &credentials, &size) != 0) {
+    if (::getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &credentials, &size) != 0) {
         return std::nullopt;
     }
-    return daemon::ClientInfo{0, credentials.pid, credentials.uid, credentials.gid, {}};
+    std::vector<gid_t> groups(64);
+    socklen_t bytes = static_cast<socklen_t>(groups.size() * sizeof(gid_t));
+    if (::getsockopt(fd, SOL_SOCKET, SO_PEERGROUPS, groups.data(), &bytes) != 0) {
+        if (errno != ERANGE) {
+            return std::nullopt;
+        }
+        groups.resize(bytes / sizeof(gid_t));  // the kernel said how much it needs
+        if (::getsockopt(fd, SOL_SOCKET, SO_PEERGROUPS, groups.data(), &bytes) != 0) {
+            return std::nullopt;
+        }
+    }
+    groups.resize(bytes / sizeof(gid_t));
+    return daemon::ClientInfo{0, credentials.pid, credentials.uid, credentials.gid,
+                              std::move(groups)};
 }
 
 }  // namespace
@@ -38,9 +56,13 @@ Server::Server(asio::io_context& io, daemon::Api& api, config::SocketConfig conf
       log_(std::move(log)),
       listen_fd_(listen_fd),
       acceptor_(io),
-      dispatcher_(api, [this] {
-          return ServerStats{clients(), dropped_total_};
-      }) {}
+      dispatcher_(api,
+                  [this] {
+                      return ServerStats{clients(), dropped_total_};
+                  }),
+      max_clients_(config_.max_clients),
+      trim_timer_(io),
+      accept_pause_(io) {}
 
 Server::~Server() {
     close();
@@ -91,6 +113,7 @@ void Server::start() {
         log_->info("listening on {} (mode {:04o}{}{})", config_.path, config_.mode,
                    config_.group.empty() ? "" : ", group ", config_.group);
     }
+    fit_descriptor_limit();
     started_ = true;
     api_.set_observer(this);
     accept();
@@ -106,6 +129,8 @@ void Server::close() {
     }
     boost::system::error_code ignored;
     acceptor_.close(ignored);
+    accept_pause_.cancel();
+    trim_timer_.cancel();
     for_each_session([](Session& session) { session.close(); });
     if (created_file_) {
         ::unlink(config_.path.c_str());
@@ -126,46 +151,34 @@ void Server::accept() {
                 return;
             }
             if (error) {
-                // Out of descriptors, say: keep serving the clients we have.
-                log_->warn("accepting a client failed: {}", error.message());
-            } else {
-                on_accept(std::move(socket));
+                on_accept_error(error);
+                return;
             }
+            on_accept(std::move(socket));
             accept();
         });
 }
 
 void Server::on_accept(stream_protocol::socket socket) {
-    if (clients() >= config_.max_clients) {
-        reject(std::move(socket));
-        return;
-    }
     auto info = peer_of(socket);
     if (!info) {
         log_->warn("a client's credentials could not be read (SO_PEERCRED); closing it");
         return;
     }
     info->id = next_id_++;
+    bool asked_core = false;
+    if (auto why = admission(*info, asked_core)) {
+        if (asked_core) {
+            api_.client_closed(*info);  // may_command may cache per connection id
+        }
+        reject(std::move(socket), *why);
+        return;
+    }
     auto session = std::make_shared<Session>(std::move(socket), *info, *this);
     sessions_.emplace(info->id, session);
     log_->debug("client {} connected: pid {} uid {} gid {}", info->id, info->pid, info->uid,
                 info->gid);
     session->start();
-}
-
-// The one client too many hears why, then is closed.
-void Server::reject(stream_protocol::socket socket) {
-    log_->warn("refusing a client: {} clients already connected (max_clients)",
-               config_.max_clients);
-    auto line = std::make_shared<const std::string>(error_line(
-        rpc_error::kServerFull, fmt::format("too many clients ({})", config_.max_clients)));
-    auto peer = std::make_shared<stream_protocol::socket>(std::move(socket));
-    asio::async_write(*peer, asio::buffer(*line),
-                      [peer, line](const boost::system::error_code&, std::size_t) {
-                          boost::system::error_code ignored;
-                          peer->shutdown(stream_protocol::socket::shutdown_both, ignored);
-                          peer->close(ignored);
-                      });
 }
 
 void Server::session_closed(const Session& session) {
@@ -176,9 +189,31 @@ void Server::session_closed(const Session& session) {
     } else {
         sessions_.erase(info.id);
     }
-    // Last: the core may publish a motion event (owner gone) right away.
+    // A session can close inside the core's own emit (an overflow while an
+    // event is published) or inside a settings callback: calling the core
+    // there would re-enter it. Posted, the deadman still runs within a turn.
+    asio::post(io_, [&api = api_, info, gone = session.hung_up()] {
+        if (!gone) {
+            api.client_gone(info);
+        }
+        api.client_closed(info);
+    });
+    ++closed_since_trim_;
+    trim_memory();
+}
+
+void Server::client_hung_up(const Session& session) {
+    const auto& info = session.info();
+    log_->debug("client {} (pid {}) hung up; writing what it is owed", info.id, info.pid);
     api_.client_gone(info);
-    api_.client_closed(info);
+}
+
+bool Server::holds_control_or_motion(const daemon::ClientInfo& client) const {
+    const auto status = api_.status();
+    const auto is = [&](const std::optional<daemon::ClientInfo>& who) {
+        return who && who->id == client.id;
+    };
+    return is(status.controller) || (status.motion && is(status.motion->owner));
 }
 
 // ---- events -------------------------------------------------------------------------

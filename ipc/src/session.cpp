@@ -1,8 +1,10 @@
+// A session's life cycle and input side: reading, bounded request handling
+// per turn, back-pressure, half-close and the idle timeout.
 #include "session.hpp"
 
 #include <fmt/format.h>
 
-#include <boost/asio/write.hpp>
+#include <boost/asio/post.hpp>
 #include <utility>
 
 #include "gport/ipc/server.hpp"
@@ -12,26 +14,47 @@ namespace {
 
 namespace asio = boost::asio;
 
-// Lines gathered into one write: enough to amortise the syscall, few enough
-// that one write stays short.
-constexpr std::size_t kLinesPerWrite = 64;
-
 bool blank(std::string_view line) {
     return line.find_first_not_of(" \t\r") == std::string_view::npos;
 }
+
+// Tracks one request until its reply is queued. The reply sink may be
+// copied into the core (settings) or a batch; when the last copy goes
+// without having answered (a notification, or a request the core dropped),
+// the request is over all the same.
+class Pending {
+  public:
+    explicit Pending(std::function<void()> done) : done_(std::move(done)) {}
+    ~Pending() { finish(); }
+    Pending(const Pending&) = delete;
+    Pending& operator=(const Pending&) = delete;
+
+    void finish() {
+        if (auto done = std::exchange(done_, nullptr)) {
+            done();
+        }
+    }
+
+  private:
+    std::function<void()> done_;
+};
 
 }  // namespace
 
 Session::Session(Socket socket, daemon::ClientInfo info, Server& server)
     : socket_(std::move(socket)),
       server_(server),
-      state_{info, {}, 0},
-      outbox_(server.config().queue_limit) {}
+      state_{info, {}, 0, {static_cast<double>(server.config().max_requests_per_s)}},
+      outbox_(server.config().queue_limit),
+      idle_timer_(socket_.get_executor()),
+      throttle_timer_(socket_.get_executor()),
+      last_request_(Clock::now()) {}
 
 void Session::start() {
     // Writes are tried at once (see flush); reads stay asynchronous.
     boost::system::error_code ignored;
     socket_.non_blocking(true, ignored);
+    arm_idle_timer(server_.config().idle_timeout);
     read();
 }
 
@@ -43,224 +66,231 @@ void Session::close() {
     boost::system::error_code ignored;
     socket_.shutdown(Socket::shutdown_both, ignored);
     socket_.close(ignored);
+    idle_timer_.cancel();
+    throttle_timer_.cancel();
     if (rate_timer_) {
         rate_timer_->cancel();
     }
     pending_attitude_.reset();
+    sync_budget();
     server_.session_closed(*this);
 }
 
 // ---- reading --------------------------------------------------------------------
 
 void Session::read() {
+    reading_ = true;
     socket_.async_read_some(
         asio::buffer(read_buffer_),
         [self = shared_from_this()](const boost::system::error_code& error, std::size_t size) {
-            if (self->closed_ || self->closing_) {
-                return;
-            }
-            if (error) {
-                self->close();  // EOF or reset: the client went away
-                return;
-            }
-            self->on_read(size);
+            self->on_read(error, size);
         });
 }
 
-void Session::on_read(std::size_t size) {
-    std::string_view data(read_buffer_.data(), size);
-    const std::size_t limit = server_.config().line_limit;
-    while (!data.empty() && !closed_ && !closing_) {
-        const auto newline = data.find('\n');
-        const auto piece = data.substr(0, newline);
-        if (partial_.size() + piece.size() > limit) {
-            refuse_long_line();
-            return;
-        }
-        partial_.append(piece);
-        if (newline == std::string_view::npos) {
-            break;
-        }
-        handle_line(partial_);
-        partial_.clear();
-        data.remove_prefix(newline + 1);
+void Session::on_read(const boost::system::error_code& error, std::size_t size) {
+    reading_ = false;
+    if (closed_ || closing_) {
+        return;
     }
-    if (!closed_ && !closing_) {
-        read();
+    if (error == asio::error::eof) {
+        hang_up();
+    } else if (error) {
+        close();  // reset: the client cannot read replies either
+    } else {
+        input_.append(read_buffer_.data(), size);
+        process_input();
     }
 }
 
-void Session::handle_line(std::string& line) {
+// Runs process_input on a later turn, once.
+void Session::schedule_input() {
+    if (input_posted_ || closed_) {
+        return;
+    }
+    input_posted_ = true;
+    asio::post(socket_.get_executor(), [self = shared_from_this()] {
+        self->input_posted_ = false;
+        self->process_input();
+    });
+}
+
+// Handles up to kLinesPerTurn complete lines, then yields; reads more only
+// when no complete line is left and the client's replies are drained.
+void Session::process_input() {
+    if (closed_ || closing_ || reading_ || throttled_) {
+        return;
+    }
+    const std::size_t limit = server_.config().line_limit;
+    std::size_t handled = 0;
+    while (!closed_ && !closing_) {
+        if (backlogged()) {
+            paused_ = true;  // drained() resumes
+            return;
+        }
+        const auto newline = input_.find('\n', consumed_);
+        if (newline == std::string::npos) {
+            break;
+        }
+        if (newline - consumed_ > limit) {
+            refuse_long_line();
+            return;
+        }
+        if (handled++ == kLinesPerTurn) {
+            schedule_input();
+            return;
+        }
+        if (handled == 1) {
+            last_request_ = Clock::now();
+        }
+        const std::string_view line(input_.data() + consumed_, newline - consumed_);
+        consumed_ = newline + 1;
+        handle_line(line);
+        if (throttle()) {
+            return;
+        }
+    }
+    if (closed_ || closing_) {
+        return;
+    }
+    input_.erase(0, std::exchange(consumed_, 0));
+    if (input_.size() > limit) {
+        refuse_long_line();
+        return;
+    }
+    read();
+}
+
+void Session::handle_line(std::string_view line) {
     if (!line.empty() && line.back() == '\r') {
-        line.pop_back();  // tolerate CRLF from terminals
+        line.remove_suffix(1);  // tolerate CRLF from terminals
     }
     if (blank(line)) {
         return;
     }
+    ++outstanding_;
     auto weak = weak_from_this();
-    server_.dispatcher().handle_line(line, state_, [weak](std::string reply) {
+    auto pending = std::make_shared<Pending>([weak] {
+        if (auto self = weak.lock()) {
+            self->request_done();
+        }
+    });
+    server_.dispatcher().handle_line(line, state_, [weak, pending](std::string reply) {
         if (auto self = weak.lock()) {
             self->reply(std::move(reply));
         }
+        pending->finish();
     });
+}
+
+// Out of request tokens (the client was just refused, or is about to be):
+// wait until a whole batch would be allowed, rather than answer the rest of
+// a flood with errors at full speed.
+bool Session::throttle() {
+    const auto& rate = state_.rate;
+    if (rate.per_second <= 0 || rate.tokens >= 1 || closed_) {
+        return false;
+    }
+    const auto wait = rate.wait_for(static_cast<double>(kMaxBatch), Clock::now());
+    if (wait <= Clock::duration::zero()) {
+        return false;
+    }
+    throttled_ = true;
+    throttle_timer_.expires_after(wait);
+    throttle_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
+        self->throttled_ = false;
+        if (!error) {
+            self->process_input();
+        }
+    });
+    return true;
+}
+
+void Session::request_done() {
+    --outstanding_;
+    finish_if_done();
+}
+
+bool Session::backlogged() const {
+    const std::size_t queued = outbox_.reply_bytes() + in_flight_bytes_;
+    return queued > kPauseBytes || (queued > 0 && server_.over_budget());
 }
 
 void Session::refuse_long_line() {
     server_.log().warn("client pid {} uid {}: request line longer than {} bytes; closing",
                        state_.info.pid, state_.info.uid, server_.config().line_limit);
-    reply(error_line(rpc_error::kInvalidRequest,
-                     fmt::format("request line longer than {} bytes; closing the connection",
-                                 server_.config().line_limit)));
+    close_after_reply(rpc_error::kInvalidRequest,
+                      fmt::format("request line longer than {} bytes; closing the connection",
+                                  server_.config().line_limit));
+}
+
+// Stops reading, sends one last error, and closes once everything is written.
+void Session::close_after_reply(int code, const std::string& message) {
+    reply(error_line(code, message));
     closing_ = true;
-    partial_.clear();
-    partial_.shrink_to_fit();
+    input_.clear();
+    input_.shrink_to_fit();
     flush();
 }
 
-// ---- queueing ---------------------------------------------------------------------
-
-void Session::reply(std::string line) {
-    if (closed_) {
-        return;
+// EOF: a last line without '\n' still counts; the deadman runs now; the
+// connection closes once the replies owed are written (finish_if_done).
+void Session::hang_up() {
+    const std::string_view rest = std::string_view(input_).substr(consumed_);
+    if (rest.size() <= server_.config().line_limit) {
+        handle_line(rest);
+        if (closed_) {
+            return;  // it overflowed: closing already told the server
+        }
     }
-    if (!outbox_.push(std::make_shared<const std::string>(std::move(line)))) {
-        overflow();
-        return;
-    }
+    closing_ = true;
+    hung_up_ = true;
+    input_.clear();
+    input_.shrink_to_fit();
+    server_.client_hung_up(*this);
     flush();
 }
 
-void Session::deliver_event(const Line& line) {
-    if (closed_ || closing_) {
-        return;
-    }
-    if (!outbox_.push(line)) {
-        overflow();
-        return;
-    }
-    flush();
-}
+// ---- idle timeout -------------------------------------------------------------------
 
-void Session::overflow() {
-    server_.log().warn("client pid {} uid {}: {} lines wait unread; disconnecting it",
-                       state_.info.pid, state_.info.uid, outbox_.size());
-    close();
-}
-
-void Session::deliver_attitude(const Line& line) {
-    if (closed_ || closing_) {
-        return;
-    }
-    const auto& rate = state_.subscriptions.max_rate_hz;
-    if (!rate) {
-        queue_attitude(line);
-        return;
-    }
-    const auto interval = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-        std::chrono::duration<double>(1.0 / *rate));
-    const auto now = std::chrono::steady_clock::now();
-    if (!timer_armed_ && now - last_attitude_ >= interval) {
-        last_attitude_ = now;
-        queue_attitude(line);
-        return;
-    }
-    // Too soon: the newest sample waits and replaces any older waiting one.
-    pending_attitude_ = line;
-    if (timer_armed_) {
-        return;
-    }
-    if (!rate_timer_) {
-        rate_timer_.emplace(socket_.get_executor());
-    }
-    timer_armed_ = true;
-    rate_timer_->expires_at(last_attitude_ + interval);
-    rate_timer_->async_wait([self = shared_from_this()](const boost::system::error_code& error) {
-        self->timer_armed_ = false;
+void Session::arm_idle_timer(Clock::duration after) {
+    idle_timer_.expires_after(after);
+    idle_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
         if (!error) {
-            self->on_rate_timer();
+            self->on_idle_timer();
         }
     });
 }
 
-void Session::on_rate_timer() {
-    if (closed_ || closing_ || !pending_attitude_) {
+// Armed once per timeout, not per request: it looks at the last request when
+// it fires.
+void Session::on_idle_timer() {
+    if (closed_ || closing_) {
         return;
     }
-    last_attitude_ = std::chrono::steady_clock::now();
-    auto line = std::move(pending_attitude_);
-    pending_attitude_.reset();
-    if (state_.subscriptions.attitude) {  // it may have unsubscribed meanwhile
-        queue_attitude(line);
-    }
-}
-
-void Session::queue_attitude(const Line& line) {
-    if (const auto dropped = outbox_.push_attitude(line); dropped > 0) {
-        state_.dropped = outbox_.dropped();
-        server_.note_dropped(dropped);
-    }
-    flush();
-}
-
-// ---- writing ----------------------------------------------------------------------
-
-void Session::flush() {
-    if (writing_ || closed_) {
+    const auto timeout = server_.config().idle_timeout;
+    const auto quiet = Clock::now() - last_request_;
+    if (quiet < timeout) {
+        arm_idle_timer(timeout - quiet);
         return;
     }
-    // Most batches fit in the socket's buffer: they are sent at once, with no
-    // asynchronous operation to set up. Only what does not fit waits for the
-    // socket to drain, with one async_write in flight.
-    while (!outbox_.empty()) {
-        in_flight_.clear();
-        outbox_.take(in_flight_, kLinesPerWrite);
-        buffers_.clear();
-        for (const auto& line : in_flight_) {
-            buffers_.push_back(asio::buffer(*line));
-        }
-        boost::system::error_code error;
-        const std::size_t sent = socket_.write_some(buffers_, error);
-        if (error && error != asio::error::would_block && error != asio::error::try_again) {
-            close();  // the client went away
-            return;
-        }
-        if (sent < asio::buffer_size(buffers_)) {
-            write_rest(sent);
-            return;
-        }
-    }
-    in_flight_.clear();
-    if (closing_) {
-        close();
-    }
-}
-
-// Sends what write_some left of the batch in flight, skipping `sent` bytes.
-void Session::write_rest(std::size_t sent) {
-    auto first = buffers_.begin();
-    while (sent > 0 && sent >= first->size()) {
-        sent -= first->size();
-        ++first;
-    }
-    *first += sent;
-    buffers_.erase(buffers_.begin(), first);
-    writing_ = true;
-    asio::async_write(socket_, buffers_,
-                      [self = shared_from_this()](const boost::system::error_code& error,
-                                                  std::size_t) { self->on_written(error); });
-}
-
-void Session::on_written(const boost::system::error_code& error) {
-    writing_ = false;
-    in_flight_.clear();
-    if (closed_) {
+    if (busy()) {
+        arm_idle_timer(timeout);
         return;
     }
-    if (error) {
-        close();  // the client went away mid-write
-        return;
-    }
-    flush();
+    server_.log().info("client {} (pid {} uid {}) idle for {} ms; closing it", state_.info.id,
+                       state_.info.pid, state_.info.uid, timeout.count());
+    close_after_reply(
+        rpc_error::kServerFull,
+        fmt::format("idle for {} ms with no subscription (socket.idle_timeout_ms); closing",
+                    timeout.count()));
+}
+
+// Quiet is fine for a client that listens, waits for an answer, holds
+// control or owns a motion: closing it would stop the gimbal or lose data.
+bool Session::busy() const {
+    const auto& s = state_.subscriptions;
+    return s.attitude || s.link || s.motion || outstanding_ > 0 ||
+           server_.holds_control_or_motion(state_.info);
 }
 
 }  // namespace gport::ipc

@@ -1,14 +1,30 @@
 // One client connection: reads request lines (bounded), hands them to the
 // dispatcher, and writes what its Outbox holds with one write in flight.
 // Attitude delivery is rate-limited per client when it asked for it.
+//
+// Fairness and memory (docs/api.md, "Limits"):
+// - At most kLinesPerTurn request lines are handled per loop turn; the rest
+//   wait in `input_` and the continuation is posted, so serial reads and
+//   timers run in between.
+// - Back-pressure: while the replies queued for this client exceed
+//   kPauseBytes (or the server is over its memory budget and this client has
+//   anything queued), no further request is handled and nothing is read;
+//   handling resumes when the client has read its replies.
+// - Over the request rate, requests get -32005; once its tokens run out the
+//   client is not read until a batch's worth of requests is allowed again,
+//   so a flood costs neither CPU nor memory.
+// - Half-close: at EOF the deadman runs at once (Server::client_hung_up) but
+//   the connection stays open until every outstanding reply is written.
 #pragma once
 
 #include <array>
 #include <boost/asio/local/stream_protocol.hpp>
 #include <boost/asio/steady_timer.hpp>
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gport/ipc/json_rpc.hpp"
@@ -21,51 +37,91 @@ class Server;
 class Session : public std::enable_shared_from_this<Session> {
   public:
     using Socket = boost::asio::local::stream_protocol::socket;
+    using Clock = std::chrono::steady_clock;
+
+    // Request lines handled per loop turn before yielding to other handlers.
+    static constexpr std::size_t kLinesPerTurn = 8;
+    // Queued reply bytes above which this client's requests wait.
+    static constexpr std::size_t kPauseBytes = 64 * 1024;
 
     Session(Socket socket, daemon::ClientInfo info, Server& server);
 
     void start();
-    // Closes at once; tells the server (which calls client_gone). Idempotent.
+    // Closes at once; tells the server, which calls the core afterwards
+    // (never from inside whatever is running now). Idempotent.
     void close();
 
     const daemon::ClientInfo& info() const { return state_.info; }
     const Subscriptions& subscriptions() const { return state_.subscriptions; }
     bool closed() const { return closed_; }
+    // The client sent EOF and the deadman has already run for it.
+    bool hung_up() const { return hung_up_; }
 
     void deliver_attitude(const Line& line);
     void deliver_event(const Line& line);  // link or motion: never dropped
     void reply(std::string line);
 
   private:
+    // ---- input (session.cpp) ----
     void read();
-    void on_read(std::size_t size);
-    void handle_line(std::string& line);
+    void on_read(const boost::system::error_code& error, std::size_t size);
+    void schedule_input();
+    void process_input();
+    void handle_line(std::string_view line);
+    void request_done();
     void refuse_long_line();
+    void hang_up();
+    bool backlogged() const;
+    bool throttle();
+    void arm_idle_timer(Clock::duration after);
+    void on_idle_timer();
+    bool busy() const;
+    void close_after_reply(int code, const std::string& message);
+
+    // ---- output (session_output.cpp) ----
     void queue_attitude(const Line& line);
     void on_rate_timer();
     void flush();
+    void write_queued();
     void write_rest(std::size_t sent);
     void on_written(const boost::system::error_code& error);
+    void drained();
+    void finish_if_done();
     void overflow();
+    void sync_budget();
 
     Socket socket_;
     Server& server_;
     ClientState state_;
     Outbox outbox_;
     std::array<char, 16384> read_buffer_{};
-    std::string partial_;  // the line being received
+    std::string input_;            // received, not yet handled; lines end in '\n'
+    std::size_t consumed_ = 0;     // bytes of input_ already handled
+    std::size_t outstanding_ = 0;  // requests whose reply has not been queued
+    bool reading_ = false;
+    bool input_posted_ = false;
+    bool paused_ = false;     // back-pressure: resumes when the outbox drains
+    bool throttled_ = false;  // over the request rate: resumes on throttle_timer_
+    bool closing_ = false;    // no more input; close once replies are written
+    bool hung_up_ = false;
+    bool closed_ = false;
+
     std::vector<Line> in_flight_;
+    std::size_t in_flight_bytes_ = 0;
+    std::size_t accounted_ = 0;  // bytes reported to the server's budget
     std::vector<boost::asio::const_buffer> buffers_;
     bool writing_ = false;
-    bool closing_ = false;  // no more reading; close once the outbox is written
-    bool closed_ = false;
+
+    boost::asio::steady_timer idle_timer_;
+    boost::asio::steady_timer throttle_timer_;
+    Clock::time_point last_request_;
 
     // Attitude rate limit (only when the client asked for max_rate_hz): the
     // newest sample that arrived too soon waits here for the timer.
     std::optional<boost::asio::steady_timer> rate_timer_;
     bool timer_armed_ = false;
     Line pending_attitude_;
-    std::chrono::steady_clock::time_point last_attitude_{};
+    std::optional<Clock::time_point> last_attitude_;  // empty: the next goes at once
 };
 
 }  // namespace gport::ipc

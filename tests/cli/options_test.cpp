@@ -96,7 +96,8 @@ TEST(Options, WatchTopicsAndRate) {
     auto some = parse({"watch", "link", "attitude", "--rate", "5"});
     EXPECT_EQ(some.params, json({{"topics", {"link", "attitude"}}, {"max_rate_hz", 5.0}}));
     EXPECT_THAT(refusal({"watch", "weather"}), HasSubstr("topics: attitude, link, motion"));
-    EXPECT_THAT(refusal({"watch", "--rate", "0"}), HasSubstr("above 0"));
+    EXPECT_THAT(refusal({"watch", "--rate", "0"}), HasSubstr("from 0.01 to 1000"));
+    EXPECT_THAT(refusal({"watch", "--rate", "1e-9"}), HasSubstr("from 0.01 to 1000"));
 }
 
 TEST(Options, HelpAndUsageErrors) {

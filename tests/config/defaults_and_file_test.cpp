@@ -19,6 +19,10 @@ void expect_defaults(const Config& c) {
     EXPECT_EQ(c.socket.line_limit, 64u * 1024u);
     EXPECT_EQ(c.socket.max_clients, 128u);
     EXPECT_EQ(c.socket.queue_limit, 256u);
+    EXPECT_EQ(c.socket.max_clients_per_uid, 64u);
+    EXPECT_EQ(c.socket.reserved_command_slots, 8u);
+    EXPECT_EQ(c.socket.idle_timeout, 300000ms);
+    EXPECT_EQ(c.socket.max_requests_per_s, 200u);
     EXPECT_DOUBLE_EQ(c.keepalive.rate_hz, 10.0);
     EXPECT_EQ(c.keepalive.default_duration, 1000ms);
     EXPECT_EQ(c.keepalive.max_duration, 60000ms);
@@ -60,7 +64,9 @@ TEST(ConfigFile, FullValidFileSetsEveryKey) {
     auto result = load(R"({
         "serial": {"device": "/dev/ttyUSB3", "baud": 921600},
         "socket": {"path": "/tmp/g.sock", "mode": "0600", "group": "root",
-                   "line_limit": 1024, "max_clients": 4096, "queue_limit": 8},
+                   "line_limit": 1024, "max_clients": 4096, "queue_limit": 8,
+                   "max_clients_per_uid": 3, "reserved_command_slots": 2,
+                   "idle_timeout_ms": 1500, "max_requests_per_s": 50},
         "keepalive": {"rate_hz": 2.5, "default_duration_ms": 100, "max_duration_ms": 600000},
         "link": {"stale_ms": 50, "reconnect_initial_ms": 10, "reconnect_max_ms": 600000},
         "requests": {"timeout_ms": 10000, "retries": 0},
@@ -77,6 +83,10 @@ TEST(ConfigFile, FullValidFileSetsEveryKey) {
     EXPECT_EQ(c.socket.line_limit, 1024u);
     EXPECT_EQ(c.socket.max_clients, 4096u);
     EXPECT_EQ(c.socket.queue_limit, 8u);
+    EXPECT_EQ(c.socket.max_clients_per_uid, 3u);
+    EXPECT_EQ(c.socket.reserved_command_slots, 2u);
+    EXPECT_EQ(c.socket.idle_timeout, 1500ms);
+    EXPECT_EQ(c.socket.max_requests_per_s, 50u);
     EXPECT_DOUBLE_EQ(c.keepalive.rate_hz, 2.5);
     EXPECT_EQ(c.keepalive.default_duration, 100ms);
     EXPECT_EQ(c.keepalive.max_duration, 600000ms);

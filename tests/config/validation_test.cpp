@@ -22,8 +22,12 @@ struct Range {
 
 const Range kRanges[] = {
     {"socket", "line_limit", 1024, 16 * 1024 * 1024},
-    {"socket", "max_clients", 1, 4096},
+    {"socket", "max_clients", 1, 4096, R"("reserved_command_slots": 0, )"},
     {"socket", "queue_limit", 8, 65536},
+    {"socket", "max_clients_per_uid", 1, 4096},
+    {"socket", "reserved_command_slots", 0, 4095, R"("max_clients": 4096, )"},
+    {"socket", "idle_timeout_ms", 100, 86400000},
+    {"socket", "max_requests_per_s", 1, 100000},
     {"keepalive", "rate_hz", 1, 50},
     {"keepalive", "default_duration_ms", 100, 600000, R"("max_duration_ms": 600000, )"},
     {"keepalive", "max_duration_ms", 100, 600000, R"("default_duration_ms": 100, )"},
@@ -111,7 +115,19 @@ TEST(ConfigKeys, UnknownNestedKeyListsTheSectionsKeys) {
     EXPECT_THAT(errors_of(R"({"socket": {"path": "/run/x.sock", "permissions": "0660"}})"),
                 ElementsAre(ErrorWith("unknown key \"socket.permissions\"",
                                       "allowed keys in socket: path, mode, group, line_limit, "
-                                      "max_clients, queue_limit")));
+                                      "max_clients, queue_limit, max_clients_per_uid, "
+                                      "reserved_command_slots, idle_timeout_ms, "
+                                      "max_requests_per_s")));
+}
+
+TEST(ConfigSlots, ReservedSlotsMustLeaveRoomForEveryoneElse) {
+    EXPECT_THAT(errors_of(R"({"socket": {"max_clients": 8}})"),
+                ElementsAre(ErrorWith("socket.reserved_command_slots (8) must be less than "
+                                      "socket.max_clients (8)")));
+    EXPECT_THAT(errors_of(R"({"socket": {"reserved_command_slots": 128}})"),
+                ElementsAre(ErrorWith("(128) must be less than socket.max_clients (128, the "
+                                      "default)")));
+    EXPECT_TRUE(load(R"({"socket": {"max_clients": 8, "reserved_command_slots": 7}})").ok());
 }
 
 TEST(ConfigKeys, DuplicateKeysAreRefused) {

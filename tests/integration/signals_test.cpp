@@ -82,7 +82,7 @@ class MidMotion : public ::testing::Test {
 
 TEST_F(MidMotion, SighupReloadsWithoutDisturbingTheMotion) {
     ASSERT_FALSE(daemon_->logged("connected: pid", 300ms)) << "debug lines before the reload";
-    write_file(config_, R"({"log": {"level": "debug"}, "socket": {"max_clients": 8}})");
+    write_file(config_, R"({"log": {"level": "debug"}, "socket": {"max_clients": 12}})");
     daemon_->process().signal(SIGHUP);
     EXPECT_TRUE(daemon_->logged("socket.max_clients changed; it needs a restart"));
     EXPECT_TRUE(daemon_->logged("reloaded configuration from " + config_ +

@@ -48,7 +48,7 @@ class DispatcherTest : public ::testing::Test {
     }
 
     testing::FakeApi api_;
-    ClientState client_{{7, 4242, 1000, 1000, {}}, {}, 0};
+    ClientState client_{{7, 4242, 1000, 1000, {}}, {}, 0, {}};
     Dispatcher dispatcher_{api_, [] { return ServerStats{3, 11}; }};
     std::vector<std::string> lines_;
 };
@@ -268,8 +268,39 @@ TEST_F(DispatcherTest, SubscriptionsChangeTheClientState) {
     EXPECT_THAT(message(call("subscribe", {{"topics", {"weather"}}})),
                 HasSubstr("topics must be a non-empty array of attitude, link and motion"));
     EXPECT_THAT(message(call("subscribe", {{"topics", {"attitude"}}, {"max_rate_hz", 0}})),
-                HasSubstr("max_rate_hz must be a number above 0 and at most 1000"));
+                HasSubstr("max_rate_hz = 0 is out of range; allowed 0.01 to 1000"));
     EXPECT_THAT(message(call("subscribe")), HasSubstr("topics is required"));
+}
+
+// 1e-12 Hz overflowed a duration cast; 1e-9 Hz never sent its first sample.
+TEST_F(DispatcherTest, TinyMaxRateIsRefusedNamingTheRange) {
+    for (double rate : {1e-12, 1e-9, 0.0099}) {
+        auto reply = call("subscribe", {{"topics", {"attitude"}}, {"max_rate_hz", rate}});
+        EXPECT_EQ(code(reply), -32602) << rate;
+        EXPECT_THAT(message(reply), HasSubstr("allowed 0.01 to 1000")) << rate;
+    }
+    EXPECT_FALSE(client_.subscriptions.attitude);
+    auto ok = call("subscribe", {{"topics", {"attitude"}}, {"max_rate_hz", 0.01}});
+    EXPECT_EQ(ok["result"]["max_rate_hz"], 0.01);
+}
+
+TEST_F(DispatcherTest, RequestsOverTheRateGetTooManyAndDoNotRun) {
+    client_.rate.per_second = 5;
+    json batch = json::array();
+    for (int i = 1; i <= 8; ++i) {
+        batch.push_back({{"id", i}, {"method", "photo"}});
+    }
+    auto replies = send(batch.dump());
+    ASSERT_EQ(replies.size(), 1u);
+    ASSERT_EQ(replies[0].size(), 8u);
+    for (int i = 0; i < 5; ++i) {
+        EXPECT_EQ(replies[0][i]["result"]["sent"], true) << i;
+    }
+    for (int i = 5; i < 8; ++i) {
+        EXPECT_EQ(code(replies[0][i]), -32005) << i;
+        EXPECT_THAT(message(replies[0][i]), HasSubstr("5 per second (socket.max_requests_per_s)"));
+    }
+    EXPECT_EQ(api_.calls.size(), 5u) << "refused requests are not carried out";
 }
 
 TEST_F(DispatcherTest, BatchesAnswerInOrderInOneLine) {

@@ -33,8 +33,32 @@ class FakeApi final : public daemon::Api {
     // When set, settings answers are handed to it instead (e.g. asio::post).
     std::function<void(std::function<void()>)> defer;
 
+    // Calls into the fake while one of its events is being published: the
+    // server must never re-enter the core from inside its own emit.
+    int emitting = 0;
+    int reentered = 0;
+    mutable std::size_t status_calls = 0;
+    std::function<void()> on_status;  // runs on every status()
+
     void set_observer(daemon::CoreObserver* o) override { observer = o; }
-    daemon::Status status() const override { return status_value; }
+    daemon::Status status() const override {
+        ++status_calls;
+        if (on_status) {
+            on_status();
+        }
+        auto s = status_value;
+        if (holder) {
+            s.controller = holder;
+        }
+        return s;
+    }
+
+    // Publishes like the core: from inside a call the observer must not re-enter.
+    void emit_link(const daemon::LinkEvent& event) {
+        ++emitting;
+        observer->on_link(event);
+        --emitting;
+    }
     std::optional<daemon::AttitudeSample> latest_attitude() const override { return attitude; }
     bool may_command(const daemon::ClientInfo&) const override { return !error; }
 
@@ -108,8 +132,14 @@ class FakeApi final : public daemon::Api {
         }
         answer(std::move(done));
     }
-    void client_gone(const daemon::ClientInfo& c) override { gone.push_back(c); }
-    void client_closed(const daemon::ClientInfo& c) override { closed.push_back(c); }
+    void client_gone(const daemon::ClientInfo& c) override {
+        reentered += emitting;
+        gone.push_back(c);
+    }
+    void client_closed(const daemon::ClientInfo& c) override {
+        reentered += emitting;
+        closed.push_back(c);
+    }
 
     void run_settings() {
         auto pending = std::move(pending_settings);

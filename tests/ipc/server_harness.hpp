@@ -32,11 +32,13 @@ inline std::shared_ptr<spdlog::logger> quiet_logger() {
 
 class ServerHarness {
   public:
-    explicit ServerHarness(config::SocketConfig config = {}) : dir_(make_temp_dir()) {
+    explicit ServerHarness(config::SocketConfig config = {},
+                           std::shared_ptr<spdlog::logger> log = quiet_logger())
+        : dir_(make_temp_dir()) {
         config.path = dir_ + "/gportd.sock";
         config_ = config;
         api.defer = [this](std::function<void()> run) { boost::asio::post(io_, std::move(run)); };
-        server = std::make_unique<ipc::Server>(io_, api, config_, quiet_logger());
+        server = std::make_unique<ipc::Server>(io_, api, config_, std::move(log));
         server->start();
         thread_ = std::thread([this] { io_.run(); });
     }

@@ -43,6 +43,9 @@ class TestClient {
         }
     }
 
+    // Half-close: no more requests, replies still readable.
+    void shutdown_write() { ::shutdown(fd_, SHUT_WR); }
+
     // False once the server has closed the connection.
     bool send(std::string_view text) {
         while (!text.empty()) {

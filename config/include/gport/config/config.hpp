@@ -29,6 +29,11 @@ struct SocketConfig {                       // "socket"
     std::size_t line_limit = 64 * 1024;     // "line_limit": bytes per request line
     std::size_t max_clients = 128;          // "max_clients"
     std::size_t queue_limit = 256;          // "queue_limit": outbound lines per client
+    // Slots and fairness (docs/configuration.md says why these defaults).
+    std::size_t max_clients_per_uid = 64;    // "max_clients_per_uid"
+    std::size_t reserved_command_slots = 8;  // "reserved_command_slots": kept for commanders
+    Millis idle_timeout{300000};             // "idle_timeout_ms": unsubscribed and quiet
+    unsigned max_requests_per_s = 200;  // "max_requests_per_s": per client, batch members count
 };
 
 struct KeepaliveConfig {            // "keepalive"

@@ -15,6 +15,7 @@
 //   recursive parser ever sees it, so no input can exhaust the stack.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -46,6 +47,9 @@ inline constexpr std::size_t kMaxDepth = 64;
 inline constexpr std::size_t kMaxBatch = 32;
 inline constexpr std::size_t kMaxIdLength = 128;
 inline constexpr double kMaxRateHz = 1000.0;
+// Slower than one sample in 100 s is not a rate anyone needs, and keeps the
+// interval far from overflowing a clock duration.
+inline constexpr double kMinRateHz = 0.01;
 
 // What one client has asked to receive.
 struct Subscriptions {
@@ -55,11 +59,26 @@ struct Subscriptions {
     std::optional<double> max_rate_hz;  // attitude only; empty = every sample
 };
 
+// A token bucket of requests: `per_second` tokens a second, holding at most
+// one second's worth. per_second 0: no limit.
+struct RequestRate {
+    double per_second = 0;
+    double tokens = -1;  // below 0 until first used: starts full
+    std::chrono::steady_clock::time_point last{};
+
+    // Takes one token; false when none is left.
+    bool take(std::chrono::steady_clock::time_point now);
+    // How long until `needed` tokens (at most one second's worth) are there.
+    std::chrono::steady_clock::duration wait_for(double needed,
+                                                 std::chrono::steady_clock::time_point now) const;
+};
+
 // Per-connection state the methods read and change.
 struct ClientState {
     daemon::ClientInfo info;
     Subscriptions subscriptions;
     std::uint64_t dropped = 0;  // attitude notifications dropped for this client
+    RequestRate rate;           // socket.max_requests_per_s; batch members count
 };
 
 // Figures only the transport knows, added to the status result.

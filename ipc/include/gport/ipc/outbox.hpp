@@ -23,7 +23,7 @@ namespace gport::ipc {
 
 class Outbox {
   public:
-    static constexpr std::size_t kDefaultByteLimit = 4 * 1024 * 1024;
+    static constexpr std::size_t kDefaultByteLimit = 256 * 1024;
 
     // `line_limit`: lines queued; `byte_limit`: their total size.
     explicit Outbox(std::size_t line_limit, std::size_t byte_limit = kDefaultByteLimit);
@@ -32,6 +32,9 @@ class Outbox {
     [[nodiscard]] bool push(Line line);
     // An attitude notification; returns how many attitude lines were dropped.
     std::size_t push_attitude(const Line& line);
+    // An attitude notification not queued (the server is short of memory):
+    // counted and reported like any other drop; returns 1.
+    std::size_t drop_attitude();
 
     // Moves up to `max_lines` queued lines (oldest first) to the end of `out`.
     void take(std::vector<Line>& out, std::size_t max_lines);
@@ -39,6 +42,8 @@ class Outbox {
     bool empty() const { return queue_.empty(); }
     std::size_t size() const { return queue_.size(); }
     std::size_t bytes() const { return bytes_; }
+    // Bytes of replies and link/motion lines: what back-pressure looks at.
+    std::size_t reply_bytes() const { return bytes_ - attitude_bytes_; }
     std::uint64_t dropped() const { return dropped_; }
 
   private:
@@ -55,6 +60,7 @@ class Outbox {
     std::size_t line_limit_;
     std::size_t byte_limit_;
     std::size_t bytes_ = 0;
+    std::size_t attitude_bytes_ = 0;
     std::uint64_t dropped_ = 0;
     bool report_drops_ = false;  // the next attitude line carries the count
 };

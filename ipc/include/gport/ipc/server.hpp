@@ -15,6 +15,8 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/local/stream_protocol.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -55,6 +57,14 @@ class Server final : public daemon::CoreObserver {
 
     std::size_t clients() const;
     std::uint64_t dropped_notifications() const { return dropped_total_; }
+    // socket.max_clients, or fewer when RLIMIT_NOFILE could not be raised to fit.
+    std::size_t max_clients() const { return max_clients_; }
+    // Bytes queued for all clients together (outboxes and writes in flight).
+    std::size_t queued_bytes() const { return queued_bytes_; }
+
+    // The memory budget across all sessions: over it, clients with unread
+    // output get no more attitude samples and their requests wait.
+    static constexpr std::size_t kQueuedBudget = 8 * 1024 * 1024;
 
     // CoreObserver: build each notification once, only when someone listens.
     void on_attitude(const daemon::AttitudeSample& sample) override;
@@ -66,12 +76,24 @@ class Server final : public daemon::CoreObserver {
     const config::SocketConfig& config() const { return config_; }
     spdlog::logger& log() { return *log_; }
     void note_dropped(std::size_t count) { dropped_total_ += count; }
+    // Closed for good: the core hears of it (client_gone unless the session
+    // hung up earlier, then client_closed) on a later turn, never from inside
+    // the event or callback that found the disconnect.
     void session_closed(const Session& session);
+    // EOF from the client: the deadman runs now; replies are still written.
+    void client_hung_up(const Session& session);
+    void account(std::size_t before, std::size_t after);
+    bool over_budget() const { return queued_bytes_ > kQueuedBudget; }
+    bool holds_control_or_motion(const daemon::ClientInfo& client) const;
 
   private:
     void accept();
+    void on_accept_error(const boost::system::error_code& error);
     void on_accept(boost::asio::local::stream_protocol::socket socket);
-    void reject(boost::asio::local::stream_protocol::socket socket);
+    std::optional<std::string> admission(const daemon::ClientInfo& client, bool& asked_core);
+    void reject(boost::asio::local::stream_protocol::socket socket, const std::string& why);
+    void fit_descriptor_limit();
+    void trim_memory();
     template <typename F>
     void for_each_session(F&& visit);
     template <typename Build>
@@ -89,6 +111,20 @@ class Server final : public daemon::CoreObserver {
     std::vector<std::uint64_t> closed_ids_;
     int walking_ = 0;
     std::uint64_t next_id_ = 1;
+    std::size_t max_clients_;
+    std::size_t queued_bytes_ = 0;
+    std::size_t queued_peak_ = 0;  // highest queued_bytes_ since the last trim
+    std::chrono::steady_clock::time_point last_trim_{};
+    std::size_t closed_since_trim_ = 0;
+    boost::asio::steady_timer trim_timer_;  // a trim that was due too soon after the last
+    bool trim_armed_ = false;
+    // Refused clients are summarised in the log, not one line each.
+    std::uint64_t refused_ = 0;
+    std::chrono::steady_clock::time_point refused_logged_{};
+    // Out of descriptors: accepting pauses; failures are summarised in the log.
+    boost::asio::steady_timer accept_pause_;
+    std::uint64_t accept_failures_ = 0;
+    std::chrono::steady_clock::time_point accept_logged_{};
     std::uint64_t dropped_total_ = 0;
     bool created_file_ = false;
     bool started_ = false;

@@ -1,0 +1,208 @@
+// A session's output side: queueing replies and notifications, the attitude
+// rate limit, writing with one write in flight, and the memory it holds.
+#include <fmt/format.h>
+
+#include <boost/asio/write.hpp>
+#include <utility>
+
+#include "gport/ipc/server.hpp"
+#include "session.hpp"
+
+namespace gport::ipc {
+namespace {
+
+namespace asio = boost::asio;
+
+// Lines gathered into one write: enough to amortise the syscall, few enough
+// that one write stays short.
+constexpr std::size_t kLinesPerWrite = 64;
+
+}  // namespace
+
+// ---- queueing ---------------------------------------------------------------------
+
+void Session::reply(std::string line) {
+    if (closed_) {
+        return;
+    }
+    if (!outbox_.push(std::make_shared<const std::string>(std::move(line)))) {
+        overflow();
+        return;
+    }
+    flush();
+}
+
+void Session::deliver_event(const Line& line) {
+    if (closed_ || closing_) {
+        return;
+    }
+    if (!outbox_.push(line)) {
+        overflow();
+        return;
+    }
+    flush();
+}
+
+// Only the server is told; the core hears of it after the current event.
+void Session::overflow() {
+    server_.log().warn("client pid {} uid {}: {} lines wait unread; disconnecting it",
+                       state_.info.pid, state_.info.uid, outbox_.size());
+    close();
+}
+
+void Session::deliver_attitude(const Line& line) {
+    if (closed_ || closing_) {
+        return;
+    }
+    const auto& rate = state_.subscriptions.max_rate_hz;
+    if (!rate) {
+        queue_attitude(line);
+        return;
+    }
+    // max_rate_hz is at least kMinRateHz, so the interval fits a duration.
+    const auto interval =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / *rate));
+    const auto now = Clock::now();
+    if (!timer_armed_ && (!last_attitude_ || now - *last_attitude_ >= interval)) {
+        last_attitude_ = now;
+        queue_attitude(line);
+        return;
+    }
+    // Too soon: the newest sample waits and replaces any older waiting one.
+    pending_attitude_ = line;
+    if (timer_armed_) {
+        return;
+    }
+    if (!rate_timer_) {
+        rate_timer_.emplace(socket_.get_executor());
+    }
+    timer_armed_ = true;
+    rate_timer_->expires_at(*last_attitude_ + interval);
+    rate_timer_->async_wait([self = shared_from_this()](const boost::system::error_code& error) {
+        self->timer_armed_ = false;
+        if (!error) {
+            self->on_rate_timer();
+        }
+    });
+}
+
+void Session::on_rate_timer() {
+    if (closed_ || closing_ || !pending_attitude_) {
+        return;
+    }
+    last_attitude_ = Clock::now();
+    auto line = std::move(pending_attitude_);
+    pending_attitude_.reset();
+    if (state_.subscriptions.attitude) {  // it may have unsubscribed meanwhile
+        queue_attitude(line);
+    }
+}
+
+// Over the server's memory budget, a client that has not read what it has
+// loses the sample (counted like any drop) instead of queueing more.
+void Session::queue_attitude(const Line& line) {
+    const bool refuse = server_.over_budget() && !outbox_.empty();
+    if (const auto dropped = refuse ? outbox_.drop_attitude() : outbox_.push_attitude(line);
+        dropped > 0) {
+        state_.dropped = outbox_.dropped();
+        server_.note_dropped(dropped);
+    }
+    flush();
+}
+
+// ---- writing ----------------------------------------------------------------------
+
+void Session::flush() {
+    if (!writing_ && !closed_) {
+        write_queued();
+    }
+    sync_budget();
+    if (!writing_ && !closed_ && outbox_.empty()) {
+        drained();
+    }
+}
+
+// Most batches fit in the socket's buffer: they are sent at once, with no
+// asynchronous operation to set up. Only what does not fit waits for the
+// socket to drain, with one async_write in flight.
+void Session::write_queued() {
+    while (!outbox_.empty()) {
+        in_flight_.clear();
+        outbox_.take(in_flight_, kLinesPerWrite);
+        buffers_.clear();
+        in_flight_bytes_ = 0;
+        for (const auto& line : in_flight_) {
+            buffers_.push_back(asio::buffer(*line));
+            in_flight_bytes_ += line->size();
+        }
+        boost::system::error_code error;
+        const std::size_t sent = socket_.write_some(buffers_, error);
+        if (error && error != asio::error::would_block && error != asio::error::try_again) {
+            close();  // the client went away
+            return;
+        }
+        if (sent < in_flight_bytes_) {
+            write_rest(sent);
+            return;
+        }
+    }
+    in_flight_.clear();
+    in_flight_bytes_ = 0;
+}
+
+// Sends what write_some left of the batch in flight, skipping `sent` bytes.
+void Session::write_rest(std::size_t sent) {
+    auto first = buffers_.begin();
+    while (sent > 0 && sent >= first->size()) {
+        sent -= first->size();
+        ++first;
+    }
+    *first += sent;
+    buffers_.erase(buffers_.begin(), first);
+    writing_ = true;
+    asio::async_write(socket_, buffers_,
+                      [self = shared_from_this()](const boost::system::error_code& error,
+                                                  std::size_t) { self->on_written(error); });
+}
+
+void Session::on_written(const boost::system::error_code& error) {
+    writing_ = false;
+    in_flight_.clear();
+    in_flight_bytes_ = 0;
+    if (closed_) {
+        return;
+    }
+    if (error) {
+        close();  // the client went away mid-write
+        return;
+    }
+    flush();
+}
+
+// Everything queued is written: paused requests resume (on a later turn, so
+// a reply written from inside the core never runs a request there), and a
+// closing session closes once no reply is owed.
+void Session::drained() {
+    if (paused_) {
+        paused_ = false;
+        schedule_input();
+    }
+    finish_if_done();
+}
+
+void Session::finish_if_done() {
+    if (closing_ && !closed_ && outstanding_ == 0 && !writing_ && outbox_.empty()) {
+        close();
+    }
+}
+
+// Keeps the server's total of queued bytes (its memory budget) current.
+void Session::sync_budget() {
+    const std::size_t now = closed_ ? 0 : outbox_.bytes() + in_flight_bytes_;
+    if (now != accounted_) {
+        server_.account(accounted_, now);
+        accounted_ = now;
+    }
+}
+
+}  // namespace gport::ipc
