@@ -69,9 +69,11 @@ for _ in $(seq 100); do
 done
 
 cat >"$work/gportd.json" <<CONFIG
-// Soak configuration: room for the 100 clients, the watcher and the attacks.
+// Soak configuration: room for the 100 clients, the watcher and the attacks
+// (all under one uid), and an idle timeout short enough to be seen at work.
 {
-    "socket": {"max_clients": 256, "mode": "0600"},
+    "socket": {"max_clients": 256, "max_clients_per_uid": 256, "idle_timeout_ms": 15000,
+               "mode": "0600"},
     "log": {"level": "info"}
 }
 CONFIG
@@ -83,7 +85,7 @@ echo "soak.sh: ${seconds}s, gport-sim pid $sim_pid, gportd pid $daemon_pid, work
 echo "soak.sh: load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
 driver_status=0
 "$driver" --socket "$work/gportd.sock" --pid "$daemon_pid" --seconds "$seconds" \
-    --json "$work/soak.json" --trace "$work/trace.jsonl" || driver_status=$?
+    --json "$work/soak.json" --trace "$work/trace.jsonl" --idle-timeout-s 15 || driver_status=$?
 
 alive=no
 kill -0 "$daemon_pid" 2>/dev/null && alive=yes

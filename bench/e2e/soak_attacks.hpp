@@ -63,7 +63,7 @@ struct Conn {
 struct TraceVerdict {
     std::uint64_t checked = 0;
     std::uint64_t excused = 0;  // the device vanished meanwhile
-    std::uint64_t unseen = 0;   // none of its frames reached the gimbal
+    std::uint64_t unseen = 0;   // none of its speeds reached the gimbal: the stop replaced them all
     std::vector<std::string> problems;
 };
 TraceVerdict check_burst_trace(const std::string& trace_path, const std::vector<Burst>& bursts);

@@ -307,7 +307,7 @@ json Soak::summary(bool pass) const {
         {"burst_trace",
          {{"checked", trace_verdict_.checked},
           {"excused_by_vanish", trace_verdict_.excused},
-          {"not_on_the_wire", trace_verdict_.unseen},
+          {"speeds_all_replaced_by_the_stop", trace_verdict_.unseen},
           {"problems", trace_verdict_.problems},
           {"trace", o_.trace_path}}},
         {"subscriber",
