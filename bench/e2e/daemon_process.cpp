@@ -21,8 +21,10 @@ void write_daemon_config(const DaemonOptions& options) {
     std::ofstream out(options.config_path);
     out << "// Written by the gportd benchmark for one run; see docs/performance.md.\n"
         << "{\n"
-        << "    // Room for the 1000-subscriber case plus the flooding and control clients.\n"
-        << "    \"socket\": {\"max_clients\": " << options.max_clients << ", \"mode\": \"0600\"},\n"
+        << "    // Room for the 1000-subscriber case plus the flooding and control clients,\n"
+        << "    // all of them under the benchmark's one uid.\n"
+        << "    \"socket\": {\"max_clients\": " << options.max_clients
+        << ", \"max_clients_per_uid\": " << options.max_clients << ", \"mode\": \"0600\"},\n"
         << "    // One speed command lasts the whole run, so keepalive ticks are never reset.\n"
         << "    \"keepalive\": {\"max_duration_ms\": " << options.max_duration_ms << "},\n"
         << "    \"log\": {\"level\": \"" << options.log_level << "\"}\n"
