@@ -179,6 +179,10 @@ TEST(ClientLimits, RssStaysSmallWhenClientsSendBatchesAndNeverRead) {
         clients.push_back(std::make_unique<RawClient>(daemon.socket()));
         ASSERT_TRUE(clients.back()->connected()) << i;
     }
+    // connect() returns once the kernel queued the connection; a slow (e.g.
+    // sanitized) daemon accepts them over a while.
+    ASSERT_TRUE(
+        eventually([&] { return watcher.call("status")["result"]["clients"] == 121; }, 30s));
     long peak_kib = 0;
     for (int round = 0; round < 20; ++round) {  // keep their sockets full for a while
         for (auto& c : clients) {
@@ -197,6 +201,9 @@ TEST(ClientLimits, RssStaysSmallWhenClientsSendBatchesAndNeverRead) {
     const long after_kib = daemon.rss_kib();
     std::cout << "gportd RSS: idle " << idle_kib << " KiB, peak with 120 clients " << peak_kib
               << " KiB, after they left " << after_kib << " KiB\n";
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "RSS is not measured under AddressSanitizer (shadow memory, quarantine)";
+#endif
     EXPECT_LT(peak_kib, 32 * 1024);
     EXPECT_LT(after_kib, 32 * 1024);
 }
