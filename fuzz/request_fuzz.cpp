@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string_view>
 
-#include "../tests/ipc/fake_api.hpp"
+#include "fake_api.hpp"
 #include "gport/ipc/json_rpc.hpp"
 
 namespace {

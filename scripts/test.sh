@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what is missing, then builds and runs every test:
+# Checks the layering, installs what is missing, then builds and runs every test:
+#   0. scripts/check-layering.sh: no folder includes one above it (seconds);
 #   1. Release build (warnings are errors), all tests;
 #   2. ASan+UBSan build, all tests;
 #   3. clang libFuzzer build, each fuzzer for $GPORT_FUZZ_SECONDS (60) on its corpus.
@@ -8,13 +9,17 @@
 # machine; every file also compiles on its own in a normal build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+start=$(date +%s)
+stage() { echo; echo "== $* ($(($(date +%s) - start)) s)"; }
+
+stage "Layering"
+scripts/check-layering.sh
+
 source scripts/deps.sh
 gport_install_deps
 
 jobs=$(nproc)
 fuzz_seconds=${GPORT_FUZZ_SECONDS:-60}
-start=$(date +%s)
-stage() { echo; echo "== $* ($(($(date +%s) - start)) s)"; }
 
 stage "Release build"
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DGPORT_WERROR=ON \

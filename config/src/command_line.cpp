@@ -7,10 +7,7 @@
 #include <vector>
 
 #include "checks.hpp"
-
-#ifndef GPORT_VERSION
-#error "GPORT_VERSION must be defined by the build"
-#endif
+#include "gport/version.hpp"
 
 namespace gport::config {
 namespace {
@@ -162,7 +159,7 @@ std::string usage() {
 }
 
 std::string version_text() {
-    return fmt::format("gportd {}\n", GPORT_VERSION);
+    return fmt::format("gportd {}\n", kVersion);
 }
 
 }  // namespace gport::config

@@ -1,9 +1,10 @@
-// Who may command the gimbal (SPEC section 4, "Access"). With no control
-// uids or gids configured, every peer that can connect may: the socket's
-// mode is the gate. Otherwise a peer may command when its uid is listed, or
-// its primary or supplementary groups (the peer process's own, from
-// SO_PEERGROUPS) include a listed gid. Root and the daemon's own user always
-// may.
+// Who may command the gimbal (docs/configuration.md, "access", and
+// docs/architecture.md, "Decisions where the specification is silent").
+// With no control uids or gids configured, every peer that can connect may:
+// the socket's mode is the gate. Otherwise a peer may command when its uid
+// is listed, or its primary or supplementary groups (the peer process's own,
+// from SO_PEERGROUPS) include a listed gid. Root and the daemon's own user
+// always may.
 #pragma once
 
 #include <sys/types.h>

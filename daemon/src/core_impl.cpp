@@ -4,6 +4,8 @@
 
 #include <boost/asio/post.hpp>
 
+#include "gport/daemon/client_log.hpp"
+
 namespace gport::daemon {
 
 namespace asio = boost::asio;
@@ -305,6 +307,7 @@ void Core::Impl::on_link(const LinkEvent& event) {
 }
 
 void Core::Impl::on_motion(const MotionEvent& event) {
+    const ClientLogScope scope(event.owner);  // the motion's lines name its owner
     if (event.change == MotionChange::kEnded) {
         log_->info("motion ended ({}), owner pid {}",
                    event.reason ? to_string(*event.reason) : "unknown", pid_of(event.owner));

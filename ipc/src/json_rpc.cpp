@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "gport/daemon/client_log.hpp"
 #include "methods.hpp"
 #include "params.hpp"
 #include "result_json.hpp"
@@ -262,6 +263,9 @@ Dispatcher::Dispatcher(daemon::Api& api, std::function<ServerStats()> stats)
     : api_(api), stats_(std::move(stats)) {}
 
 void Dispatcher::handle_line(std::string_view line, ClientState& client, const ReplySink& sink) {
+    // Whatever is logged while the request runs (here, in the core, in the
+    // reply's delivery) carries the client's journal fields.
+    const daemon::ClientLogScope scope(client.info);
     if (nested_deeper_than(line, kMaxDepth)) {
         sink(error_line(rpc_error::kParse,
                         fmt::format("parse error: nesting deeper than {} levels", kMaxDepth)));
@@ -276,9 +280,16 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const R
         return;
     }
     detail::MethodContext context{api_, client, stats_};
+    // A reply may come after this returns (settings): it keeps a copy of the
+    // sink, and of who asked, so its delivery is logged with the client's
+    // fields too (the groups are not needed for that).
+    const daemon::ClientInfo asker{
+        client.info.id, client.info.pid, client.info.uid, client.info.gid, {}};
     if (!request.is_array()) {
-        // The reply may come after this returns (settings): keep a copy of the sink.
-        run_request(request, context, [sink](json reply) { sink(detail::json_line(reply)); });
+        run_request(request, context, [sink, asker](json reply) {
+            const daemon::ClientLogScope reply_scope(asker);
+            sink(detail::json_line(reply));
+        });
         return;
     }
     if (request.empty() || request.size() > kMaxBatch) {
@@ -286,7 +297,10 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const R
                         fmt::format("a batch must hold 1 to {} requests", kMaxBatch)));
         return;
     }
-    auto batch = std::make_shared<Batch>(request.size(), sink);
+    auto batch = std::make_shared<Batch>(request.size(), [sink, asker](std::string reply) {
+        const daemon::ClientLogScope reply_scope(asker);
+        sink(std::move(reply));
+    });
     for (std::size_t i = 0; i < request.size(); ++i) {
         if (is_notification(request[i])) {
             run_request(request[i], context, [](json) {});

@@ -1,10 +1,7 @@
 #include "result_json.hpp"
 
 #include "gport/ipc/event_json.hpp"
-
-#ifndef GPORT_VERSION
-#define GPORT_VERSION "unknown"
-#endif
+#include "gport/version.hpp"
 
 namespace gport::ipc::detail {
 
@@ -60,7 +57,7 @@ json status_json(const daemon::Status& status, const ServerStats& stats,
     json you = client_json(client.info);
     you["dropped"] = client.dropped;
     return {{"api_version", kApiVersion},
-            {"daemon_version", GPORT_VERSION},
+            {"daemon_version", kVersion},
             {"link", {{"state", daemon::to_string(status.link)}, {"reason", status.link_reason}}},
             {"device", status.device},
             {"device_open", status.device_open},

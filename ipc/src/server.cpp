@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "gport/daemon/client_log.hpp"
 #include "gport/ipc/event_json.hpp"
 #include "session.hpp"
 #include "socket_file.hpp"
@@ -193,6 +194,7 @@ void Server::session_closed(const Session& session) {
     // event is published) or inside a settings callback: calling the core
     // there would re-enter it. Posted, the deadman still runs within a turn.
     asio::post(io_, [&api = api_, info, gone = session.hung_up()] {
+        const daemon::ClientLogScope scope(info);  // the deadman's lines name the client
         if (!gone) {
             api.client_gone(info);
         }
@@ -204,6 +206,7 @@ void Server::session_closed(const Session& session) {
 
 void Server::client_hung_up(const Session& session) {
     const auto& info = session.info();
+    const daemon::ClientLogScope scope(info);
     log_->debug("client {} (pid {}) hung up; writing what it is owed", info.id, info.pid);
     api_.client_gone(info);
 }

@@ -37,7 +37,7 @@ int journal_priority(spdlog::level::level_enum level) {
     }
 }
 
-JournalSink::JournalSink(std::string identifier, std::shared_ptr<const LogContext> context,
+JournalSink::JournalSink(std::string identifier, std::shared_ptr<const base::LogContext> context,
                          JournalSendFn send)
     : identifier_(std::move(identifier)), context_(std::move(context)), send_(std::move(send)) {}
 

@@ -58,7 +58,7 @@ LogTarget resolve_target(LogTarget target) {
 }
 
 std::shared_ptr<spdlog::logger> make_logger(const LoggerOptions& options,
-                                            std::shared_ptr<const LogContext> context) {
+                                            std::shared_ptr<const base::LogContext> context) {
     spdlog::sink_ptr sink;
     if (resolve_target(options.target) == LogTarget::journal) {
         sink = std::make_shared<JournalSink>(options.name, std::move(context));

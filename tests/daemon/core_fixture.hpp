@@ -59,7 +59,7 @@ class CoreFixture : public ::testing::Test {
         if (tweak) {
             tweak(cfg);
         }
-        core = std::make_unique<daemon::Core>(io, cfg, quiet_logger());
+        core = std::make_unique<daemon::Core>(io, cfg, logger);
         core->set_observer(&recorder);
         core->start();
     }
@@ -135,6 +135,7 @@ class CoreFixture : public ::testing::Test {
     }
 
     boost::asio::io_context io;
+    std::shared_ptr<spdlog::logger> logger = quiet_logger();  // the core's, set before start()
     std::unique_ptr<sim::PtySimulator> simulator;
     std::unique_ptr<daemon::Core> core;
     Recorder recorder;

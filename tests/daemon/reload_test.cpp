@@ -1,9 +1,6 @@
 // SIGHUP's part in the core: Core::reload() applies the access lists (with a
 // fresh per-connection cache) and the speed durations without touching a
-// running motion; plan_reload() sorts changed keys into applied and
-// needing a restart.
-#include "../../daemon/src/reload.hpp"
-
+// running motion. (Which keys a reload applies is the app's: tests/app.)
 #include <gtest/gtest.h>
 
 #include "core_fixture.hpp"
@@ -43,28 +40,6 @@ TEST_F(CoreFixture, ReloadChangesSpeedDurationsButNotTheRunningMotion) {
     ASSERT_TRUE(core->status().motion.has_value());
     EXPECT_GT(core->status().motion->time_left, 20000ms) << "the running motion was cut short";
     EXPECT_EQ(zero_speed_frames(), 0u);
-}
-
-TEST(PlanReload, SortsChangedKeysIntoAppliedAndNeedingARestart) {
-    config::Config running;
-    config::Config next;
-    next.log.level = "debug";
-    next.access.control_gids = {27};
-    next.keepalive.max_duration = 5000ms;
-    next.serial.baud = 9600;
-    next.socket.max_clients = 8;
-    const auto plan = daemon::plan_reload(running, next);
-    EXPECT_EQ(plan.applied, (std::vector<std::string>{"keepalive.max_duration_ms",
-                                                      "access.control_gids", "log.level"}));
-    EXPECT_EQ(plan.need_restart, (std::vector<std::string>{"serial.baud", "socket.max_clients"}));
-    EXPECT_EQ(plan.in_effect.log.level, "debug");
-    EXPECT_EQ(plan.in_effect.serial.baud, running.serial.baud) << "kept until a restart";
-}
-
-TEST(PlanReload, NothingChangedMeansNothingToDo) {
-    const auto plan = daemon::plan_reload(config::Config{}, config::Config{});
-    EXPECT_TRUE(plan.applied.empty());
-    EXPECT_TRUE(plan.need_restart.empty());
 }
 
 }  // namespace

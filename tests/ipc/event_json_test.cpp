@@ -1,4 +1,5 @@
-// Notification encoding: the attitude payload of SPEC section 4, link and motion.
+// Notification encoding: the attitude, link and motion payloads of docs/api.md,
+// "Notifications".
 #include "gport/ipc/event_json.hpp"
 
 #include <gtest/gtest.h>

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "gport/systemd/log_context.hpp"
+#include "gport/base/log_context.hpp"
 #include "test_fds.hpp"
 
 namespace gport::systemd {
@@ -22,6 +22,13 @@ using ::testing::Contains;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 using ::testing::Not;
+
+using base::kFieldClientPid;
+using base::kFieldClientUid;
+using base::kFieldDevice;
+using base::kFieldLink;
+using base::LogContext;
+using base::LogFields;
 
 using Entry = std::vector<std::string>;
 

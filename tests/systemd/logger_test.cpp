@@ -16,6 +16,7 @@
 namespace gport::systemd {
 namespace {
 
+using base::LogContext;
 using test::EnvOverride;
 using test::FdOverride;
 using test::TempFile;

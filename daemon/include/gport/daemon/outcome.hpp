@@ -1,5 +1,6 @@
 // What a command to the daemon core returns: a value, or an error whose code
-// maps one-to-one onto the client API's error codes (SPEC section 4).
+// maps one-to-one onto the client API's error codes (docs/api.md, "Error
+// codes").
 #pragma once
 
 #include <string>

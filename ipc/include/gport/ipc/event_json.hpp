@@ -2,7 +2,7 @@
 // beside its ipc-server). A line is built once per event and shared by every
 // subscriber, hence std::shared_ptr<const std::string>.
 //
-// Attitude payload (SPEC section 4): degrees from the wire's 0.01 units,
+// Attitude payload (docs/api.md, "Notifications"): degrees from the wire's 0.01 units,
 // "t" as seconds since the epoch with microseconds, "rates" only when the
 // gimbal sent the 24-byte form:
 //   {"seq":1042,"t":1763770000.123456,

@@ -1,5 +1,5 @@
-// One client's bounded outbound queue of whole lines (SPEC section 3: slow
-// clients never slow anyone else, memory stays bounded).
+// One client's bounded outbound queue of whole lines (docs/api.md, "Slow
+// clients": slow clients never slow anyone else, memory stays bounded).
 //
 // - Replies and link/motion notifications must not be lost: when the queue
 //   is full, the oldest queued attitude line is dropped to make room; if

@@ -2,7 +2,7 @@
 //
 // Each entry carries MESSAGE, PRIORITY (syslog level), SYSLOG_IDENTIFIER,
 // CODE_FILE/CODE_LINE/CODE_FUNC when the call site is known (the
-// SPDLOG_LOGGER_* macros), and the fields of the LogContext. spdlog 1.10's
+// SPDLOG_LOGGER_* macros), and the fields of the base::LogContext. spdlog 1.10's
 // own systemd sink cannot carry custom fields, hence this one.
 #pragma once
 
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "gport/systemd/log_context.hpp"
+#include "gport/base/log_context.hpp"
 
 namespace gport::systemd {
 
@@ -36,7 +36,7 @@ class JournalSink final : public spdlog::sinks::base_sink<spdlog::details::null_
     // `identifier` becomes SYSLOG_IDENTIFIER. `context` may be null (no
     // extra fields). When `send` fails, the entry goes to stderr as
     // "<priority>message", which journald's stream reader also understands.
-    JournalSink(std::string identifier, std::shared_ptr<const LogContext> context,
+    JournalSink(std::string identifier, std::shared_ptr<const base::LogContext> context,
                 JournalSendFn send = send_to_journal);
 
   protected:
@@ -47,7 +47,7 @@ class JournalSink final : public spdlog::sinks::base_sink<spdlog::details::null_
     void build_fields(const spdlog::details::log_msg& msg);
 
     std::string identifier_;
-    std::shared_ptr<const LogContext> context_;
+    std::shared_ptr<const base::LogContext> context_;
     JournalSendFn send_;
     std::vector<std::string> fields_;  // reused between entries
 };

@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "gport/systemd/log_context.hpp"
+#include "gport/base/log_context.hpp"
 
 namespace gport::systemd {
 
@@ -47,6 +47,6 @@ LogTarget resolve_target(LogTarget target);
 // fields of `context` (may be null). Not registered with spdlog; call
 // spdlog::set_default_logger() to make it the default.
 std::shared_ptr<spdlog::logger> make_logger(const LoggerOptions& options,
-                                            std::shared_ptr<const LogContext> context);
+                                            std::shared_ptr<const base::LogContext> context);
 
 }  // namespace gport::systemd

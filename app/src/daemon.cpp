@@ -1,4 +1,4 @@
-#include "app.hpp"
+#include "gport/app/daemon.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -11,21 +11,24 @@
 #include <memory>
 #include <optional>
 
+#include "gport/app/reload.hpp"
+#include "gport/base/log_context.hpp"
 #include "gport/config/loader.hpp"
 #include "gport/daemon/core.hpp"
 #include "gport/ipc/server.hpp"
 #include "gport/sim/simulator.hpp"
 #include "gport/systemd/activation.hpp"
-#include "gport/systemd/log_context.hpp"
 #include "gport/systemd/logger.hpp"
 #include "gport/systemd/notifier.hpp"
 #include "gport/systemd/watchdog.hpp"
-#include "reload.hpp"
+#include "gport/version.hpp"
 
-namespace gport::daemon {
+namespace gport::app {
 namespace {
 
 namespace asio = boost::asio;
+using daemon::Core;
+using daemon::LinkEvent;
 
 constexpr int kExitFailure = 1;
 constexpr int kExitConfig = 78;
@@ -63,7 +66,7 @@ std::string status_text(const std::string& device, const LinkEvent& event) {
 class Daemon {
   public:
     Daemon(const config::Config& config, const config::CommandLine& command_line,
-           std::shared_ptr<systemd::LogContext> context, std::shared_ptr<spdlog::logger> log)
+           std::shared_ptr<base::LogContext> context, std::shared_ptr<spdlog::logger> log)
         : command_line_(command_line),
           loaded_(config),
           config_(config),
@@ -79,7 +82,7 @@ class Daemon {
         if (config_.simulate) {
             start_simulator();
         }
-        context_->set(systemd::kFieldDevice, config_.serial.device);
+        context_->set(base::kFieldDevice, config_.serial.device);
         core_.emplace(io_, config_, log_);
         core_->add_link_listener([this](const LinkEvent& e) { on_link(e); });
         if (!start_server()) {
@@ -91,7 +94,7 @@ class Daemon {
             log_->info("watchdog enabled: pinging every {} ms", interval->count() / 1000);
         }
         wait_for_signal();
-        log_->info("gportd {} ready", GPORT_VERSION);
+        log_->info("gportd {} ready", kVersion);
         io_.run();
         log_->info("gportd stopped");
         return 0;
@@ -125,7 +128,7 @@ class Daemon {
     }
 
     void on_link(const LinkEvent& event) {
-        context_->set(systemd::kFieldLink, std::string(to_string(event.state)));
+        context_->set(base::kFieldLink, std::string(to_string(event.state)));
         notifier_.status(status_text(config_.serial.device, event));
     }
 
@@ -203,7 +206,7 @@ class Daemon {
     config::CommandLine command_line_;  // re-read on SIGHUP, with the same overrides
     config::Config loaded_;             // as loaded (and reloaded), before --simulate
     config::Config config_;
-    std::shared_ptr<systemd::LogContext> context_;
+    std::shared_ptr<base::LogContext> context_;
     std::shared_ptr<spdlog::logger> log_;
     asio::io_context io_{1};  // one thread: Asio may skip its locking
     systemd::Notifier notifier_;
@@ -220,7 +223,11 @@ class Daemon {
 
 int run_daemon(const config::Config& config, const config::CommandLine& command_line) {
     std::signal(SIGPIPE, SIG_IGN);
-    auto context = std::make_shared<systemd::LogContext>();
+    // The logger sends the process's context: the fields the app sets here
+    // (device, link) and the client fields ipc and the core scope around
+    // what a client causes. Non-owning: the context outlives everything.
+    std::shared_ptr<base::LogContext> context(std::shared_ptr<void>(),
+                                              &base::process_log_context());
     systemd::LoggerOptions options;
     options.level = spdlog::level::from_str(config.log.level);
     auto log = systemd::make_logger(options, context);
@@ -235,4 +242,4 @@ int run_daemon(const config::Config& config, const config::CommandLine& command_
     }
 }
 
-}  // namespace gport::daemon
+}  // namespace gport::app

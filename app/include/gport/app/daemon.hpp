@@ -5,10 +5,10 @@
 #include "gport/config/command_line.hpp"
 #include "gport/config/config.hpp"
 
-namespace gport::daemon {
+namespace gport::app {
 
 // Runs until SIGTERM, SIGINT or SIGQUIT; returns the process exit status.
 // SIGHUP re-reads the configuration as `command_line` names it.
 int run_daemon(const config::Config& config, const config::CommandLine& command_line);
 
-}  // namespace gport::daemon
+}  // namespace gport::app

@@ -1,8 +1,8 @@
-#include "reload.hpp"
+#include "gport/app/reload.hpp"
 
 #include <functional>
 
-namespace gport::daemon {
+namespace gport::app {
 namespace {
 
 using config::Config;
@@ -68,4 +68,4 @@ ReloadPlan plan_reload(const Config& running, const Config& next) {
     return plan;
 }
 
-}  // namespace gport::daemon
+}  // namespace gport::app

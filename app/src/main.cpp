@@ -2,7 +2,7 @@
 #include <cstdio>
 #include <span>
 
-#include "app.hpp"
+#include "gport/app/daemon.hpp"
 #include "gport/config/command_line.hpp"
 #include "gport/config/loader.hpp"
 
@@ -27,5 +27,5 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "gportd: configuration error:\n%s", config.error_text().c_str());
         return cfg::kExitConfig;
     }
-    return gport::daemon::run_daemon(*config, *command_line);
+    return gport::app::run_daemon(*config, *command_line);
 }

@@ -11,7 +11,7 @@
 
 #include "gport/config/config.hpp"
 
-namespace gport::daemon {
+namespace gport::app {
 
 struct ReloadPlan {
     config::Config in_effect;               // the running config with the live keys applied
@@ -22,4 +22,4 @@ struct ReloadPlan {
 // Compares key by key (names as in the file, e.g. "keepalive.max_duration_ms").
 ReloadPlan plan_reload(const config::Config& running, const config::Config& next);
 
-}  // namespace gport::daemon
+}  // namespace gport::app

@@ -1,11 +1,11 @@
-#include "gport/systemd/log_context.hpp"
+#include "gport/base/log_context.hpp"
 
 #include <algorithm>
 #include <array>
 #include <iterator>
 #include <stdexcept>
 
-namespace gport::systemd {
+namespace gport::base {
 
 namespace {
 
@@ -80,6 +80,9 @@ void LogContext::append_to(std::vector<std::string>& out) const {
 }
 
 LogFields::LogFields(LogContext& context, std::initializer_list<LogField> fields)
+    : LogFields(context, std::span<const LogField>(fields.begin(), fields.size())) {}
+
+LogFields::LogFields(LogContext& context, std::span<const LogField> fields)
     : context_(context), base_(context.scoped_.size()) {
     for (const auto& field : fields) {
         LogContext::validate_name(field.name);
@@ -92,4 +95,9 @@ LogFields::~LogFields() {
     scoped.erase(scoped.begin() + static_cast<std::ptrdiff_t>(base_), scoped.end());
 }
 
-}  // namespace gport::systemd
+LogContext& process_log_context() {
+    static LogContext context;
+    return context;
+}
+
+}  // namespace gport::base

@@ -1,0 +1,39 @@
+// SIGHUP in gportd: plan_reload() sorts changed keys into applied and
+// needing a restart. (Core::reload() itself is tested in tests/daemon.)
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "gport/app/reload.hpp"
+
+namespace gport::testing {
+namespace {
+
+using namespace std::chrono_literals;
+
+TEST(PlanReload, SortsChangedKeysIntoAppliedAndNeedingARestart) {
+    config::Config running;
+    config::Config next;
+    next.log.level = "debug";
+    next.access.control_gids = {27};
+    next.keepalive.max_duration = 5000ms;
+    next.serial.baud = 9600;
+    next.socket.max_clients = 8;
+    const auto plan = app::plan_reload(running, next);
+    EXPECT_EQ(plan.applied, (std::vector<std::string>{"keepalive.max_duration_ms",
+                                                      "access.control_gids", "log.level"}));
+    EXPECT_EQ(plan.need_restart, (std::vector<std::string>{"serial.baud", "socket.max_clients"}));
+    EXPECT_EQ(plan.in_effect.log.level, "debug");
+    EXPECT_EQ(plan.in_effect.serial.baud, running.serial.baud) << "kept until a restart";
+}
+
+TEST(PlanReload, NothingChangedMeansNothingToDo) {
+    const auto plan = app::plan_reload(config::Config{}, config::Config{});
+    EXPECT_TRUE(plan.applied.empty());
+    EXPECT_TRUE(plan.need_restart.empty());
+}
+
+}  // namespace
+}  // namespace gport::testing
