@@ -32,8 +32,8 @@ Core::Impl::Impl(asio::io_context& io, const config::Config& config,
       config_(config),
       log_(std::move(log)),
       started_(std::chrono::steady_clock::now()),
-      link_(io, config.serial, config.link,
-            SerialLink::Handlers{[this](std::span<const std::uint8_t> bytes) { on_bytes(bytes); },
+      port_(io, config.serial, config.link,
+            SerialPort::Handlers{[this](std::span<const std::uint8_t> bytes) { on_bytes(bytes); },
                                  [this] {
                                      decoder_.reset();
                                      monitor_.device_opened();
@@ -54,7 +54,7 @@ Core::Impl::Impl(asio::io_context& io, const config::Config& config,
 void Core::Impl::start() {
     log_->info("gimbal device {} (keepalive {} Hz, stale after {} ms)", config_.serial.device,
                config_.keepalive.rate_hz, config_.link.stale_after.count());
-    link_.start();
+    port_.start();
     arm_quality_timer();
 }
 
@@ -77,7 +77,7 @@ std::optional<CommandError> Core::Impl::check_command(const ClientInfo& client) 
     if (auto busy = held_by_other(client)) {
         return *busy;
     }
-    if (!link_.is_open() || stopping_) {
+    if (!port_.is_open() || stopping_) {
         return link_down();
     }
     return std::nullopt;
@@ -98,14 +98,14 @@ CommandError Core::Impl::link_down() const {
 }
 
 bool Core::Impl::send(const gp::Frame& frame) {
-    return !stopping_ && link_.send(frame);
+    return !stopping_ && port_.send(frame);
 }
 
 // 0x85 frames are never refused for queue space: a stop goes next, and a
 // newer position command replaces a waiting one (write_queue.hpp).
 bool Core::Impl::send_control(const gp::Control& control) {
     const auto kind = control == gp::Control::stop() ? FrameKind::kStop : FrameKind::kMotion;
-    return link_.send(gp::encode(control), kind);
+    return port_.send(gp::encode(control), kind);
 }
 
 Outcome<SpeedStarted> Core::Impl::speed(const ClientInfo& client, gp::Axes speed,
@@ -170,7 +170,7 @@ Outcome<Done> Core::Impl::camera(const ClientInfo& client, gp::CameraAction acti
         return CommandError{ErrorCode::kLinkDown,
                             fmt::format("gimbal link down: serial device {} takes no data "
                                         "({} frames wait for it)",
-                                        config_.serial.device, SerialLink::kMaxQueuedFrames)};
+                                        config_.serial.device, SerialPort::kMaxQueuedFrames)};
     }
     log_->info("camera {} by pid {}",
                action == gp::CameraAction::kPhoto ? "photo" : "record toggle", client.pid);
@@ -357,7 +357,7 @@ void Core::Impl::shutdown(std::function<void()> done) {
         }
         shutdown_timer_.cancel();
         monitor_.stop();
-        link_.stop();
+        port_.stop();
         done();
     };
     shutdown_timer_.expires_after(kShutdownDrainLimit);
@@ -367,8 +367,8 @@ void Core::Impl::shutdown(std::function<void()> done) {
         }
     });
     // Posted to the loop (never to asio's system executor, another thread),
-    // so that finish() does not run inside SerialLink's own completion.
-    link_.when_drained([this, finish] { asio::post(io_, [finish] { finish(); }); });
+    // so that finish() does not run inside SerialPort's own completion.
+    port_.when_drained([this, finish] { asio::post(io_, [finish] { finish(); }); });
 }
 
 }  // namespace gport::daemon

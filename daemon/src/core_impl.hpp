@@ -15,7 +15,7 @@
 #include "gport/protocol/decoder.hpp"
 #include "keepalive.hpp"
 #include "link_monitor.hpp"
-#include "serial_link.hpp"
+#include "serial_port.hpp"
 #include "settings_exchange.hpp"
 
 namespace gport::daemon {
@@ -68,7 +68,7 @@ class Core::Impl {
     std::shared_ptr<spdlog::logger> log_;
     SteadyTime started_;
     protocol::Decoder decoder_;
-    SerialLink link_;
+    SerialPort port_;
     LinkMonitor monitor_;
     Keepalive keepalive_;
     SettingsExchange settings_;

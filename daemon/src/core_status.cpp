@@ -8,14 +8,14 @@ Status Core::Impl::status() const {
     s.link = monitor_.state();
     s.link_reason = monitor_.reason();
     s.device = config_.serial.device;
-    s.device_open = link_.is_open();
+    s.device_open = port_.is_open();
     const auto now = std::chrono::steady_clock::now();
     s.uptime = std::chrono::duration_cast<Millis>(now - started_);
     if (latest) {
         s.attitude_age = std::chrono::duration_cast<Millis>(now - latest->received);
     }
     const auto& d = decoder_.stats();
-    const auto& l = link_.stats();
+    const auto& l = port_.stats();
     auto& c = s.counters;
     c.frames_in = d.frames;
     c.bytes_in = d.bytes;
