@@ -30,12 +30,12 @@ std::optional<CommandError> SettingsExchange::admit(std::uint64_t client) const 
     return std::nullopt;
 }
 
-void SettingsExchange::get(std::uint64_t client, Done done) {
-    enqueue(Job{client, std::nullopt, std::move(done), Step::kRead, 0, {}, false});
+void SettingsExchange::get(std::uint64_t client, Reply reply) {
+    enqueue(Job{client, std::nullopt, std::move(reply), Step::kRead, 0, {}, false});
 }
 
-void SettingsExchange::set(std::uint64_t client, SettingsChange change, Done done) {
-    enqueue(Job{client, change, std::move(done), Step::kRead, 0, {}, false});
+void SettingsExchange::set(std::uint64_t client, SettingsChange change, Reply reply) {
+    enqueue(Job{client, change, std::move(reply), Step::kRead, 0, {}, false});
 }
 
 void SettingsExchange::enqueue(Job job) {
@@ -46,7 +46,7 @@ void SettingsExchange::enqueue(Job job) {
 void SettingsExchange::forget(std::uint64_t client) {
     for (auto& job : jobs_) {
         if (job.client == client) {
-            job.done = nullptr;
+            job.reply = nullptr;
         }
     }
     // The running one stays: its exchange with the gimbal completes.
@@ -139,8 +139,8 @@ void SettingsExchange::finish(Outcome<gp::SettingsBlock> result) {
     Job job = std::move(jobs_.front());
     jobs_.pop_front();
     running_ = false;
-    if (job.done) {
-        job.done(std::move(result));
+    if (job.reply) {
+        job.reply(std::move(result));
     }
     begin_next();
 }
@@ -150,8 +150,8 @@ void SettingsExchange::abort_all(const CommandError& error) {
     auto jobs = std::exchange(jobs_, {});
     running_ = false;
     for (auto& job : jobs) {
-        if (job.done) {
-            job.done(error);
+        if (job.reply) {
+            job.reply(error);
         }
     }
 }
