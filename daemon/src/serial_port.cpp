@@ -1,4 +1,4 @@
-#include "serial_port.hpp"
+#include "gport/daemon/core/serial_port.hpp"
 
 #include <sys/ioctl.h>
 #include <termios.h>

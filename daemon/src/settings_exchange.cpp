@@ -1,4 +1,4 @@
-#include "settings_exchange.hpp"
+#include "gport/daemon/core/settings_exchange.hpp"
 
 #include <fmt/format.h>
 
@@ -31,11 +31,11 @@ std::optional<CommandError> SettingsExchange::admit(std::uint64_t client) const 
 }
 
 void SettingsExchange::get(std::uint64_t client, Reply reply) {
-    enqueue(Job{client, std::nullopt, std::move(reply), Step::kRead, 0, {}, false});
+    enqueue(Job{client, std::nullopt, std::move(reply), Step::kRead, 0, {}, std::nullopt});
 }
 
 void SettingsExchange::set(std::uint64_t client, SettingsChange change, Reply reply) {
-    enqueue(Job{client, change, std::move(reply), Step::kRead, 0, {}, false});
+    enqueue(Job{client, change, std::move(reply), Step::kRead, 0, {}, std::nullopt});
 }
 
 void SettingsExchange::enqueue(Job job) {
@@ -70,8 +70,8 @@ void SettingsExchange::send_step() {
                                                      : gp::encode(gp::GetSettings{});
     // A refused frame fails the request from the timer, never from inside
     // get()/set(): the caller must not be called back from its own call.
-    job.unsent = !send_(frame);
-    timer_.expires_after(job.unsent ? config::Millis{0} : config_.timeout);
+    job.refused = send_(frame);
+    timer_.expires_after(job.refused ? config::Millis{0} : config_.timeout);
     timer_.async_wait([this](boost::system::error_code ec) {
         if (!ec) {
             on_timeout();
@@ -81,8 +81,8 @@ void SettingsExchange::send_step() {
 
 void SettingsExchange::on_timeout() {
     Job& job = jobs_.front();
-    if (job.unsent) {
-        finish(CommandError{ErrorCode::kLinkDown, "gimbal link down: serial device not open"});
+    if (job.refused) {
+        finish(*job.refused);
         return;
     }
     ++timeouts_;

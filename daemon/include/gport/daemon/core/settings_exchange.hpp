@@ -24,7 +24,8 @@ namespace gport::daemon {
 
 class SettingsExchange {
   public:
-    using Send = std::function<bool(const protocol::Frame&)>;
+    // Queues a frame for the device; the error when it could not be queued.
+    using Send = std::function<std::optional<CommandError>(const protocol::Frame&)>;
     // Called once with the request's result, from the loop.
     using Reply = std::function<void(Outcome<protocol::SettingsBlock>)>;
 
@@ -58,7 +59,7 @@ class SettingsExchange {
         Step step = Step::kRead;
         unsigned attempt = 0;
         protocol::SettingsBlock block;
-        bool unsent = false;  // the frame could not be queued: fail at the timer
+        std::optional<CommandError> refused;  // the frame was not queued: fail at the timer
     };
 
     void enqueue(Job job);

@@ -17,9 +17,9 @@
 #include <string>
 
 #include "gport/config/config.hpp"
+#include "gport/daemon/core/repeat_limiter.hpp"
+#include "gport/daemon/core/write_queue.hpp"
 #include "gport/protocol/frame.hpp"
-#include "repeat_limiter.hpp"
-#include "write_queue.hpp"
 
 namespace gport::daemon {
 
