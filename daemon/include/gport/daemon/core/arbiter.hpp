@@ -13,6 +13,7 @@
 #pragma once
 
 #include <optional>
+#include <utility>
 
 #include "gport/daemon/core/access_policy.hpp"
 #include "gport/daemon/events.hpp"
