@@ -25,10 +25,10 @@ std::optional<CommandError> Core::admit(const ClientInfo& client, Arbiter::Needs
 
 CommandError Core::link_down(std::string_view consequence) const {
     std::string why;
-    if (stopping_) {
-        why = "is closing: gportd is shutting down";
-    } else if (!port_.is_open()) {
+    if (!port_.is_open()) {
         why = "is not open";
+    } else if (stopping_) {
+        why = "is closing: gportd is shutting down";
     } else {
         why = fmt::format("takes no data ({} frames wait for it)", SerialPort::kMaxQueuedFrames);
     }
