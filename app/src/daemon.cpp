@@ -31,7 +31,6 @@ using daemon::Core;
 using daemon::LinkEvent;
 
 constexpr int kExitFailure = 1;
-constexpr int kExitConfig = 78;
 
 const char* signal_name(int sig) {
     switch (sig) {
@@ -115,7 +114,7 @@ class Daemon {
             server_->start();
         } catch (const systemd::ActivationError& e) {
             log_->critical("socket activation: {}", e.what());
-            exit_status_ = kExitConfig;
+            exit_status_ = config::kExitConfig;
             return false;
         } catch (const std::exception& e) {
             log_->critical("{}", e.what());

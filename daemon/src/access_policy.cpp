@@ -1,4 +1,4 @@
-#include "access_policy.hpp"
+#include "gport/daemon/core/access_policy.hpp"
 
 #include <unistd.h>
 

@@ -1,104 +1,204 @@
+// Core: construction, start, reload and shutdown; the read path (bytes to
+// frames to events) and the events the parts raise. Commands are in
+// core_commands.cpp, status in core_status.cpp.
 #include "gport/daemon/core.hpp"
 
 #include <fmt/format.h>
 
-#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/post.hpp>
 
-#include "access_policy.hpp"
-#include "core_impl.hpp"
+#include "gport/daemon/client_log.hpp"
 
 namespace gport::daemon {
 
-Core::Core(boost::asio::io_context& io, const config::Config& config,
-           std::shared_ptr<spdlog::logger> log)
-    : impl_(std::make_unique<Impl>(io, config, std::move(log))) {}
+namespace asio = boost::asio;
+namespace gp = gport::protocol;
+using namespace std::chrono_literals;
 
-Core::~Core() = default;
+namespace {
+
+constexpr auto kLineQualityInterval = 10s;
+constexpr auto kShutdownDrainLimit = 500ms;
+
+Millis keepalive_period(double rate_hz) {
+    return std::chrono::duration_cast<Millis>(std::chrono::duration<double>(1.0 / rate_hz));
+}
+
+std::string pid_of(const std::optional<ClientInfo>& client) {
+    return client ? std::to_string(client->pid) : std::string("-");
+}
+
+}  // namespace
+
+Core::Core(asio::io_context& io, const config::Config& config, std::shared_ptr<spdlog::logger> log)
+    : io_(io),
+      config_(config),
+      log_(std::move(log)),
+      started_(std::chrono::steady_clock::now()),
+      arbiter_(AccessPolicy(config.access)),
+      port_(io, config.serial, config.link,
+            SerialPort::Handlers{[this](std::span<const std::uint8_t> bytes) { on_bytes(bytes); },
+                                 [this] {
+                                     decoder_.reset();
+                                     monitor_.device_opened();
+                                 },
+                                 [this](const std::string& reason) {
+                                     monitor_.device_closed("device closed: " + reason);
+                                 }},
+            log_),
+      monitor_(io, config.link.stale_after, [this](const LinkEvent& e) { on_link(e); }),
+      keepalive_(
+          io, keepalive_period(config.keepalive.rate_hz),
+          [this](const gp::Control& c) { return send_control(c); },
+          [this](const MotionEvent& e) { on_motion(e); }),
+      settings_(io, config.requests,
+                [this](const gp::Frame& f) -> std::optional<CommandError> {
+                    if (send(f)) {
+                        return std::nullopt;
+                    }
+                    return link_down();
+                }),
+      quality_timer_(io),
+      shutdown_timer_(io) {}
 
 void Core::start() {
-    impl_->start();
-}
-void Core::shutdown(std::function<void()> done) {
-    impl_->shutdown(std::move(done));
-}
-void Core::reload(const config::Config& config) {
-    impl_->reload(config);
+    log_->info("gimbal device {} (keepalive {} Hz, stale after {} ms)", config_.serial.device,
+               config_.keepalive.rate_hz, config_.link.stale_after.count());
+    port_.start();
+    arm_quality_timer();
 }
 
-// Kept here, apart from core_impl.cpp: the only state a reload touches.
-void Core::Impl::reload(const config::Config& config) {
-    access = AccessPolicy(config.access);
+// The only state a reload touches.
+void Core::reload(const config::Config& config) {
+    arbiter_.set_policy(AccessPolicy(config.access));
     config_.keepalive.default_duration = config.keepalive.default_duration;
     config_.keepalive.max_duration = config.keepalive.max_duration;
 }
 
 void Core::add_link_listener(std::function<void(const LinkEvent&)> listener) {
-    impl_->link_listeners.push_back(std::move(listener));
-}
-void Core::set_observer(CoreObserver* observer) {
-    impl_->observer = observer;
-}
-Status Core::status() const {
-    return impl_->status();
-}
-std::optional<AttitudeSample> Core::latest_attitude() const {
-    return impl_->latest;
-}
-bool Core::may_command(const ClientInfo& client) const {
-    return impl_->access.may_command(client);
+    link_listeners_.push_back(std::move(listener));
 }
 
-Outcome<SpeedStarted> Core::speed(const ClientInfo& client, protocol::Axes speed,
-                                  std::optional<Millis> duration) {
-    return impl_->speed(client, speed, duration);
+// ---- the read path -----------------------------------------------------------
+
+void Core::on_bytes(std::span<const std::uint8_t> bytes) {
+    const auto now = std::chrono::steady_clock::now();
+    const auto wall = std::chrono::system_clock::now();
+    decoder_.feed(bytes, [&](const gp::FrameView& frame) { on_frame(frame, now, wall); });
 }
 
-Outcome<Done> Core::stop(const ClientInfo& client) {
-    return impl_->stop(client);
+void Core::on_frame(const gp::FrameView& frame, SteadyTime now, WallTime wall) {
+    auto message = gp::decode(frame);
+    if (!message) {
+        ++bad_messages_;
+        log_->debug("ignoring frame from the gimbal: {}", message.error().message);
+        return;
+    }
+    std::visit(
+        [&](const auto& m) {
+            using T = std::decay_t<decltype(m)>;
+            if constexpr (std::is_same_v<T, gp::Attitude>) {
+                on_attitude(m, now, wall);
+            } else if constexpr (std::is_same_v<T, gp::SettingsReport>) {
+                settings_.on_report(m.block);
+            } else if constexpr (std::is_same_v<T, gp::SetSettingsAck>) {
+                settings_.on_ack();
+            } else {
+                log_->debug("ignoring command 0x{:02X} from the gimbal", frame.command);
+            }
+        },
+        *message);
 }
 
-Outcome<Done> Core::angle(const ClientInfo& client, protocol::Axes angle) {
-    return impl_->position(client, protocol::Control::angle_of(angle), MotionMode::kAngle);
+void Core::on_attitude(const gp::Attitude& attitude, SteadyTime now, WallTime wall) {
+    latest_ = AttitudeSample{++seq_, wall, now, attitude};
+    monitor_.attitude_received(now);
+    if (observer_ != nullptr) {
+        observer_->on_attitude(*latest_);
+    }
 }
 
-Outcome<Done> Core::center(const ClientInfo& client) {
-    return impl_->position(client, protocol::Control::center(), MotionMode::kCenter);
+// ---- events ------------------------------------------------------------------
+
+void Core::on_link(const LinkEvent& event) {
+    log_->info("link {}: {}", to_string(event.state), event.reason);
+    if (event.state == LinkState::kDown) {
+        keepalive_.end(EndReason::kLinkDown, false);
+    }
+    for (auto& listener : link_listeners_) {
+        listener(event);
+    }
+    if (observer_ != nullptr) {
+        observer_->on_link(event);
+    }
 }
 
-Outcome<Done> Core::lock(const ClientInfo& client) {
-    return impl_->position(client, protocol::Control::lock(), MotionMode::kLock);
+void Core::on_motion(const MotionEvent& event) {
+    const ClientLogScope scope(event.owner);  // the motion's lines name its owner
+    if (event.change == MotionChange::kEnded) {
+        log_->info("motion ended ({}), owner pid {}",
+                   event.reason ? to_string(*event.reason) : "unknown", pid_of(event.owner));
+    } else {
+        log_->info("motion {} ({}) by pid {}", to_string(event.change), to_string(event.mode),
+                   pid_of(event.owner));
+    }
+    if (observer_ != nullptr) {
+        observer_->on_motion(event);
+    }
 }
 
-Outcome<Done> Core::photo(const ClientInfo& client) {
-    return impl_->camera(client, protocol::CameraAction::kPhoto);
+// A noisy line is reported as one summary per interval, never per frame.
+void Core::arm_quality_timer() {
+    quality_timer_.expires_after(kLineQualityInterval);
+    quality_timer_.async_wait([this](boost::system::error_code ec) {
+        if (!ec) {
+            report_line_quality();
+            arm_quality_timer();
+        }
+    });
 }
 
-Outcome<Done> Core::record(const ClientInfo& client) {
-    return impl_->camera(client, protocol::CameraAction::kToggleRecording);
+void Core::report_line_quality() {
+    const auto& now = decoder_.stats();
+    const auto crc = now.crc_errors - reported_.crc_errors;
+    const auto header = now.header_errors - reported_.header_errors;
+    const auto garbage = now.garbage_bytes - reported_.garbage_bytes;
+    if (crc + header + garbage > 0) {
+        log_->warn(
+            "noisy line on {}: {} CRC errors, {} header errors, {} garbage bytes in the "
+            "last {} s",
+            config_.serial.device, crc, header, garbage,
+            std::chrono::duration_cast<std::chrono::seconds>(kLineQualityInterval).count());
+    }
+    reported_ = now;
 }
 
-Outcome<std::optional<ClientInfo>> Core::acquire(const ClientInfo& client) {
-    return impl_->acquire(client);
-}
+// ---- shutdown -----------------------------------------------------------
 
-Outcome<std::optional<ClientInfo>> Core::release(const ClientInfo& client) {
-    return impl_->release(client);
-}
-
-void Core::get_settings(const ClientInfo& client, SettingsCallback done) {
-    impl_->settings(client, std::nullopt, std::move(done));
-}
-
-void Core::set_settings(const ClientInfo& client, SettingsChange change, SettingsCallback done) {
-    impl_->settings(client, change, std::move(done));
-}
-
-void Core::client_gone(const ClientInfo& client) {
-    impl_->client_gone(client);
-}
-
-void Core::client_closed(const ClientInfo& client) {
-    impl_->client_closed(client);
+void Core::shutdown(std::function<void()> done) {
+    keepalive_.end(EndReason::kShutdown, true);
+    stopping_ = true;
+    settings_.abort_all(link_down());  // after stopping_: "gportd is shutting down"
+    quality_timer_.cancel();
+    auto finished = std::make_shared<bool>(false);
+    auto finish = [this, finished, done = std::move(done)] {
+        if (std::exchange(*finished, true)) {
+            return;
+        }
+        shutdown_timer_.cancel();
+        monitor_.stop();
+        port_.stop();
+        done();
+    };
+    shutdown_timer_.expires_after(kShutdownDrainLimit);
+    shutdown_timer_.async_wait([finish](boost::system::error_code ec) {
+        if (!ec) {
+            finish();
+        }
+    });
+    // Posted to the loop (never to asio's system executor, another thread),
+    // so that finish() does not run inside SerialPort's own completion.
+    port_.when_drained([this, finish] { asio::post(io_, [finish] { finish(); }); });
 }
 
 }  // namespace gport::daemon

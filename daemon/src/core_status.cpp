@@ -1,21 +1,21 @@
-// Core::Impl::status(): the figures of every part, gathered for the client API.
-#include "core_impl.hpp"
+// Core::status(): the figures of every part, gathered for the client API.
+#include "gport/daemon/core.hpp"
 
 namespace gport::daemon {
 
-Status Core::Impl::status() const {
+Status Core::status() const {
     Status s;
     s.link = monitor_.state();
     s.link_reason = monitor_.reason();
     s.device = config_.serial.device;
-    s.device_open = link_.is_open();
+    s.device_open = port_.is_open();
     const auto now = std::chrono::steady_clock::now();
     s.uptime = std::chrono::duration_cast<Millis>(now - started_);
-    if (latest) {
-        s.attitude_age = std::chrono::duration_cast<Millis>(now - latest->received);
+    if (latest_) {
+        s.attitude_age = std::chrono::duration_cast<Millis>(now - latest_->received);
     }
     const auto& d = decoder_.stats();
-    const auto& l = link_.stats();
+    const auto& l = port_.stats();
     auto& c = s.counters;
     c.frames_in = d.frames;
     c.bytes_in = d.bytes;
@@ -35,7 +35,7 @@ Status Core::Impl::status() const {
     c.frames_refused = l.queue_overflows;
     c.settings_timeouts = settings_.timeouts();
     s.motion = keepalive_.status();
-    s.controller = controller_;
+    s.controller = arbiter_.holder();
     return s;
 }
 

@@ -1,4 +1,4 @@
-#include "keepalive.hpp"
+#include "gport/daemon/core/keepalive.hpp"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "link_monitor.hpp"
+#include "gport/daemon/core/link_monitor.hpp"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "settings_exchange.hpp"
+#include "gport/daemon/core/settings_exchange.hpp"
 
 #include <fmt/format.h>
 
@@ -30,12 +30,12 @@ std::optional<CommandError> SettingsExchange::admit(std::uint64_t client) const 
     return std::nullopt;
 }
 
-void SettingsExchange::get(std::uint64_t client, Done done) {
-    enqueue(Job{client, std::nullopt, std::move(done), Step::kRead, 0, {}, false});
+void SettingsExchange::get(std::uint64_t client, Reply reply) {
+    enqueue(Job{client, std::nullopt, std::move(reply), Step::kRead, 0, {}, std::nullopt});
 }
 
-void SettingsExchange::set(std::uint64_t client, SettingsChange change, Done done) {
-    enqueue(Job{client, change, std::move(done), Step::kRead, 0, {}, false});
+void SettingsExchange::set(std::uint64_t client, SettingsChange change, Reply reply) {
+    enqueue(Job{client, change, std::move(reply), Step::kRead, 0, {}, std::nullopt});
 }
 
 void SettingsExchange::enqueue(Job job) {
@@ -46,7 +46,7 @@ void SettingsExchange::enqueue(Job job) {
 void SettingsExchange::forget(std::uint64_t client) {
     for (auto& job : jobs_) {
         if (job.client == client) {
-            job.done = nullptr;
+            job.reply = nullptr;
         }
     }
     // The running one stays: its exchange with the gimbal completes.
@@ -70,8 +70,8 @@ void SettingsExchange::send_step() {
                                                      : gp::encode(gp::GetSettings{});
     // A refused frame fails the request from the timer, never from inside
     // get()/set(): the caller must not be called back from its own call.
-    job.unsent = !send_(frame);
-    timer_.expires_after(job.unsent ? config::Millis{0} : config_.timeout);
+    job.refused = send_(frame);
+    timer_.expires_after(job.refused ? config::Millis{0} : config_.timeout);
     timer_.async_wait([this](boost::system::error_code ec) {
         if (!ec) {
             on_timeout();
@@ -81,8 +81,8 @@ void SettingsExchange::send_step() {
 
 void SettingsExchange::on_timeout() {
     Job& job = jobs_.front();
-    if (job.unsent) {
-        finish(CommandError{ErrorCode::kLinkDown, "gimbal link down: serial device not open"});
+    if (job.refused) {
+        finish(*job.refused);
         return;
     }
     ++timeouts_;
@@ -139,8 +139,8 @@ void SettingsExchange::finish(Outcome<gp::SettingsBlock> result) {
     Job job = std::move(jobs_.front());
     jobs_.pop_front();
     running_ = false;
-    if (job.done) {
-        job.done(std::move(result));
+    if (job.reply) {
+        job.reply(std::move(result));
     }
     begin_next();
 }
@@ -150,8 +150,8 @@ void SettingsExchange::abort_all(const CommandError& error) {
     auto jobs = std::exchange(jobs_, {});
     running_ = false;
     for (auto& job : jobs) {
-        if (job.done) {
-            job.done(error);
+        if (job.reply) {
+            job.reply(error);
         }
     }
 }

@@ -1,4 +1,4 @@
-#include "write_queue.hpp"
+#include "gport/daemon/core/write_queue.hpp"
 
 #include <algorithm>
 

@@ -30,20 +30,6 @@ Json axes(const p::Axes& a) {
     return Json::array({a.roll, a.pitch, a.yaw});
 }
 
-const char* mode_name(p::ControlMode mode) {
-    switch (mode) {
-        case p::ControlMode::kSpeed:
-            return "speed";
-        case p::ControlMode::kAngle:
-            return "angle";
-        case p::ControlMode::kCenter:
-            return "center";
-        case p::ControlMode::kLock:
-            return "lock";
-    }
-    return "unknown";
-}
-
 std::string hex_bytes(std::span<const std::uint8_t> bytes) {
     std::string out;
     for (auto b : bytes) {
@@ -63,7 +49,7 @@ void add_block(Json& j, const p::SettingsBlock& b) {
 void add_message(Json& j, const p::Message& message) {
     std::visit(Overloaded{
                    [&](const p::Control& m) {
-                       j["mode"] = mode_name(m.mode);
+                       j["mode"] = std::string(p::to_string(m.mode));
                        j["speed"] = axes(m.speed);
                        j["angle"] = axes(m.angle);
                    },

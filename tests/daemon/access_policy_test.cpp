@@ -1,6 +1,6 @@
 // Who may command: the peer's own primary and supplementary groups (from
 // SO_PEERGROUPS at connect), never the user database's idea of its uid.
-#include "access_policy.hpp"
+#include "gport/daemon/core/access_policy.hpp"
 
 #include <grp.h>
 #include <gtest/gtest.h>

@@ -6,9 +6,10 @@
 // Options with a value accept both "--opt VALUE" and "--opt=VALUE"; when an
 // option is repeated the last one wins. Values given here override the file.
 //
-// Exit statuses the daemon uses (sysexits.h):
+// Exit statuses the daemon uses (sysexits.h), defined here only:
 //   kExitUsage  (64, EX_USAGE)  parse_command_line() failed;
-//   kExitConfig (78, EX_CONFIG) load_config() failed.
+//   kExitConfig (78, EX_CONFIG) load_config() failed, or socket activation
+//                               was misconfigured.
 #pragma once
 
 #include <optional>

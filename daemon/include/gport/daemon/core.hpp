@@ -1,16 +1,29 @@
-// gport::daemon::Core — the one object that owns the gimbal link and keeps it
-// safe for every client: serial link with reconnect, link health, the speed
-// keepalive and deadman, settings requests, control arbitration, counters.
+// gport::daemon::Core — the one object that owns the gimbal device and keeps
+// it safe for every client: the serial port with reconnect, link health, the
+// speed keepalive and deadman, settings requests, control arbitration,
+// counters. Clients see it only as a daemon::Api; the program that runs
+// gportd constructs it, and so sees its parts (gport/daemon/core/).
 #pragma once
 
 #include <spdlog/logger.h>
 
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <functional>
 #include <memory>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
 
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
+#include "gport/daemon/core/arbiter.hpp"
+#include "gport/daemon/core/keepalive.hpp"
+#include "gport/daemon/core/link_monitor.hpp"
+#include "gport/daemon/core/serial_port.hpp"
+#include "gport/daemon/core/settings_exchange.hpp"
+#include "gport/protocol/decoder.hpp"
 
 namespace gport::daemon {
 
@@ -18,7 +31,7 @@ class Core final : public Api {
   public:
     Core(boost::asio::io_context& io, const config::Config& config,
          std::shared_ptr<spdlog::logger> log);
-    ~Core() override;
+    ~Core() override = default;
     Core(const Core&) = delete;
     Core& operator=(const Core&) = delete;
 
@@ -34,9 +47,10 @@ class Core final : public Api {
     // Also told of every link change (e.g. for the service manager's status).
     void add_link_listener(std::function<void(const LinkEvent&)> listener);
 
-    void set_observer(CoreObserver* observer) override;
+    // ---- Api (core_commands.cpp, core_status.cpp) ----
+    void set_observer(CoreObserver* observer) override { observer_ = observer; }
     Status status() const override;
-    std::optional<AttitudeSample> latest_attitude() const override;
+    std::optional<AttitudeSample> latest_attitude() const override { return latest_; }
     bool may_command(const ClientInfo& client) const override;
     Outcome<SpeedStarted> speed(const ClientInfo& client, protocol::Axes speed,
                                 std::optional<Millis> duration) override;
@@ -55,8 +69,49 @@ class Core final : public Api {
     void client_closed(const ClientInfo& client) override;
 
   private:
-    class Impl;
-    std::unique_ptr<Impl> impl_;
+    // ---- commands (core_commands.cpp) ----
+    // The checks a command passes after its parameters, in the order api.hpp
+    // states: access and control (Arbiter), then the device.
+    std::optional<CommandError> admit(const ClientInfo& client, Arbiter::Needs needs) const;
+    bool device_ready() const { return port_.is_open() && !stopping_; }
+    // The one kLinkDown error: names the device and why nothing goes to it,
+    // then what follows for this request (may be empty).
+    CommandError link_down(std::string_view consequence = {}) const;
+    Outcome<Done> position(const ClientInfo& client, const protocol::Control& control);
+    Outcome<Done> camera(const ClientInfo& client, protocol::CameraAction action);
+    void settings(const ClientInfo& client, std::optional<SettingsChange> change,
+                  SettingsCallback done);
+    bool send(const protocol::Frame& frame);
+    bool send_control(const protocol::Control& control);
+
+    // ---- the read path and events (core.cpp) ----
+    void on_bytes(std::span<const std::uint8_t> bytes);
+    void on_frame(const protocol::FrameView& frame, SteadyTime now, WallTime wall);
+    void on_attitude(const protocol::Attitude& attitude, SteadyTime now, WallTime wall);
+    void on_link(const LinkEvent& event);
+    void on_motion(const MotionEvent& event);
+    void report_line_quality();
+    void arm_quality_timer();
+
+    boost::asio::io_context& io_;
+    config::Config config_;
+    std::shared_ptr<spdlog::logger> log_;
+    SteadyTime started_;
+    CoreObserver* observer_ = nullptr;
+    std::vector<std::function<void(const LinkEvent&)>> link_listeners_;
+    std::optional<AttitudeSample> latest_;
+    Arbiter arbiter_;
+    protocol::Decoder decoder_;
+    SerialPort port_;
+    LinkMonitor monitor_;
+    Keepalive keepalive_;
+    SettingsExchange settings_;
+    boost::asio::steady_timer quality_timer_;
+    boost::asio::steady_timer shutdown_timer_;
+    protocol::DecoderStats reported_{};
+    std::uint64_t seq_ = 0;
+    std::uint64_t bad_messages_ = 0;
+    bool stopping_ = false;
 };
 
 }  // namespace gport::daemon

@@ -45,7 +45,10 @@ struct LinkEvent {
     std::string reason;
 };
 
-enum class MotionMode { kSpeed, kAngle, kCenter, kLock };
+// A motion's mode is the mode of the 0x85 control frame that started it:
+// one enum (the wire's) and one to_string, protocol::to_string(ControlMode).
+using MotionMode = protocol::ControlMode;
+using protocol::to_string;
 
 enum class MotionChange { kStarted, kReplaced, kEnded };
 
@@ -88,20 +91,6 @@ constexpr std::string_view to_string(LinkState state) {
             return "stale";
         case LinkState::kUp:
             return "up";
-    }
-    return "unknown";
-}
-
-constexpr std::string_view to_string(MotionMode mode) {
-    switch (mode) {
-        case MotionMode::kSpeed:
-            return "speed";
-        case MotionMode::kAngle:
-            return "angle";
-        case MotionMode::kCenter:
-            return "center";
-        case MotionMode::kLock:
-            return "lock";
     }
     return "unknown";
 }

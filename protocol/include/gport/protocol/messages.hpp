@@ -95,6 +95,21 @@ struct SetSettingsAck {  // 0x16
 
 enum class ControlMode : std::int8_t { kSpeed = 1, kAngle = 2, kCenter = 3, kLock = 4 };
 
+// The mode's name, as logs, traces and the client API write it.
+constexpr std::string_view to_string(ControlMode mode) {
+    switch (mode) {
+        case ControlMode::kSpeed:
+            return "speed";
+        case ControlMode::kAngle:
+            return "angle";
+        case ControlMode::kCenter:
+            return "center";
+        case ControlMode::kLock:
+            return "lock";
+    }
+    return "unknown";
+}
+
 // A roll/pitch/yaw triple in 0.01 units.
 struct Axes {
     std::int16_t roll = 0;

@@ -24,8 +24,10 @@ namespace gport::daemon {
 
 class SettingsExchange {
   public:
-    using Send = std::function<bool(const protocol::Frame&)>;
-    using Done = std::function<void(Outcome<protocol::SettingsBlock>)>;
+    // Queues a frame for the device; the error when it could not be queued.
+    using Send = std::function<std::optional<CommandError>(const protocol::Frame&)>;
+    // Called once with the request's result, from the loop.
+    using Reply = std::function<void(Outcome<protocol::SettingsBlock>)>;
 
     static constexpr std::size_t kMaxPerClient = 4;
     static constexpr std::size_t kMaxTotal = 64;
@@ -35,8 +37,8 @@ class SettingsExchange {
     // kTooMany when the client, or everyone together, has too many requests
     // waiting; check before get()/set().
     std::optional<CommandError> admit(std::uint64_t client) const;
-    void get(std::uint64_t client, Done done);
-    void set(std::uint64_t client, SettingsChange change, Done done);
+    void get(std::uint64_t client, Reply reply);
+    void set(std::uint64_t client, SettingsChange change, Reply reply);
     // The client's connection closed: its waiting requests are dropped and
     // the running one, if its, finishes without calling back.
     void forget(std::uint64_t client);
@@ -53,11 +55,11 @@ class SettingsExchange {
     struct Job {
         std::uint64_t client = 0;
         std::optional<SettingsChange> change;  // empty: a get
-        Done done;                             // empty once the client is gone
+        Reply reply;                           // empty once the client is gone
         Step step = Step::kRead;
         unsigned attempt = 0;
         protocol::SettingsBlock block;
-        bool unsent = false;  // the frame could not be queued: fail at the timer
+        std::optional<CommandError> refused;  // the frame was not queued: fail at the timer
     };
 
     void enqueue(Job job);

@@ -17,13 +17,13 @@
 #include <string>
 
 #include "gport/config/config.hpp"
+#include "gport/daemon/core/repeat_limiter.hpp"
+#include "gport/daemon/core/write_queue.hpp"
 #include "gport/protocol/frame.hpp"
-#include "repeat_limiter.hpp"
-#include "write_queue.hpp"
 
 namespace gport::daemon {
 
-class SerialLink {
+class SerialPort {
   public:
     struct Handlers {
         std::function<void(std::span<const std::uint8_t>)> on_bytes;
@@ -45,7 +45,7 @@ class SerialLink {
     // means it is stuck. 0x85 frames are never refused (write_queue.hpp).
     static constexpr std::size_t kMaxQueuedFrames = 64;
 
-    SerialLink(boost::asio::io_context& io, const config::SerialConfig& serial,
+    SerialPort(boost::asio::io_context& io, const config::SerialConfig& serial,
                const config::LinkConfig& link, Handlers handlers,
                std::shared_ptr<spdlog::logger> log);
 

@@ -1,4 +1,4 @@
-#include "serial_link.hpp"
+#include "gport/daemon/core/serial_port.hpp"
 
 #include <sys/ioctl.h>
 #include <termios.h>
@@ -12,7 +12,7 @@ namespace gport::daemon {
 namespace asio = boost::asio;
 using namespace std::chrono_literals;
 
-SerialLink::SerialLink(asio::io_context& io, const config::SerialConfig& serial,
+SerialPort::SerialPort(asio::io_context& io, const config::SerialConfig& serial,
                        const config::LinkConfig& link, Handlers handlers,
                        std::shared_ptr<spdlog::logger> log)
     : port_(io),
@@ -27,12 +27,12 @@ SerialLink::SerialLink(asio::io_context& io, const config::SerialConfig& serial,
       open_failures_log_(60s),
       losses_log_(60s) {}
 
-void SerialLink::start() {
+void SerialPort::start() {
     stopped_ = false;
     try_open();
 }
 
-void SerialLink::stop() {
+void SerialPort::stop() {
     stopped_ = true;
     reopen_timer_.cancel();
     if (port_.is_open()) {
@@ -47,7 +47,7 @@ void SerialLink::stop() {
     notify_drained();
 }
 
-void SerialLink::try_open() {
+void SerialPort::try_open() {
     boost::system::error_code ec;
     port_.open(device_, ec);
     std::string error;
@@ -80,7 +80,7 @@ void SerialLink::try_open() {
 
 // Raw 8N1 without flow control, and exclusive: no other process may open
 // the port while the daemon owns it.
-bool SerialLink::configure(std::string& error) {
+bool SerialPort::configure(std::string& error) {
     boost::system::error_code ec;
     port_.set_option(asio::serial_port::baud_rate(baud_), ec);
     if (!ec) {
@@ -107,7 +107,7 @@ bool SerialLink::configure(std::string& error) {
     return true;
 }
 
-void SerialLink::schedule_reopen() {
+void SerialPort::schedule_reopen() {
     if (stopped_) {
         return;
     }
@@ -120,7 +120,7 @@ void SerialLink::schedule_reopen() {
     });
 }
 
-void SerialLink::read_more() {
+void SerialPort::read_more() {
     port_.async_read_some(asio::buffer(read_buffer_),
                           [this](boost::system::error_code ec, std::size_t n) {
                               if (ec == asio::error::operation_aborted || !port_.is_open()) {
@@ -141,7 +141,7 @@ void SerialLink::read_more() {
                           });
 }
 
-bool SerialLink::send(const protocol::Frame& frame, FrameKind kind) {
+bool SerialPort::send(const protocol::Frame& frame, FrameKind kind) {
     if (!port_.is_open()) {
         if (kind == FrameKind::kStop && !stopped_) {
             owed_stop_ = frame;
@@ -155,7 +155,7 @@ bool SerialLink::send(const protocol::Frame& frame, FrameKind kind) {
     return true;
 }
 
-void SerialLink::write_next() {
+void SerialPort::write_next() {
     if (in_flight_ || queue_.empty() || !port_.is_open()) {
         return;
     }
@@ -185,7 +185,7 @@ void SerialLink::write_next() {
                       });
 }
 
-void SerialLink::fail(const std::string& reason) {
+void SerialPort::fail(const std::string& reason) {
     ++stats_.failures;
     boost::system::error_code ignored;
     port_.close(ignored);
@@ -203,7 +203,7 @@ void SerialLink::fail(const std::string& reason) {
 
 // A stop the device may not have received completely is written again on
 // reopen: a repeated zero speed is harmless, a lost one is not.
-void SerialLink::owe_stop_if_unwritten() {
+void SerialPort::owe_stop_if_unwritten() {
     if (in_flight_ && in_flight_->kind == FrameKind::kStop) {
         owed_stop_ = in_flight_->frame;
     } else if (queue_.holds_stop()) {
@@ -211,14 +211,14 @@ void SerialLink::owe_stop_if_unwritten() {
     }
 }
 
-SerialLink::Stats SerialLink::stats() const {
+SerialPort::Stats SerialPort::stats() const {
     Stats s = stats_;
     s.queue_overflows = queue_.refused();
     s.frames_replaced = queue_.replaced();
     return s;
 }
 
-void SerialLink::when_drained(std::function<void()> done) {
+void SerialPort::when_drained(std::function<void()> done) {
     if ((queue_.empty() && !in_flight_) || !port_.is_open()) {
         done();
         return;
@@ -226,7 +226,7 @@ void SerialLink::when_drained(std::function<void()> done) {
     drained_waiters_.push_back(std::move(done));
 }
 
-void SerialLink::notify_drained() {
+void SerialPort::notify_drained() {
     auto waiters = std::exchange(drained_waiters_, {});
     for (auto& w : waiters) {
         w();

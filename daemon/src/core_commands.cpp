@@ -1,0 +1,218 @@
+// Core's commands: each checks its parameters, then admit() (access and
+// control by the Arbiter, then the device), then queues its frame.
+#include <fmt/format.h>
+
+#include <boost/asio/post.hpp>
+
+#include "gport/daemon/core.hpp"
+
+namespace gport::daemon {
+
+namespace asio = boost::asio;
+namespace gp = gport::protocol;
+
+// ---- checks and the device -----------------------------------------------------
+
+std::optional<CommandError> Core::admit(const ClientInfo& client, Arbiter::Needs needs) const {
+    if (auto refused = arbiter_.check(client, needs)) {  // access, then control
+        return refused;
+    }
+    if (!device_ready()) {
+        return link_down();
+    }
+    return std::nullopt;
+}
+
+CommandError Core::link_down(std::string_view consequence) const {
+    std::string why;
+    if (!port_.is_open()) {
+        why = "is not open";
+    } else if (stopping_) {
+        why = "is closing: gportd is shutting down";
+    } else {
+        why = fmt::format("takes no data ({} frames wait for it)", SerialPort::kMaxQueuedFrames);
+    }
+    return CommandError{
+        ErrorCode::kLinkDown,
+        fmt::format("gimbal link down: serial device {} {}{}{}", config_.serial.device, why,
+                    consequence.empty() ? "" : "; ", consequence)};
+}
+
+bool Core::send(const gp::Frame& frame) {
+    return !stopping_ && port_.send(frame);
+}
+
+// 0x85 frames are never refused for queue space: a stop goes next, and a
+// newer position command replaces a waiting one (write_queue.hpp).
+bool Core::send_control(const gp::Control& control) {
+    const auto kind = control == gp::Control::stop() ? FrameKind::kStop : FrameKind::kMotion;
+    return port_.send(gp::encode(control), kind);
+}
+
+bool Core::may_command(const ClientInfo& client) const {
+    return arbiter_.may_command(client);
+}
+
+// ---- commands ----------------------------------------------------------------
+
+Outcome<SpeedStarted> Core::speed(const ClientInfo& client, gp::Axes speed,
+                                  std::optional<Millis> duration) {
+    const auto max = config_.keepalive.max_duration;
+    if (duration && (duration->count() < 1 || *duration > max)) {
+        return CommandError{ErrorCode::kInvalidParams,
+                            fmt::format("duration_ms = {} is out of range; allowed 1 to {}",
+                                        duration->count(), max.count())};
+    }
+    if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
+        return std::move(*refused);
+    }
+    if (!send_control(gp::Control::speed_of(speed))) {
+        return link_down();
+    }
+    return keepalive_.start(client, speed, duration.value_or(config_.keepalive.default_duration));
+}
+
+// Any client that may command may stop, whoever holds control: stopping is
+// always safe. The motion ends whatever happens to the frame; a device that
+// is closed owes the zero speed and gets it first when it reopens.
+Outcome<Done> Core::stop(const ClientInfo& client) {
+    if (auto refused = arbiter_.check(client, Arbiter::Needs::kAccess)) {
+        return std::move(*refused);
+    }
+    const bool queued = send_control(gp::Control::stop());
+    keepalive_.end(EndReason::kStop, false);
+    if (!queued) {
+        return link_down(stopping_ ? ""
+                                   : "zero speed will be the first frame sent when it reopens");
+    }
+    return Done{};
+}
+
+Outcome<Done> Core::angle(const ClientInfo& client, gp::Axes angle) {
+    return position(client, gp::Control::angle_of(angle));
+}
+
+Outcome<Done> Core::center(const ClientInfo& client) {
+    return position(client, gp::Control::center());
+}
+
+Outcome<Done> Core::lock(const ClientInfo& client) {
+    return position(client, gp::Control::lock());
+}
+
+Outcome<Done> Core::position(const ClientInfo& client, const gp::Control& control) {
+    if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
+        return std::move(*refused);
+    }
+    if (!send_control(control)) {
+        return link_down();
+    }
+    keepalive_.end(EndReason::kSuperseded, false);
+    MotionEvent e;
+    e.change = MotionChange::kStarted;
+    e.mode = control.mode;
+    e.owner = client;
+    e.angle = control.angle;
+    on_motion(e);
+    return Done{};
+}
+
+Outcome<Done> Core::photo(const ClientInfo& client) {
+    return camera(client, gp::CameraAction::kPhoto);
+}
+
+Outcome<Done> Core::record(const ClientInfo& client) {
+    return camera(client, gp::CameraAction::kToggleRecording);
+}
+
+Outcome<Done> Core::camera(const ClientInfo& client, gp::CameraAction action) {
+    if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
+        return std::move(*refused);
+    }
+    if (!send(gp::encode(gp::Camera{action}))) {
+        return link_down();
+    }
+    log_->info("camera {} by pid {}",
+               action == gp::CameraAction::kPhoto ? "photo" : "record toggle", client.pid);
+    return Done{};
+}
+
+// ---- control -------------------------------------------------------------------
+
+Outcome<std::optional<ClientInfo>> Core::acquire(const ClientInfo& client) {
+    auto acquired = arbiter_.acquire(client, keepalive_.owner());
+    if (!acquired) {
+        return acquired.error();
+    }
+    if (acquired->newly_held) {
+        log_->info("control acquired by pid {}", client.pid);
+    }
+    // The arbiter has recorded the new holder: an observer called from end()
+    // sees it.
+    if (acquired->preempts) {
+        keepalive_.end(EndReason::kPreempted, true);
+    }
+    return arbiter_.holder();
+}
+
+Outcome<std::optional<ClientInfo>> Core::release(const ClientInfo& client) {
+    auto released = arbiter_.release(client);
+    if (!released) {
+        return released.error();
+    }
+    if (released.value()) {
+        log_->info("control released by pid {}", client.pid);
+    }
+    return arbiter_.holder();
+}
+
+void Core::client_gone(const ClientInfo& client) {
+    const auto owner = keepalive_.owner();
+    if (owner && owner->id == client.id) {
+        keepalive_.end(EndReason::kOwnerGone, true);  // the deadman
+    }
+    if (arbiter_.client_gone(client)) {
+        log_->info("control released: pid {} disconnected", client.pid);
+    }
+}
+
+void Core::client_closed(const ClientInfo& client) {
+    settings_.forget(client.id);
+    arbiter_.forget(client);
+}
+
+// ---- settings ------------------------------------------------------------------
+
+void Core::get_settings(const ClientInfo& client, SettingsCallback done) {
+    settings(client, std::nullopt, std::move(done));
+}
+
+void Core::set_settings(const ClientInfo& client, SettingsChange change, SettingsCallback done) {
+    settings(client, change, std::move(done));
+}
+
+void Core::settings(const ClientInfo& client, std::optional<SettingsChange> change,
+                    SettingsCallback done) {
+    auto refused = admit(client, Arbiter::Needs::kAccessAndControl);
+    if (!refused) {
+        refused = settings_.admit(client.id);
+    }
+    if (refused) {
+        asio::post(io_, [done = std::move(done), e = *refused] { done(e); });
+        return;
+    }
+    auto reply = [done = std::move(done)](Outcome<gp::SettingsBlock> r) {
+        if (!r) {
+            done(r.error());
+            return;
+        }
+        done(Settings{r->dead_zone, r->follow_speed, r->inverted()});
+    };
+    if (change) {
+        settings_.set(client.id, *change, std::move(reply));
+    } else {
+        settings_.get(client.id, std::move(reply));
+    }
+}
+
+}  // namespace gport::daemon
