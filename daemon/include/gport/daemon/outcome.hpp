@@ -1,10 +1,10 @@
 // What a command to the daemon core returns: a value, or an error whose code
-// maps one-to-one onto the client API's error codes (SPEC section 4).
+// maps one-to-one onto the client API's error codes (docs/api.md, "Error codes").
 #pragma once
 
 #include <string>
-#include <utility>
-#include <variant>
+
+#include "gport/base/result.hpp"
 
 namespace gport::daemon {
 
@@ -22,22 +22,10 @@ struct CommandError {
     std::string message;
 };
 
-struct Done {};
+using Done = gport::Done;
 
+// What every command returns; one template in the tree (gport/base/result.hpp).
 template <typename T>
-class [[nodiscard]] Outcome {
-  public:
-    Outcome(T value) : v_(std::move(value)) {}             // NOLINT: implicit by design
-    Outcome(CommandError error) : v_(std::move(error)) {}  // NOLINT: implicit by design
-
-    bool ok() const { return std::holds_alternative<T>(v_); }
-    explicit operator bool() const { return ok(); }
-    const T& value() const { return std::get<T>(v_); }
-    const T* operator->() const { return &value(); }
-    const CommandError& error() const { return std::get<CommandError>(v_); }
-
-  private:
-    std::variant<T, CommandError> v_;
-};
+using Outcome = gport::Result<T, CommandError>;
 
 }  // namespace gport::daemon
