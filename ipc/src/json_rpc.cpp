@@ -10,9 +10,9 @@
 #include <utility>
 #include <vector>
 
+#include "json_common.hpp"
 #include "methods.hpp"
 #include "params.hpp"
-#include "result_json.hpp"
 
 namespace gport::ipc {
 namespace {

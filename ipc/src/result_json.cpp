@@ -1,6 +1,6 @@
 #include "result_json.hpp"
 
-#include "gport/ipc/event_json.hpp"
+#include "json_common.hpp"
 
 #ifndef GPORT_VERSION
 #define GPORT_VERSION "unknown"
@@ -8,9 +8,6 @@
 
 namespace gport::ipc::detail {
 
-std::string json_line(const nlohmann::json& message) {
-    return message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + '\n';
-}
 namespace {
 
 using nlohmann::json;
