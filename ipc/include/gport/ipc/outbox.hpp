@@ -1,4 +1,4 @@
-// One client's bounded outbound queue of whole lines (SPEC section 3: slow
+// One client's bounded outbound queue of whole lines (docs/api.md, "Slow clients":
 // clients never slow anyone else, memory stays bounded).
 //
 // - Replies and link/motion notifications must not be lost: when the queue
