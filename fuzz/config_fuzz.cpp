@@ -28,7 +28,7 @@ bool within_documented_ranges(const gport::config::Config& c) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);
     const auto result = gport::config::load_config_text(text, "fuzz.json");
-    if (result.ok() ? !within_documented_ranges(*result) : result.errors().empty()) {
+    if (result.ok() ? !within_documented_ranges(*result) : result.error().messages.empty()) {
         std::abort();  // a broken invariant is a finding, like a crash
     }
     return 0;

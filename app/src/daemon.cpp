@@ -156,13 +156,13 @@ class Daemon {
         const auto path = config_source(command_line_);
         auto next = config::load_config(command_line_);
         if (!next) {
-            for (const auto& message : next.errors()) {
+            for (const auto& message : next.error().messages) {
                 log_->error("reload: {}", message);
             }
             log_->error(
                 "configuration not reloaded: {} error(s) in {}; still running on the "
                 "previous configuration",
-                next.errors().size(), path);
+                next.error().messages.size(), path);
         } else {
             apply(path, plan_reload(loaded_, *next));
         }

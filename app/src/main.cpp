@@ -11,7 +11,8 @@ int main(int argc, char** argv) {
     const auto command_line =
         cfg::parse_command_line(std::span<const char* const>(argv, static_cast<std::size_t>(argc)));
     if (!command_line) {
-        std::fprintf(stderr, "gportd: %sTry 'gportd --help'.\n", command_line.error_text().c_str());
+        std::fprintf(stderr, "gportd: %sTry 'gportd --help'.\n",
+                     command_line.error().text().c_str());
         return cfg::kExitUsage;
     }
     if (command_line->help) {
@@ -24,7 +25,7 @@ int main(int argc, char** argv) {
     }
     const auto config = cfg::load_config(*command_line);
     if (!config) {
-        std::fprintf(stderr, "gportd: configuration error:\n%s", config.error_text().c_str());
+        std::fprintf(stderr, "gportd: configuration error:\n%s", config.error().text().c_str());
         return cfg::kExitConfig;
     }
     return gport::app::run_daemon(*config, *command_line);

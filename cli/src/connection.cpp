@@ -19,7 +19,7 @@ constexpr int kPollSliceMs = 100;
 
 }  // namespace
 
-std::variant<Connection, std::string> Connection::open(const std::string& path) {
+Result<Connection, std::string> Connection::open(const std::string& path) {
     sockaddr_un address{};
     address.sun_family = AF_UNIX;
     if (path.empty() || path.size() >= sizeof(address.sun_path)) {

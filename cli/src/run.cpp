@@ -192,11 +192,11 @@ class Runner {
 int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
         std::function<bool()> interrupted) {
     auto opened = Connection::open(invocation.socket);
-    if (auto* why = std::get_if<std::string>(&opened)) {
-        err << "gportctl: " << *why << "\n";
+    if (!opened) {
+        err << "gportctl: " << opened.error() << "\n";
         return kExitUnavailable;
     }
-    auto& conn = std::get<Connection>(opened);
+    auto& conn = *opened;
     conn.interrupted = std::move(interrupted);
     return Runner(invocation, conn, out, err).dispatch();
 }
@@ -204,11 +204,11 @@ int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
 int main_with(const std::vector<std::string>& args, const char* env_socket, std::ostream& out,
               std::ostream& err, std::function<bool()> interrupted) {
     auto parsed = parse_args(args, env_socket);
-    if (auto* error = std::get_if<UsageError>(&parsed)) {
-        err << "gportctl: " << error->message << "\nTry 'gportctl --help'.\n";
+    if (!parsed) {
+        err << "gportctl: " << parsed.error().message << "\nTry 'gportctl --help'.\n";
         return kExitUsage;
     }
-    const auto& invocation = std::get<Invocation>(parsed);
+    const auto& invocation = *parsed;
     if (invocation.help) {
         out << usage(invocation.command);
         return kExitOk;

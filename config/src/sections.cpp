@@ -87,7 +87,7 @@ void read_group(Reader& r, const Json& value, const std::string& path, Config& c
         if (auto gid = lookup_group(*name); !gid) {
             r.error(path, fmt::format("{}; give an existing group name, or \"\" to keep the "
                                       "daemon's group",
-                                      gid.errors().front()));
+                                      gid.error().messages.front()));
             return;
         }
     }
@@ -117,7 +117,7 @@ void read_ids(Reader& r, const Json& value, const std::string& path, std::string
                 if (auto id = lookup(*name)) {
                     ids.push_back(*id);
                 } else {
-                    r.error(item_path, id.errors().front());
+                    r.error(item_path, id.error().messages.front());
                 }
             }
         } else {

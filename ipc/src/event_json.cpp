@@ -3,20 +3,19 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <iterator>
 
-#include "result_json.hpp"
+#include "json_common.hpp"
 
 namespace gport::ipc {
 namespace {
 
+using detail::axes_json;
+using detail::client_json;
+using detail::degrees;
 using nlohmann::json;
-
-// Degrees from 0.01 units. The division is correctly rounded, so fmt's
-// shortest round-trip output prints exactly two decimals at most ("-39.29").
-double degrees(std::int16_t centi) {
-    return protocol::from_centi(centi);
-}
 
 void append_axes(fmt::memory_buffer& out, const protocol::Axes& axes) {
     fmt::format_to(std::back_inserter(out), R"({{"roll":{},"pitch":{},"yaw":{}}})",
@@ -35,6 +34,23 @@ void append_time(fmt::memory_buffer& out, daemon::WallTime time) {
         return;
     }
     fmt::format_to(std::back_inserter(out), "{}.{:06}", seconds, fraction);
+}
+
+// A number as attitude_payload prints it: fmt writes a whole double without a
+// fraction ("0", "-1"), which JSON reads as an integer, so attitude_json
+// holds whole values as integers and serialises to the same text.
+json as_printed(double value) {
+    const double whole = std::trunc(value);
+    if (whole == value && std::fabs(value) < 9.0e15) {
+        return static_cast<std::int64_t>(whole);
+    }
+    return value;
+}
+
+json printed_axes(const protocol::Axes& axes) {
+    return {{"roll", as_printed(degrees(axes.roll))},
+            {"pitch", as_printed(degrees(axes.pitch))},
+            {"yaw", as_printed(degrees(axes.yaw))}};
 }
 
 Line notification(std::string_view topic, json params) {
@@ -101,24 +117,22 @@ Line motion_line(const daemon::MotionEvent& event) {
     return notification("motion", std::move(params));
 }
 
-json client_json(const daemon::ClientInfo& client) {
-    return {{"id", client.id}, {"pid", client.pid}, {"uid", client.uid}, {"gid", client.gid}};
-}
-
-json axes_json(const protocol::Axes& axes) {
-    return {
-        {"roll", degrees(axes.roll)}, {"pitch", degrees(axes.pitch)}, {"yaw", degrees(axes.yaw)}};
-}
-
-double epoch_seconds(daemon::WallTime time) {
-    const auto us =
-        std::chrono::duration_cast<std::chrono::microseconds>(time.time_since_epoch()).count();
-    if (us < 0) {
-        return static_cast<double>(us) / 1e6;
+json attitude_json(const daemon::AttitudeSample& sample) {
+    const auto& a = sample.attitude;
+    // "t" always has six decimals, except before 1970 (see append_time).
+    const double t = detail::epoch_seconds(sample.wall);
+    json payload = {{"seq", sample.seq},
+                    {"t", sample.wall.time_since_epoch().count() < 0 ? as_printed(t) : json(t)},
+                    {"imu", printed_axes(a.imu)},
+                    {"hall", printed_axes(a.hall)}};
+    if (a.rates) {
+        payload["rates"] = {{"hall", printed_axes(a.rates->hall)},
+                            {"imu",
+                             {{"x", as_printed(degrees(a.rates->imu_x))},
+                              {"y", as_printed(degrees(a.rates->imu_y))},
+                              {"z", as_printed(degrees(a.rates->imu_z))}}}};
     }
-    // Through text, so that the double is the one nearest to the printed
-    // microseconds and prints back the same way.
-    return std::stod(fmt::format("{}.{:06}", us / 1'000'000, us % 1'000'000));
+    return payload;
 }
 
 }  // namespace gport::ipc

@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "gport/daemon/client_log.hpp"
+#include "json_common.hpp"
 #include "methods.hpp"
 #include "params.hpp"
-#include "result_json.hpp"
 
 namespace gport::ipc {
 namespace {

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "gport/ipc/event_json.hpp"
+#include "json_common.hpp"
 #include "params.hpp"
 #include "result_json.hpp"
 
@@ -65,7 +66,7 @@ void attitude(MethodContext& c, const json& params, Respond respond) {
         respond(RpcError{rpc_error::kLinkDown, "no attitude received from the gimbal yet"});
         return;
     }
-    json result = json::parse(attitude_payload(*sample));
+    json result = attitude_json(*sample);
     const auto age = std::chrono::steady_clock::now() - sample->received;
     result["age_ms"] = std::chrono::duration_cast<std::chrono::milliseconds>(age).count();
     respond(std::move(result));
@@ -128,7 +129,7 @@ void speed(MethodContext& c, const json& params, Respond respond) {
         return;
     }
     respond(json{{"duration_ms", outcome->duration.count()},
-                 {"ends_at", epoch_seconds(outcome->ends_at)}});
+                 {"ends_at", detail::epoch_seconds(outcome->ends_at)}});
 }
 
 void stop(MethodContext& c, const json& params, Respond respond) {

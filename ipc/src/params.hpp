@@ -1,6 +1,8 @@
 // Validation of a method's "params" object. Every refusal throws
 // InvalidParams with a message that names the field and what is allowed; the
 // dispatcher turns it into -32602. Handlers stay short and read top-down.
+// The throw is the one kept on purpose for bad input (docs/architecture.md,
+// "Errors"): it never leaves the dispatcher's run_method.
 #pragma once
 
 #include <cstdint>

@@ -1,13 +1,10 @@
 #include "result_json.hpp"
 
-#include "gport/ipc/event_json.hpp"
 #include "gport/version.hpp"
+#include "json_common.hpp"
 
 namespace gport::ipc::detail {
 
-std::string json_line(const nlohmann::json& message) {
-    return message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + '\n';
-}
 namespace {
 
 using nlohmann::json;

@@ -1,4 +1,5 @@
-// JSON encoding of method results (the event side is in event_json).
+// JSON encoding of method results (the event side is in event_json; the
+// pieces both use are in json_common).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -8,9 +9,6 @@
 #include "gport/ipc/json_rpc.hpp"
 
 namespace gport::ipc::detail {
-
-// One message as an NDJSON line: compact, invalid UTF-8 replaced, newline-ended.
-std::string json_line(const nlohmann::json& message);
 
 nlohmann::json status_json(const daemon::Status& status, const ServerStats& stats,
                            const ClientState& client);

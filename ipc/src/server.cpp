@@ -11,6 +11,7 @@
 
 #include "gport/daemon/client_log.hpp"
 #include "gport/ipc/event_json.hpp"
+#include "gport/ipc/json_rpc.hpp"
 #include "session.hpp"
 #include "socket_file.hpp"
 
@@ -57,10 +58,10 @@ Server::Server(asio::io_context& io, daemon::Api& api, config::SocketConfig conf
       log_(std::move(log)),
       listen_fd_(listen_fd),
       acceptor_(io),
-      dispatcher_(api,
-                  [this] {
-                      return ServerStats{clients(), dropped_total_};
-                  }),
+      dispatcher_(std::make_unique<Dispatcher>(api,
+                                               [this] {
+                                                   return ServerStats{clients(), dropped_total_};
+                                               })),
       max_clients_(config_.max_clients),
       trim_timer_(io),
       accept_pause_(io) {}
@@ -175,7 +176,8 @@ void Server::on_accept(stream_protocol::socket socket) {
         reject(std::move(socket), *why);
         return;
     }
-    auto session = std::make_shared<Session>(std::move(socket), *info, *this);
+    SessionHost& host = *this;
+    auto session = std::make_shared<Session>(std::move(socket), *info, host);
     sessions_.emplace(info->id, session);
     log_->debug("client {} connected: pid {} uid {} gid {}", info->id, info->pid, info->uid,
                 info->gid);

@@ -3,11 +3,12 @@
 #include "session.hpp"
 
 #include <fmt/format.h>
+#include <spdlog/logger.h>
 
 #include <boost/asio/post.hpp>
 #include <utility>
 
-#include "gport/ipc/server.hpp"
+#include "gport/config/config.hpp"
 
 namespace gport::ipc {
 namespace {
@@ -41,11 +42,11 @@ class Pending {
 
 }  // namespace
 
-Session::Session(Socket socket, daemon::ClientInfo info, Server& server)
+Session::Session(Socket socket, daemon::ClientInfo info, SessionHost& host)
     : socket_(std::move(socket)),
-      server_(server),
-      state_{info, {}, 0, {static_cast<double>(server.config().max_requests_per_s)}},
-      outbox_(server.config().queue_limit),
+      host_(host),
+      state_{info, {}, 0, {static_cast<double>(host.config().max_requests_per_s)}},
+      outbox_(host.config().queue_limit),
       idle_timer_(socket_.get_executor()),
       throttle_timer_(socket_.get_executor()),
       last_request_(Clock::now()) {}
@@ -54,7 +55,7 @@ void Session::start() {
     // Writes are tried at once (see flush); reads stay asynchronous.
     boost::system::error_code ignored;
     socket_.non_blocking(true, ignored);
-    arm_idle_timer(server_.config().idle_timeout);
+    arm_idle_timer(host_.config().idle_timeout);
     read();
 }
 
@@ -71,9 +72,9 @@ void Session::close() {
     if (rate_timer_) {
         rate_timer_->cancel();
     }
-    pending_attitude_.reset();
+    pacer_.clear();
     sync_budget();
-    server_.session_closed(*this);
+    host_.session_closed(*this);
 }
 
 // ---- reading --------------------------------------------------------------------
@@ -120,7 +121,7 @@ void Session::process_input() {
     if (closed_ || closing_ || reading_ || throttled_) {
         return;
     }
-    const std::size_t limit = server_.config().line_limit;
+    const std::size_t limit = host_.config().line_limit;
     std::size_t handled = 0;
     while (!closed_ && !closing_) {
         if (backlogged()) {
@@ -174,7 +175,7 @@ void Session::handle_line(std::string_view line) {
             self->request_done();
         }
     });
-    server_.dispatcher().handle_line(line, state_, [weak, pending](std::string reply) {
+    host_.dispatcher().handle_line(line, state_, [weak, pending](std::string reply) {
         if (auto self = weak.lock()) {
             self->reply(std::move(reply));
         }
@@ -212,15 +213,15 @@ void Session::request_done() {
 
 bool Session::backlogged() const {
     const std::size_t queued = outbox_.reply_bytes() + in_flight_bytes_;
-    return queued > kPauseBytes || (queued > 0 && server_.over_budget());
+    return queued > kPauseBytes || (queued > 0 && host_.over_budget());
 }
 
 void Session::refuse_long_line() {
-    server_.log().warn("client pid {} uid {}: request line longer than {} bytes; closing",
-                       state_.info.pid, state_.info.uid, server_.config().line_limit);
+    host_.log().warn("client pid {} uid {}: request line longer than {} bytes; closing",
+                     state_.info.pid, state_.info.uid, host_.config().line_limit);
     close_after_reply(rpc_error::kInvalidRequest,
                       fmt::format("request line longer than {} bytes; closing the connection",
-                                  server_.config().line_limit));
+                                  host_.config().line_limit));
 }
 
 // Stops reading, sends one last error, and closes once everything is written.
@@ -236,7 +237,7 @@ void Session::close_after_reply(int code, const std::string& message) {
 // connection closes once the replies owed are written (finish_if_done).
 void Session::hang_up() {
     const std::string_view rest = std::string_view(input_).substr(consumed_);
-    if (rest.size() <= server_.config().line_limit) {
+    if (rest.size() <= host_.config().line_limit) {
         handle_line(rest);
         if (closed_) {
             return;  // it overflowed: closing already told the server
@@ -246,7 +247,7 @@ void Session::hang_up() {
     hung_up_ = true;
     input_.clear();
     input_.shrink_to_fit();
-    server_.client_hung_up(*this);
+    host_.client_hung_up(*this);
     flush();
 }
 
@@ -267,7 +268,7 @@ void Session::on_idle_timer() {
     if (closed_ || closing_) {
         return;
     }
-    const auto timeout = server_.config().idle_timeout;
+    const auto timeout = host_.config().idle_timeout;
     const auto quiet = Clock::now() - last_request_;
     if (quiet < timeout) {
         arm_idle_timer(timeout - quiet);
@@ -277,8 +278,8 @@ void Session::on_idle_timer() {
         arm_idle_timer(timeout);
         return;
     }
-    server_.log().info("client {} (pid {} uid {}) idle for {} ms; closing it", state_.info.id,
-                       state_.info.pid, state_.info.uid, timeout.count());
+    host_.log().info("client {} (pid {} uid {}) idle for {} ms; closing it", state_.info.id,
+                     state_.info.pid, state_.info.uid, timeout.count());
     close_after_reply(
         rpc_error::kServerFull,
         fmt::format("idle for {} ms with no subscription (socket.idle_timeout_ms); closing",
@@ -290,7 +291,7 @@ void Session::on_idle_timer() {
 bool Session::busy() const {
     const auto& s = state_.subscriptions;
     return s.attitude || s.link || s.motion || outstanding_ > 0 ||
-           server_.holds_control_or_motion(state_.info);
+           host_.holds_control_or_motion(state_.info);
 }
 
 }  // namespace gport::ipc

@@ -13,7 +13,7 @@
 // - Over the request rate, requests get -32005; once its tokens run out the
 //   client is not read until a batch's worth of requests is allowed again,
 //   so a flood costs neither CPU nor memory.
-// - Half-close: at EOF the deadman runs at once (Server::client_hung_up) but
+// - Half-close: at EOF the deadman runs at once (SessionHost::client_hung_up) but
 //   the connection stays open until every outstanding reply is written.
 #pragma once
 
@@ -27,12 +27,12 @@
 #include <string_view>
 #include <vector>
 
+#include "gport/ipc/attitude_pacer.hpp"
 #include "gport/ipc/json_rpc.hpp"
 #include "gport/ipc/outbox.hpp"
+#include "gport/ipc/session_host.hpp"
 
 namespace gport::ipc {
-
-class Server;
 
 class Session : public std::enable_shared_from_this<Session> {
   public:
@@ -44,10 +44,10 @@ class Session : public std::enable_shared_from_this<Session> {
     // Queued reply bytes above which this client's requests wait.
     static constexpr std::size_t kPauseBytes = 64 * 1024;
 
-    Session(Socket socket, daemon::ClientInfo info, Server& server);
+    Session(Socket socket, daemon::ClientInfo info, SessionHost& host);
 
     void start();
-    // Closes at once; tells the server, which calls the core afterwards
+    // Closes at once; tells the host, which calls the core afterwards
     // (never from inside whatever is running now). Idempotent.
     void close();
 
@@ -91,7 +91,7 @@ class Session : public std::enable_shared_from_this<Session> {
     void sync_budget();
 
     Socket socket_;
-    Server& server_;
+    SessionHost& host_;
     ClientState state_;
     Outbox outbox_;
     std::array<char, 16384> read_buffer_{};
@@ -117,11 +117,9 @@ class Session : public std::enable_shared_from_this<Session> {
     Clock::time_point last_request_;
 
     // Attitude rate limit (only when the client asked for max_rate_hz): the
-    // newest sample that arrived too soon waits here for the timer.
+    // pacer decides, the timer wakes it for the newest sample held.
+    AttitudePacer pacer_;
     std::optional<boost::asio::steady_timer> rate_timer_;
-    bool timer_armed_ = false;
-    Line pending_attitude_;
-    std::optional<Clock::time_point> last_attitude_;  // empty: the next goes at once
 };
 
 }  // namespace gport::ipc

@@ -1,11 +1,12 @@
 // A session's output side: queueing replies and notifications, the attitude
 // rate limit, writing with one write in flight, and the memory it holds.
 #include <fmt/format.h>
+#include <spdlog/logger.h>
 
 #include <boost/asio/write.hpp>
 #include <utility>
 
-#include "gport/ipc/server.hpp"
+#include "gport/config/config.hpp"
 #include "session.hpp"
 
 namespace gport::ipc {
@@ -45,8 +46,8 @@ void Session::deliver_event(const Line& line) {
 
 // Only the server is told; the core hears of it after the current event.
 void Session::overflow() {
-    server_.log().warn("client pid {} uid {}: {} lines wait unread; disconnecting it",
-                       state_.info.pid, state_.info.uid, outbox_.size());
+    host_.log().warn("client pid {} uid {}: {} lines wait unread; disconnecting it",
+                     state_.info.pid, state_.info.uid, outbox_.size());
     close();
 }
 
@@ -62,38 +63,35 @@ void Session::deliver_attitude(const Line& line) {
     // max_rate_hz is at least kMinRateHz, so the interval fits a duration.
     const auto interval =
         std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / *rate));
-    const auto now = Clock::now();
-    if (!timer_armed_ && (!last_attitude_ || now - *last_attitude_ >= interval)) {
-        last_attitude_ = now;
-        queue_attitude(line);
-        return;
-    }
-    // Too soon: the newest sample waits and replaces any older waiting one.
-    pending_attitude_ = line;
-    if (timer_armed_) {
-        return;
+    switch (pacer_.offer(line, Clock::now(), interval)) {
+        case AttitudePacer::Decision::kSend:
+            queue_attitude(line);
+            return;
+        case AttitudePacer::Decision::kHold:
+            return;
+        case AttitudePacer::Decision::kHoldAndWake:
+            break;
     }
     if (!rate_timer_) {
         rate_timer_.emplace(socket_.get_executor());
     }
-    timer_armed_ = true;
-    rate_timer_->expires_at(*last_attitude_ + interval);
+    rate_timer_->expires_at(pacer_.wake_at());
     rate_timer_->async_wait([self = shared_from_this()](const boost::system::error_code& error) {
-        self->timer_armed_ = false;
-        if (!error) {
+        if (error) {
+            self->pacer_.disarmed();
+        } else {
             self->on_rate_timer();
         }
     });
 }
 
 void Session::on_rate_timer() {
-    if (closed_ || closing_ || !pending_attitude_) {
+    if (closed_ || closing_) {
+        pacer_.disarmed();
         return;
     }
-    last_attitude_ = Clock::now();
-    auto line = std::move(pending_attitude_);
-    pending_attitude_.reset();
-    if (state_.subscriptions.attitude) {  // it may have unsubscribed meanwhile
+    const auto line = pacer_.woken(Clock::now());
+    if (line && state_.subscriptions.attitude) {  // it may have unsubscribed meanwhile
         queue_attitude(line);
     }
 }
@@ -101,11 +99,11 @@ void Session::on_rate_timer() {
 // Over the server's memory budget, a client that has not read what it has
 // loses the sample (counted like any drop) instead of queueing more.
 void Session::queue_attitude(const Line& line) {
-    const bool refuse = server_.over_budget() && !outbox_.empty();
+    const bool refuse = host_.over_budget() && !outbox_.empty();
     if (const auto dropped = refuse ? outbox_.drop_attitude() : outbox_.push_attitude(line);
         dropped > 0) {
         state_.dropped = outbox_.dropped();
-        server_.note_dropped(dropped);
+        host_.note_dropped(dropped);
     }
     flush();
 }
@@ -200,7 +198,7 @@ void Session::finish_if_done() {
 void Session::sync_budget() {
     const std::size_t now = closed_ ? 0 : outbox_.bytes() + in_flight_bytes_;
     if (now != accounted_) {
-        server_.account(accounted_, now);
+        host_.account(accounted_, now);
         accounted_ = now;
     }
 }

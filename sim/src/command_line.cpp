@@ -11,7 +11,7 @@
 namespace gport::sim {
 namespace {
 
-using protocol::Error;
+using Error = OptionError;
 
 std::optional<double> to_number(std::string_view text) {
     double v = 0;
@@ -176,7 +176,7 @@ std::optional<Error> check_combinations(std::span<const std::string_view> args) 
 
 }  // namespace
 
-protocol::Result<CommandLine> parse_command_line(std::span<const std::string_view> args) {
+Result<CommandLine, OptionError> parse_command_line(std::span<const std::string_view> args) {
     CommandLine cl;
     for (std::size_t i = 0; i < args.size(); ++i) {
         std::string_view name = args[i];

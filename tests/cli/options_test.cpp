@@ -13,17 +13,17 @@ using namespace std::chrono_literals;
 
 Invocation parse(std::vector<std::string> args, const char* env = nullptr) {
     auto result = parse_args(args, env);
-    if (auto* error = std::get_if<UsageError>(&result)) {
-        ADD_FAILURE() << "usage error: " << error->message;
+    if (!result) {
+        ADD_FAILURE() << "usage error: " << result.error().message;
         return {};
     }
-    return std::get<Invocation>(result);
+    return *result;
 }
 
 std::string refusal(std::vector<std::string> args) {
     auto result = parse_args(args, nullptr);
-    if (auto* error = std::get_if<UsageError>(&result)) {
-        return error->message;
+    if (!result) {
+        return result.error().message;
     }
     ADD_FAILURE() << "accepted";
     return {};

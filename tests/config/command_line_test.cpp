@@ -20,7 +20,7 @@ Result<CommandLine> parse(std::initializer_list<const char*> options) {
 
 TEST(CommandLine, NoOptionsLeavesEverythingUnset) {
     auto c = parse({});
-    ASSERT_TRUE(c.ok()) << c.error_text();
+    ASSERT_TRUE(c.ok()) << c.error().text();
     EXPECT_FALSE(c->config_path || c->device || c->socket_path || c->log_level);
     EXPECT_FALSE(c->simulate || c->help || c->version);
 }
@@ -28,7 +28,7 @@ TEST(CommandLine, NoOptionsLeavesEverythingUnset) {
 TEST(CommandLine, EveryOptionWithSeparateValues) {
     auto c = parse({"--config", "/tmp/g.json", "--device", "/dev/ttyUSB1", "--socket",
                     "/tmp/g.sock", "--log-level", "debug", "--simulate"});
-    ASSERT_TRUE(c.ok()) << c.error_text();
+    ASSERT_TRUE(c.ok()) << c.error().text();
     EXPECT_EQ(c->config_path, "/tmp/g.json");
     EXPECT_EQ(c->device, "/dev/ttyUSB1");
     EXPECT_EQ(c->socket_path, "/tmp/g.sock");
@@ -39,7 +39,7 @@ TEST(CommandLine, EveryOptionWithSeparateValues) {
 TEST(CommandLine, EveryOptionWithEqualsForm) {
     auto c = parse({"--config=/tmp/g.json", "--device=/dev/ttyUSB1", "--socket=/tmp/a=b.sock",
                     "--log-level=warn"});
-    ASSERT_TRUE(c.ok()) << c.error_text();
+    ASSERT_TRUE(c.ok()) << c.error().text();
     EXPECT_EQ(c->config_path, "/tmp/g.json");
     EXPECT_EQ(c->device, "/dev/ttyUSB1");
     EXPECT_EQ(c->socket_path, "/tmp/a=b.sock");  // only the first '=' separates
@@ -54,54 +54,55 @@ TEST(CommandLine, HelpAndVersionFlags) {
 
 TEST(CommandLine, TheLastOfARepeatedOptionWins) {
     auto c = parse({"--device", "/dev/a", "--device=/dev/b"});
-    ASSERT_TRUE(c.ok()) << c.error_text();
+    ASSERT_TRUE(c.ok()) << c.error().text();
     EXPECT_EQ(c->device, "/dev/b");
 }
 
 TEST(CommandLine, MissingValueAtTheEndOrBeforeAnotherOption) {
-    EXPECT_THAT(parse({"--config"}).errors(),
+    EXPECT_THAT(parse({"--config"}).error().messages,
                 ElementsAre("--config: missing value; use --config FILE"));
-    EXPECT_THAT(parse({"--device", "--simulate"}).errors(),
+    EXPECT_THAT(parse({"--device", "--simulate"}).error().messages,
                 ElementsAre("--device: missing value; use --device PATH"));
 }
 
 TEST(CommandLine, EmptyValuesAreRefused) {
-    EXPECT_THAT(parse({"--config="}).errors(),
+    EXPECT_THAT(parse({"--config="}).error().messages,
                 ElementsAre(HasSubstr("--config: must name a file")));
-    EXPECT_THAT(parse({"--socket="}).errors(),
+    EXPECT_THAT(parse({"--socket="}).error().messages,
                 ElementsAre(HasSubstr("--socket: must be an absolute path")));
 }
 
 TEST(CommandLine, UnknownOptionListsTheOptions) {
-    EXPECT_THAT(parse({"--verbose"}).errors(),
+    EXPECT_THAT(parse({"--verbose"}).error().messages,
                 ElementsAre("unknown option \"--verbose\"; the options are --config, --device, "
                             "--socket, --log-level, --simulate, --help, -h, --version"));
-    EXPECT_THAT(parse({"--devices=/dev/x"}).errors(),
+    EXPECT_THAT(parse({"--devices=/dev/x"}).error().messages,
                 ElementsAre(HasSubstr("unknown option \"--devices\"")));
 }
 
 TEST(CommandLine, PositionalArgumentsAreRefused) {
-    EXPECT_THAT(parse({"/dev/ttyUSB0"}).errors(),
+    EXPECT_THAT(parse({"/dev/ttyUSB0"}).error().messages,
                 ElementsAre("unexpected argument \"/dev/ttyUSB0\"; gportd takes only options"));
 }
 
 TEST(CommandLine, FlagsTakeNoValue) {
-    EXPECT_THAT(parse({"--simulate=yes"}).errors(), ElementsAre("--simulate: takes no value"));
+    EXPECT_THAT(parse({"--simulate=yes"}).error().messages,
+                ElementsAre("--simulate: takes no value"));
 }
 
 TEST(CommandLine, ValuesAreCheckedLikeTheFile) {
-    EXPECT_THAT(parse({"--log-level", "loud"}).errors(),
+    EXPECT_THAT(parse({"--log-level", "loud"}).error().messages,
                 ElementsAre(ErrorWith("--log-level: must be one of trace, debug", "got \"loud\"")));
-    EXPECT_THAT(parse({"--device=ttyUSB0"}).errors(),
+    EXPECT_THAT(parse({"--device=ttyUSB0"}).error().messages,
                 ElementsAre(ErrorWith("--device: must be an absolute path")));
-    EXPECT_THAT(parse({"--socket", ("/" + std::string(200, 's')).c_str()}).errors(),
+    EXPECT_THAT(parse({"--socket", ("/" + std::string(200, 's')).c_str()}).error().messages,
                 ElementsAre(ErrorWith("--socket: must be at most 107 bytes")));
 }
 
 TEST(CommandLine, AllUsageErrorsAreReportedTogether) {
     auto c = parse({"--bogus", "--log-level=loud", "extra", "--config"});
-    EXPECT_THAT(c.errors(), ElementsAre(HasSubstr("--bogus"), HasSubstr("--log-level"),
-                                        HasSubstr("extra"), HasSubstr("--config")));
+    EXPECT_THAT(c.error().messages, ElementsAre(HasSubstr("--bogus"), HasSubstr("--log-level"),
+                                                HasSubstr("extra"), HasSubstr("--config")));
 }
 
 TEST(CommandLine, UsageNamesEveryOptionAndTheExitStatuses) {

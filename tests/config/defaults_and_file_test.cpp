@@ -43,20 +43,20 @@ TEST(ConfigDefaults, BuiltInValues) {
 
 TEST(ConfigDefaults, EmptyObjectKeepsEveryDefault) {
     auto result = load("{}");
-    ASSERT_TRUE(result.ok()) << result.error_text();
+    ASSERT_TRUE(result.ok()) << result.error().text();
     expect_defaults(*result);
 }
 
 TEST(ConfigDefaults, EmptySectionsKeepEveryDefault) {
     auto result = load(R"({"serial": {}, "socket": {}, "keepalive": {}, "link": {},
                           "requests": {}, "access": {}, "log": {}})");
-    ASSERT_TRUE(result.ok()) << result.error_text();
+    ASSERT_TRUE(result.ok()) << result.error().text();
     expect_defaults(*result);
 }
 
 TEST(ConfigExample, ShippedFileLoadsAndMatchesTheDefaults) {
     auto result = load_config_file(GPORT_EXAMPLE_CONFIG);
-    ASSERT_TRUE(result.ok()) << result.error_text();
+    ASSERT_TRUE(result.ok()) << result.error().text();
     expect_defaults(*result);
 }
 
@@ -73,7 +73,7 @@ TEST(ConfigFile, FullValidFileSetsEveryKey) {
         "access": {"control_uids": [0, 1000, "root"], "control_gids": ["root", 44]},
         "log": {"level": "trace"}
     })");
-    ASSERT_TRUE(result.ok()) << result.error_text();
+    ASSERT_TRUE(result.ok()) << result.error().text();
     const Config& c = *result;
     EXPECT_EQ(c.serial.device, "/dev/ttyUSB3");
     EXPECT_EQ(c.serial.baud, 921600u);
@@ -103,7 +103,7 @@ TEST(ConfigFile, FullValidFileSetsEveryKey) {
 
 TEST(ConfigFile, PartialSectionKeepsTheOtherDefaults) {
     auto result = load(R"({"keepalive": {"rate_hz": 20}})");
-    ASSERT_TRUE(result.ok()) << result.error_text();
+    ASSERT_TRUE(result.ok()) << result.error().text();
     EXPECT_DOUBLE_EQ(result->keepalive.rate_hz, 20.0);
     EXPECT_EQ(result->keepalive.default_duration, 1000ms);
     EXPECT_EQ(result->serial.device, "/dev/gimbal");
@@ -119,7 +119,7 @@ TEST(ConfigFile, LineAndBlockCommentsAreAllowed) {
             }
         }
         // final comment)");
-    ASSERT_TRUE(result.ok()) << result.error_text();
+    ASSERT_TRUE(result.ok()) << result.error().text();
     EXPECT_EQ(result->serial.baud, 9600u);
 }
 
@@ -127,7 +127,7 @@ TEST(ConfigFile, ModeAcceptsShortAndZeroForms) {
     for (const auto& [text, mode] : {std::pair{"0", 0u}, std::pair{"660", 0660u},
                                      std::pair{"0777", 0777u}, std::pair{"0000", 0u}}) {
         auto result = load(std::string(R"({"socket": {"mode": ")") + text + "\"}}");
-        ASSERT_TRUE(result.ok()) << text << ": " << result.error_text();
+        ASSERT_TRUE(result.ok()) << text << ": " << result.error().text();
         EXPECT_EQ(result->socket.mode, mode) << text;
     }
 }
@@ -135,7 +135,7 @@ TEST(ConfigFile, ModeAcceptsShortAndZeroForms) {
 TEST(ConfigFile, EveryLogLevelIsAccepted) {
     for (const char* level : {"trace", "debug", "info", "warn", "error", "critical", "off"}) {
         auto result = load(std::string(R"({"log": {"level": ")") + level + "\"}}");
-        ASSERT_TRUE(result.ok()) << level << ": " << result.error_text();
+        ASSERT_TRUE(result.ok()) << level << ": " << result.error().text();
         EXPECT_EQ(result->log.level, level);
     }
 }
@@ -143,14 +143,14 @@ TEST(ConfigFile, EveryLogLevelIsAccepted) {
 TEST(ConfigFile, LowAndHighStandardBaudRatesAreAccepted) {
     for (unsigned baud : {50u, 9600u, 4000000u}) {
         auto result = load(R"({"serial": {"baud": )" + std::to_string(baud) + "}}");
-        ASSERT_TRUE(result.ok()) << baud << ": " << result.error_text();
+        ASSERT_TRUE(result.ok()) << baud << ": " << result.error().text();
         EXPECT_EQ(result->serial.baud, baud);
     }
 }
 
 TEST(ConfigFile, LargestUidIsAccepted) {
     auto result = load(R"({"access": {"control_uids": [4294967294]}})");
-    ASSERT_TRUE(result.ok()) << result.error_text();
+    ASSERT_TRUE(result.ok()) << result.error().text();
     EXPECT_THAT(result->access.control_uids, ElementsAre(4294967294u));
 }
 

@@ -21,7 +21,7 @@ inline Result<Config> load(std::string_view text) {
 inline std::vector<std::string> errors_of(std::string_view text) {
     auto result = load(text);
     EXPECT_FALSE(result.ok()) << "expected errors for: " << text;
-    return result.errors();
+    return result.error().messages;
 }
 
 // An error message that holds every one of the given pieces.

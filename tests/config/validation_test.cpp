@@ -51,7 +51,7 @@ TEST(ConfigRanges, BothEndsAreAccepted) {
     for (const auto& r : kRanges) {
         for (auto n : {r.min, r.max}) {
             auto result = load(one_key(r, std::to_string(n)));
-            EXPECT_TRUE(result.ok()) << path_of(r) << "=" << n << ": " << result.error_text();
+            EXPECT_TRUE(result.ok()) << path_of(r) << "=" << n << ": " << result.error().text();
         }
     }
 }
@@ -273,7 +273,8 @@ TEST(ConfigErrors, MessagesFollowTheOrderOfTheFile) {
 TEST(ConfigErrors, ErrorTextHasOneLinePerProblem) {
     auto result = load(R"({"a": 1, "b": 2})");
     ASSERT_FALSE(result.ok());
-    EXPECT_EQ(result.error_text(), result.errors()[0] + "\n" + result.errors()[1] + "\n");
+    EXPECT_EQ(result.error().text(),
+              result.error().messages[0] + "\n" + result.error().messages[1] + "\n");
 }
 
 }  // namespace

@@ -48,6 +48,29 @@ TEST(EventJson, TimeKeepsMicrosecondsWithLeadingZeros) {
     EXPECT_NE(attitude_payload(s).find(R"("t":1700000000.000042)"), std::string::npos);
 }
 
+// The `attitude` method builds its result from attitude_json; it must say
+// exactly what the notification says, to the last digit.
+TEST(EventJson, AttitudeJsonSerialisesLikeThePayload) {
+    auto with_rates = sample_with_rates();
+    auto without_rates = sample_with_rates();
+    without_rates.attitude.rates.reset();
+    auto leading_zeros = sample_with_rates();
+    leading_zeros.wall = daemon::WallTime(std::chrono::microseconds(1700000000000042));
+    auto before_1970 = sample_with_rates();
+    before_1970.wall = daemon::WallTime(std::chrono::microseconds(-1500000));
+    auto whole = sample_with_rates();  // whole seconds and whole degrees print without a fraction
+    whole.wall = daemon::WallTime(std::chrono::seconds(1700000000));
+    whole.attitude.imu = {100, -200, 0};
+    auto whole_before_1970 = whole;
+    whole_before_1970.wall = daemon::WallTime(std::chrono::seconds(-2));
+    for (const auto& s :
+         {with_rates, without_rates, leading_zeros, before_1970, whole, whole_before_1970}) {
+        const json built = attitude_json(s);
+        EXPECT_EQ(built, json::parse(attitude_payload(s)));
+        EXPECT_EQ(built.dump(), json::parse(attitude_payload(s)).dump());
+    }
+}
+
 TEST(EventJson, DroppedCountGoesIntoParams) {
     auto line = with_dropped(*attitude_line(sample_with_rates()), 17);
     auto parsed = json::parse(*line);

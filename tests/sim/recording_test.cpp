@@ -54,7 +54,7 @@ TEST(Recording, RecorderWritesWhatLoadReads) {
     EXPECT_NE(load_recording(path).error().message.find("cannot open"), std::string::npos);
 }
 
-protocol::Result<CommandLine> parse(std::initializer_list<std::string_view> args) {
+Result<CommandLine, OptionError> parse(std::initializer_list<std::string_view> args) {
     const std::vector<std::string_view> v(args);
     return parse_command_line(v);
 }

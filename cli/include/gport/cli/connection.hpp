@@ -8,14 +8,15 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-#include <variant>
+
+#include "gport/base/result.hpp"
 
 namespace gport::cli {
 
 class Connection {
   public:
     // Connects, or returns why not ("cannot connect to PATH: ...").
-    static std::variant<Connection, std::string> open(const std::string& path);
+    static Result<Connection, std::string> open(const std::string& path);
 
     Connection(Connection&& other) noexcept;
     Connection& operator=(Connection&& other) noexcept;

@@ -7,8 +7,9 @@
 #include <optional>
 #include <string>
 #include <string_view>
-#include <variant>
 #include <vector>
+
+#include "gport/base/result.hpp"
 
 namespace gport::cli {
 
@@ -36,7 +37,7 @@ struct UsageError {
     std::string message;
 };
 
-using ParseResult = std::variant<Invocation, UsageError>;
+using ParseResult = Result<Invocation, UsageError>;
 
 // `args` excludes argv[0]. `env_socket` is $GPORT_SOCKET (nullptr if unset);
 // --socket wins over it.

@@ -4,8 +4,8 @@
 #pragma once
 
 #include <string>
-#include <utility>
-#include <variant>
+
+#include "gport/base/result.hpp"
 
 namespace gport::daemon {
 
@@ -23,22 +23,10 @@ struct CommandError {
     std::string message;
 };
 
-struct Done {};
+using Done = gport::Done;
 
+// What every command returns; one template in the tree (gport/base/result.hpp).
 template <typename T>
-class [[nodiscard]] Outcome {
-  public:
-    Outcome(T value) : v_(std::move(value)) {}             // NOLINT: implicit by design
-    Outcome(CommandError error) : v_(std::move(error)) {}  // NOLINT: implicit by design
-
-    bool ok() const { return std::holds_alternative<T>(v_); }
-    explicit operator bool() const { return ok(); }
-    const T& value() const { return std::get<T>(v_); }
-    const T* operator->() const { return &value(); }
-    const CommandError& error() const { return std::get<CommandError>(v_); }
-
-  private:
-    std::variant<T, CommandError> v_;
-};
+using Outcome = gport::Result<T, CommandError>;
 
 }  // namespace gport::daemon

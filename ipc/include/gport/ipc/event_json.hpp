@@ -34,9 +34,8 @@ Line motion_line(const daemon::MotionEvent& event);
 // params: how this one client learns how many samples it has lost so far.
 Line with_dropped(const std::string& attitude_notification, std::uint64_t dropped);
 
-// Shared pieces of results and notifications.
-nlohmann::json client_json(const daemon::ClientInfo& client);
-nlohmann::json axes_json(const protocol::Axes& axes);  // degrees from 0.01 units
-double epoch_seconds(daemon::WallTime time);           // with microsecond resolution
+// The same payload as a JSON object, for results that add to it (the
+// `attitude` method adds "age_ms"); it serialises to the same values.
+nlohmann::json attitude_json(const daemon::AttitudeSample& sample);
 
 }  // namespace gport::ipc

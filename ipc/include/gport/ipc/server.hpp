@@ -7,8 +7,12 @@
 //
 //   ipc::Server server(io, core, config.socket, log, activated_fd);
 //   server.start();   // throws std::runtime_error with a clear message
-//   ...               // signal handler: server.close(); core.shutdown(...)
+//   ...               // on SIGTERM: core.shutdown([&] { server.close(); });
 //   io.run();
+//
+// The core shuts down first (its motions end as `shutdown`, the last stop is
+// written and the device closed), and the sessions close in its completion:
+// closing them first would end their motions as `owner_gone` instead.
 #pragma once
 
 #include <spdlog/logger.h>
@@ -27,13 +31,15 @@
 
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
-#include "gport/ipc/json_rpc.hpp"
+#include "gport/ipc/session_host.hpp"
 
 namespace gport::ipc {
 
+class Dispatcher;
 class Session;
+struct Subscriptions;
 
-class Server final : public daemon::CoreObserver {
+class Server final : public daemon::CoreObserver, private SessionHost {
   public:
     // `listen_fd`: an already listening socket (systemd socket activation);
     // when given, the path, mode and group of `config` are left to the socket
@@ -62,8 +68,7 @@ class Server final : public daemon::CoreObserver {
     // Bytes queued for all clients together (outboxes and writes in flight).
     std::size_t queued_bytes() const { return queued_bytes_; }
 
-    // The memory budget across all sessions: over it, clients with unread
-    // output get no more attitude samples and their requests wait.
+    // The memory budget across all sessions (SessionHost::account).
     static constexpr std::size_t kQueuedBudget = 8 * 1024 * 1024;
 
     // CoreObserver: build each notification once, only when someone listens.
@@ -71,22 +76,18 @@ class Server final : public daemon::CoreObserver {
     void on_link(const daemon::LinkEvent& event) override;
     void on_motion(const daemon::MotionEvent& event) override;
 
-    // ---- for sessions ----
-    Dispatcher& dispatcher() { return dispatcher_; }
-    const config::SocketConfig& config() const { return config_; }
-    spdlog::logger& log() { return *log_; }
-    void note_dropped(std::size_t count) { dropped_total_ += count; }
-    // Closed for good: the core hears of it (client_gone unless the session
-    // hung up earlier, then client_closed) on a later turn, never from inside
-    // the event or callback that found the disconnect.
-    void session_closed(const Session& session);
-    // EOF from the client: the deadman runs now; replies are still written.
-    void client_hung_up(const Session& session);
-    void account(std::size_t before, std::size_t after);
-    bool over_budget() const { return queued_bytes_ > kQueuedBudget; }
-    bool holds_control_or_motion(const daemon::ClientInfo& client) const;
-
   private:
+    // SessionHost: what each Session may ask of the server.
+    Dispatcher& dispatcher() override { return *dispatcher_; }
+    const config::SocketConfig& config() const override { return config_; }
+    spdlog::logger& log() override { return *log_; }
+    void note_dropped(std::size_t count) override { dropped_total_ += count; }
+    void session_closed(const Session& session) override;
+    void client_hung_up(const Session& session) override;
+    void account(std::size_t before, std::size_t after) override;
+    bool over_budget() const override { return queued_bytes_ > kQueuedBudget; }
+    bool holds_control_or_motion(const daemon::ClientInfo& client) const override;
+
     void accept();
     void on_accept_error(const boost::system::error_code& error);
     void on_accept(boost::asio::local::stream_protocol::socket socket);
@@ -105,7 +106,7 @@ class Server final : public daemon::CoreObserver {
     std::shared_ptr<spdlog::logger> log_;
     std::optional<int> listen_fd_;
     boost::asio::local::stream_protocol::acceptor acceptor_;
-    Dispatcher dispatcher_;
+    std::unique_ptr<Dispatcher> dispatcher_;
     std::unordered_map<std::uint64_t, std::shared_ptr<Session>> sessions_;
     // Sessions that closed while the map was being walked; erased afterwards.
     std::vector<std::uint64_t> closed_ids_;

@@ -5,7 +5,7 @@
 #include <string>
 #include <string_view>
 
-#include "gport/protocol/result.hpp"
+#include "gport/base/result.hpp"
 #include "gport/sim/simulator.hpp"
 
 namespace gport::sim {
@@ -20,9 +20,15 @@ struct CommandLine {
     bool help = false;
 };
 
+// A command line gport-sim refuses: the message names the option and what it
+// allows (printed with the usage hint, exit kExitUsage).
+struct OptionError {
+    std::string message;
+};
+
 // Parses the arguments after the program name. Accepts "--opt value" and
-// "--opt=value". The error names the option and what it allows.
-protocol::Result<CommandLine> parse_command_line(std::span<const std::string_view> args);
+// "--opt=value".
+Result<CommandLine, OptionError> parse_command_line(std::span<const std::string_view> args);
 
 std::string help_text();
 

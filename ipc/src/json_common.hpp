@@ -1,0 +1,24 @@
+// The low JSON pieces shared by results (result_json) and notifications
+// (event_json). Both include this; neither includes the other.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "gport/daemon/api.hpp"
+
+namespace gport::ipc::detail {
+
+// One message as an NDJSON line: compact, invalid UTF-8 replaced, newline-ended.
+std::string json_line(const nlohmann::json& message);
+
+// Degrees from 0.01 units. The division is correctly rounded, so the shortest
+// round-trip output prints exactly two decimals at most ("-39.29").
+double degrees(std::int16_t centi);
+
+nlohmann::json client_json(const daemon::ClientInfo& client);
+nlohmann::json axes_json(const protocol::Axes& axes);  // degrees from 0.01 units
+double epoch_seconds(daemon::WallTime time);           // with microsecond resolution
+
+}  // namespace gport::ipc::detail
