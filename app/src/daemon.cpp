@@ -30,8 +30,6 @@ namespace asio = boost::asio;
 using daemon::Core;
 using daemon::LinkEvent;
 
-constexpr int kExitFailure = 1;
-
 const char* signal_name(int sig) {
     switch (sig) {
         case SIGTERM:
@@ -114,7 +112,7 @@ class Daemon {
             server_->start();
         } catch (const systemd::ActivationError& e) {
             log_->critical("socket activation: {}", e.what());
-            exit_status_ = config::kExitConfig;
+            exit_status_ = kExitConfig;
             return false;
         } catch (const std::exception& e) {
             log_->critical("{}", e.what());

@@ -19,8 +19,6 @@ using namespace std::chrono_literals;
 // dies or hangs, the gimbal stops within the duration.
 constexpr auto kResendEvery = 200ms;
 constexpr auto kResendDuration = 500ms;
-// A one-shot command cut short by Ctrl-C: the shell's 128 + SIGINT.
-constexpr int kExitInterrupted = 130;
 
 class Runner {
   public:

@@ -9,15 +9,17 @@
 #include <string_view>
 #include <vector>
 
+#include "gport/base/exit_status.hpp"
 #include "gport/base/result.hpp"
 
 namespace gport::cli {
 
-// Exit statuses (sysexits.h where one fits).
-inline constexpr int kExitOk = 0;
-inline constexpr int kExitError = 1;         // the daemon answered with an error
-inline constexpr int kExitUsage = 64;        // EX_USAGE
-inline constexpr int kExitUnavailable = 69;  // EX_UNAVAILABLE: no daemon to talk to
+// Exit statuses (gport/base/exit_status.hpp).
+using gport::kExitOk;
+inline constexpr int kExitError = gport::kExitFailure;  // the daemon answered with an error
+using gport::kExitInterrupted;
+using gport::kExitUnavailable;
+using gport::kExitUsage;
 
 inline constexpr std::string_view kDefaultSocket = "/run/gportd.sock";
 

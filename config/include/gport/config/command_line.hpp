@@ -17,12 +17,13 @@
 #include <string>
 #include <string_view>
 
+#include "gport/base/exit_status.hpp"
 #include "gport/config/result.hpp"
 
 namespace gport::config {
 
-inline constexpr int kExitUsage = 64;
-inline constexpr int kExitConfig = 78;
+using gport::kExitConfig;
+using gport::kExitUsage;
 
 // Read when --config is not given; its absence means built-in defaults.
 inline constexpr std::string_view kDefaultConfigPath = "/etc/gportd/gportd.json";

@@ -5,14 +5,15 @@
 #include <string>
 #include <string_view>
 
+#include "gport/base/exit_status.hpp"
 #include "gport/base/result.hpp"
 #include "gport/sim/simulator.hpp"
 
 namespace gport::sim {
 
-inline constexpr int kExitUsage = 64;    // EX_USAGE: bad command line
-inline constexpr int kExitOsError = 71;  // EX_OSERR: pty or link could not be made
-inline constexpr int kExitNoInput = 66;  // EX_NOINPUT: recording unreadable
+using gport::kExitNoInput;  // a recording cannot be read
+using gport::kExitOsError;  // the pty or the link cannot be made
+using gport::kExitUsage;
 
 struct CommandLine {
     SimOptions options;  // options.trace is left empty: the tool decides where it goes
