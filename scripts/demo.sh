@@ -14,7 +14,7 @@ cmake --build build/release -j "$(nproc)" --target gportd gportctl gport-sim
 
 workdir=$(mktemp -d)
 socket="$workdir/gportd.sock"
-gportd=build/release/daemon/gportd
+gportd=build/release/app/gportd
 gportctl=build/release/cli/gportctl
 export GPORT_SOCKET="$socket"
 

@@ -26,7 +26,7 @@ set -euo pipefail
 seconds=${1:-600}
 build_dir=${2:-build}
 sim="$build_dir/sim/gport-sim"
-daemon="$build_dir/daemon/gportd"
+daemon="$build_dir/app/gportd"
 driver="$build_dir/bench/e2e/gport_soak"
 for binary in "$sim" "$daemon" "$driver"; do
     if [[ ! -x $binary ]]; then
