@@ -32,7 +32,7 @@ const std::vector<CommandSpec>& commands() {
         {"center", "center", {}},
         {"lock", "lock", {}},
         {"photo", "photo", {}},
-        {"record", "record", {}},
+        {"record", "record", {"force"}},
         {"settings", "get_settings", {"dead-zone", "follow-speed", "inverted"}},
         {"help", "", {}},
     };
@@ -134,6 +134,26 @@ void build_settings(Invocation& inv, const Raw& raw) {
     }
 }
 
+// record [on|off [--force]]: without a state it toggles.
+void build_record(Invocation& inv, const Raw& raw) {
+    if (raw.positional.size() > 1) {
+        throw UsageError{fmt::format("record: unexpected argument \"{}\"", raw.positional[1])};
+    }
+    if (!raw.positional.empty()) {
+        const auto& state = raw.positional.front();
+        if (state != "on" && state != "off") {
+            throw UsageError{fmt::format("record: expected on or off, not \"{}\"", state)};
+        }
+        inv.params["on"] = state == "on";
+    }
+    if (!raw.options.empty()) {  // only --force is allowed here
+        if (raw.positional.empty()) {
+            throw UsageError{"record: --force needs on or off"};
+        }
+        inv.params["force"] = true;
+    }
+}
+
 // Splits argv into global options (applied to `inv`), command options and
 // positionals; the first positional is the command.
 Raw split(const std::vector<std::string>& args, Invocation& inv, const char* env_socket) {
@@ -147,6 +167,8 @@ Raw split(const std::vector<std::string>& args, Invocation& inv, const char* env
             inv.help = true;
         } else if (arg == "--json") {
             inv.json = true;
+        } else if (arg == "--force") {
+            raw.options.emplace_back("force", "");  // a flag: takes no value
         } else if (arg.rfind("--", 0) == 0 && arg.size() > 2) {
             std::string name = arg.substr(2);
             std::string value;
@@ -184,7 +206,9 @@ void check_options(const CommandSpec& spec, const Raw& raw) {
                             allowed.empty() ? "; it takes none" : "; options: " + allowed)};
         }
     }
-    if (!raw.positional.empty() && spec.name != "watch" && spec.name != "help") {
+    const bool takes_positionals =
+        spec.name == "watch" || spec.name == "help" || spec.name == "record";
+    if (!raw.positional.empty() && !takes_positionals) {
         throw UsageError{
             fmt::format("{}: unexpected argument \"{}\"", spec.name, raw.positional.front())};
     }
@@ -217,6 +241,8 @@ Invocation parse_or_throw(const std::vector<std::string>& args, const char* env_
         build_axes(inv, raw);
     } else if (spec->name == "settings") {
         build_settings(inv, raw);
+    } else if (spec->name == "record") {
+        build_record(inv, raw);
     }
     return inv;
 }

@@ -94,6 +94,7 @@ std::string status(const json& s) {
     out += fmt::format("control:   {}\n", s.value("controller", json()).is_object()
                                               ? "held by " + client(s["controller"])
                                               : std::string("free (last command wins)"));
+    out += fmt::format("recording: {} (assumed)\n", get(s, "recording", std::string("unknown")));
     out +=
         fmt::format("frames:    in {} ({} bytes), out {} ({} bytes), attitude {}\n",
                     get(c, "frames_in", 0ull), get(c, "bytes_in", 0ull), get(c, "frames_out", 0ull),
@@ -133,6 +134,11 @@ std::string format_result(const std::string& command, const json& result) {
             topics += (topics.empty() ? "" : ", ") + t.get<std::string>();
         }
         return fmt::format("watching {} (Ctrl-C to stop)\n", topics);
+    }
+    if (command == "record" && result.contains("recording")) {
+        return fmt::format("record: {}; recording {} (assumed)\n",
+                           get(result, "sent", true) ? "sent" : "nothing sent",
+                           get(result, "recording", std::string("unknown")));
     }
     return fmt::format("{}: sent\n", command);
 }

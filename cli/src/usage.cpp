@@ -21,7 +21,7 @@ commands:
   center                     centre the gimbal
   lock                       lock mode (control mode 4)
   photo                      take a photo
-  record                     start or stop recording (toggles)
+  record [on|off [--force]]  toggle recording, or switch it on or off
   settings [--dead-zone N] [--follow-speed N] [--inverted yes|no]
                              read the settings, or change the ones given
   help [COMMAND]             this text, or a command's
@@ -69,7 +69,14 @@ const std::map<std::string, std::string, std::less<>>& pages() {
         {"center", "usage: gportctl center\n\nCentres the gimbal.\n"},
         {"lock", "usage: gportctl lock\n\nLock mode (control mode 4).\n"},
         {"photo", "usage: gportctl photo\n\nTakes a photo.\n"},
-        {"record", "usage: gportctl record\n\nToggles video recording.\n"},
+        {"record",
+         "usage: gportctl record [on|off [--force]]\n\n"
+         "Without on or off, toggles video recording. The gimbal never reports\n"
+         "whether it records: gportd assumes a state from the toggles it sent,\n"
+         "and it is unknown at start and whenever the device reopens. `on` and\n"
+         "`off` toggle only when the assumed state differs; while it is unknown\n"
+         "they are refused unless --force, which toggles and takes the state\n"
+         "asked for as the new one.\n"},
         {"settings",
          "usage: gportctl settings [--dead-zone 0-255] [--follow-speed 0-255] "
          "[--inverted yes|no]\n\n"

@@ -40,6 +40,8 @@ Core::Core(asio::io_context& io, const config::Config& config, std::shared_ptr<s
             SerialPort::Handlers{[this](std::span<const std::uint8_t> bytes) { on_bytes(bytes); },
                                  [this] {
                                      decoder_.reset();
+                                     // The gimbal may have been power-cycled.
+                                     recording_ = RecordingState::kUnknown;
                                      monitor_.device_opened();
                                  },
                                  [this](const std::string& reason) {

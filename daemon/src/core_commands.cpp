@@ -121,8 +121,36 @@ Outcome<Done> Core::photo(const ClientInfo& client) {
     return camera(client, gp::CameraAction::kPhoto);
 }
 
-Outcome<Done> Core::record(const ClientInfo& client) {
-    return camera(client, gp::CameraAction::kToggleRecording);
+Outcome<RecordResult> Core::record(const ClientInfo& client, RecordRequest request) {
+    const auto wanted =
+        request.on ? std::optional(*request.on ? RecordingState::kOn : RecordingState::kOff)
+                   : std::nullopt;
+    if (wanted && recording_ == RecordingState::kUnknown && !request.force) {
+        return CommandError{
+            ErrorCode::kInvalidParams,
+            fmt::format("the recording state is unknown (gportd cannot read it from the gimbal, "
+                        "and forgets it when the device reopens); send record "
+                        "{{\"on\": {}, \"force\": true}} to toggle anyway and take {} as the "
+                        "new state",
+                        *request.on, *request.on ? "on" : "off")};
+    }
+    if (wanted && recording_ == *wanted && !request.force) {
+        if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
+            return std::move(*refused);
+        }
+        return RecordResult{false, recording_};
+    }
+    auto sent = camera(client, gp::CameraAction::kToggleRecording);
+    if (!sent) {
+        return sent.error();
+    }
+    if (wanted) {
+        recording_ = *wanted;
+    } else if (recording_ != RecordingState::kUnknown) {
+        recording_ = recording_ == RecordingState::kOn ? RecordingState::kOff : RecordingState::kOn;
+    }
+    log_->info("recording assumed {}", to_string(recording_));
+    return RecordResult{true, recording_};
 }
 
 Outcome<Done> Core::camera(const ClientInfo& client, gp::CameraAction action) {

@@ -36,6 +36,7 @@ Status Core::status() const {
     c.settings_timeouts = settings_.timeouts();
     s.motion = keepalive_.status();
     s.controller = arbiter_.holder();
+    s.recording = recording_;
     return s;
 }
 

@@ -159,8 +159,20 @@ void photo(MethodContext& c, const json& params, Respond respond) {
 }
 
 void record(MethodContext& c, const json& params, Respond respond) {
-    Params(params).only({});
-    answer_sent(c.api.record(c.client.info), respond);
+    const Params p(params);
+    p.only({"on", "force"});
+    daemon::RecordRequest request;
+    request.on = p.boolean("on");
+    request.force = p.boolean("force").value_or(false);
+    if (request.force && !request.on) {
+        throw InvalidParams("force needs on: record {\"on\": true|false, \"force\": true}");
+    }
+    auto outcome = c.api.record(c.client.info, request);
+    if (!outcome) {
+        respond(error_of(outcome.error()));
+        return;
+    }
+    respond(json{{"sent", outcome->sent}, {"recording", daemon::to_string(outcome->recording)}});
 }
 
 // ---- control and settings -------------------------------------------------------

@@ -66,6 +66,7 @@ json status_json(const daemon::Status& status, const ServerStats& stats,
             {"dropped_notifications", stats.dropped_notifications},
             {"motion", motion_json(status.motion)},
             {"controller", optional_client(status.controller)},
+            {"recording", daemon::to_string(status.recording)},
             {"client", std::move(you)}};
 }
 

@@ -69,6 +69,18 @@ TEST(Options, SpeedAndAngleTakeDegrees) {
     EXPECT_THAT(refusal({"speed", "--yaw"}), HasSubstr("--yaw needs a value"));
 }
 
+TEST(Options, RecordTogglesOrTakesOnOffAndForce) {
+    EXPECT_EQ(parse({"record"}).params, json::object());
+    EXPECT_EQ(parse({"record", "on"}).params, json({{"on", true}}));
+    EXPECT_EQ(parse({"record", "off"}).params, json({{"on", false}}));
+    EXPECT_EQ(parse({"record", "on", "--force"}).params, json({{"on", true}, {"force", true}}));
+    EXPECT_EQ(parse({"record", "--force", "off"}).params, json({{"on", false}, {"force", true}}));
+    EXPECT_THAT(refusal({"record", "maybe"}), HasSubstr("expected on or off"));
+    EXPECT_THAT(refusal({"record", "on", "off"}), HasSubstr("unexpected argument \"off\""));
+    EXPECT_THAT(refusal({"record", "--force"}), HasSubstr("--force needs on or off"));
+    EXPECT_THAT(refusal({"photo", "--force"}), HasSubstr("unknown option --force"));
+}
+
 TEST(Options, Durations) {
     EXPECT_EQ(parse_duration("2s"), 2000ms);
     EXPECT_EQ(parse_duration("500ms"), 500ms);

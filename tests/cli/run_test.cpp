@@ -59,13 +59,28 @@ TEST_F(RunTest, StatusForPeopleAndForScripts) {
 }
 
 TEST_F(RunTest, CommandsReachTheCore) {
-    for (const auto* command : {"stop", "center", "lock", "photo", "record"}) {
+    for (const auto* command : {"stop", "center", "lock", "photo"}) {
         auto ran = run({command});
         EXPECT_EQ(ran.status, kExitOk) << command;
         EXPECT_EQ(ran.out, std::string(command) + ": sent\n");
     }
+    EXPECT_EQ(run({"record"}).out, "record: sent; recording unknown (assumed)\n");
     EXPECT_EQ(run({"angle", "--pitch", "-45.5"}).status, kExitOk);
     EXPECT_THAT(calls().back(), HasSubstr("angle 0 -4550 0"));
+}
+
+TEST_F(RunTest, RecordOnOffAndTheAssumedState) {
+    h_.on_io([&] {
+        h_.api.record_result = {false, daemon::RecordingState::kOn};
+        h_.api.status_value.recording = daemon::RecordingState::kOn;
+    });
+    auto ran = run({"record", "on"});
+    EXPECT_EQ(ran.status, kExitOk) << ran.err;
+    EXPECT_EQ(ran.out, "record: nothing sent; recording on (assumed)\n");
+    EXPECT_THAT(calls().back(), HasSubstr("record on -"));
+    EXPECT_EQ(run({"record", "off", "--force"}).status, kExitOk);
+    EXPECT_THAT(calls().back(), HasSubstr("record off force"));
+    EXPECT_THAT(run({"status"}).out, HasSubstr("recording: on (assumed)"));
 }
 
 TEST_F(RunTest, DaemonErrorsExitOneWithTheCode) {

@@ -103,9 +103,66 @@ TEST_F(CoreFixture, NewSpeedReplacesAndAngleEndsTheKeepalive) {
     ASSERT_TRUE(core->center(alice).ok());
     ASSERT_TRUE(core->lock(alice).ok());
     ASSERT_TRUE(core->photo(alice).ok());
-    ASSERT_TRUE(core->record(alice).ok());
+    ASSERT_TRUE(core->record(alice, {}).ok());
     ASSERT_TRUE(run_until([&] { return frames_with("0x86") == 2; }));
     ASSERT_TRUE(run_until([&] { return simulator->model().state().photos == 1; }));
+}
+
+// The recording state is assumed: the gimbal never reports it.
+TEST_F(CoreFixture, RecordingStateIsAssumedFromTheTogglesSent) {
+    using daemon::RecordingState;
+    start();
+    ASSERT_TRUE(run_until([&] { return link_up(); }));
+    EXPECT_EQ(core->status().recording, RecordingState::kUnknown);
+    // A plain toggle from unknown stays unknown.
+    auto r = core->record(alice, {});
+    ASSERT_TRUE(r.ok());
+    EXPECT_TRUE(r->sent);
+    EXPECT_EQ(r->recording, RecordingState::kUnknown);
+    // Asking for a state while unknown is refused without force.
+    r = core->record(alice, {true, false});
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code, ErrorCode::kInvalidParams);
+    EXPECT_NE(r.error().message.find("force"), std::string::npos);
+    r = core->record(alice, {true, true});
+    ASSERT_TRUE(r.ok());
+    EXPECT_TRUE(r->sent);
+    EXPECT_EQ(r->recording, RecordingState::kOn);
+    r = core->record(alice, {true, false});
+    ASSERT_TRUE(r.ok());
+    EXPECT_FALSE(r->sent);
+    EXPECT_EQ(r->recording, RecordingState::kOn);
+    r = core->record(alice, {false, false});
+    ASSERT_TRUE(r.ok());
+    EXPECT_TRUE(r->sent);
+    EXPECT_EQ(r->recording, RecordingState::kOff);
+    r = core->record(alice, {});  // a plain toggle flips a known state
+    ASSERT_TRUE(r.ok());
+    EXPECT_EQ(r->recording, RecordingState::kOn);
+    EXPECT_EQ(core->status().recording, RecordingState::kOn);
+    ASSERT_TRUE(run_until([&] { return frames_with("0x86") == 4; }));
+    run_for(200ms);
+    EXPECT_EQ(frames_with("0x86"), 4U);
+    // A client that may not command learns nothing changed and sends nothing.
+    ASSERT_TRUE(core->acquire(bob).ok());
+    r = core->record(alice, {true, false});
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code, ErrorCode::kBusy);
+}
+
+TEST_F(CoreFixture, RecordingStateIsUnknownAgainWhenTheDeviceReopens) {
+    using daemon::RecordingState;
+    sim::SimOptions options;
+    options.link_path = ::testing::TempDir() + "gport-core-rec-" + std::to_string(::getpid());
+    options.faults.vanish_every = 600ms;
+    options.faults.vanish_for = 300ms;
+    start(options);
+    // The device vanishes often: retry until a forced "on" goes out.
+    ASSERT_TRUE(run_until([&] { return core->record(alice, {true, true}).ok(); }));
+    EXPECT_EQ(core->status().recording, RecordingState::kOn);
+    const auto opens = core->status().counters.device_opens;
+    ASSERT_TRUE(run_until([&] { return core->status().counters.device_opens > opens; }, 10s));
+    EXPECT_EQ(core->status().recording, RecordingState::kUnknown);
 }
 
 TEST_F(CoreFixture, DurationAboveTheMaximumIsRefused) {

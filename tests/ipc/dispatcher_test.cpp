@@ -216,12 +216,45 @@ TEST_F(DispatcherTest, CoreErrorsMapToTheirCodes) {
 }
 
 TEST_F(DispatcherTest, EveryCameraAndModeCommandReachesTheCore) {
-    for (const auto* method : {"stop", "center", "lock", "photo", "record"}) {
+    for (const auto* method : {"stop", "center", "lock", "photo"}) {
         EXPECT_EQ(call(method)["result"]["sent"], true);
         EXPECT_EQ(api_.calls.back(), fmt::format("{} by 7", method));
     }
+    EXPECT_EQ(call("record")["result"]["sent"], true);
+    EXPECT_EQ(api_.calls.back(), "record toggle - by 7");
     call("angle", {{"pitch", -90}});
     EXPECT_EQ(api_.calls.back(), "angle 0 -9000 0 by 7");
+}
+
+TEST_F(DispatcherTest, RecordPassesOnAndForceAndSaysTheAssumedState) {
+    api_.record_result = {false, daemon::RecordingState::kOn};
+    auto r = call("record", {{"on", true}})["result"];
+    EXPECT_EQ(r, (json{{"sent", false}, {"recording", "on"}}));
+    EXPECT_EQ(api_.calls.back(), "record on - by 7");
+    api_.record_result = {true, daemon::RecordingState::kOff};
+    r = call("record", {{"on", false}, {"force", true}})["result"];
+    EXPECT_EQ(r, (json{{"sent", true}, {"recording", "off"}}));
+    EXPECT_EQ(api_.calls.back(), "record off force by 7");
+    api_.record_result = {true, daemon::RecordingState::kUnknown};
+    EXPECT_EQ(call("record", json::object())["result"]["recording"], "unknown");
+    EXPECT_EQ(api_.calls.back(), "record toggle - by 7");
+}
+
+TEST_F(DispatcherTest, RecordRefusesBadParamsBeforeTheCore) {
+    const auto before = api_.calls.size();
+    EXPECT_EQ(code(call("record", {{"on", "yes"}})), -32602);
+    EXPECT_EQ(code(call("record", {{"on", true}, {"force", 1}})), -32602);
+    EXPECT_EQ(code(call("record", {{"state", "on"}})), -32602);
+    auto alone = call("record", {{"force", true}});
+    EXPECT_EQ(code(alone), -32602);
+    EXPECT_THAT(message(alone), HasSubstr("force needs on"));
+    EXPECT_EQ(api_.calls.size(), before);
+}
+
+TEST_F(DispatcherTest, StatusSaysTheAssumedRecordingState) {
+    EXPECT_EQ(call("status")["result"]["recording"], "unknown");
+    api_.status_value.recording = daemon::RecordingState::kOn;
+    EXPECT_EQ(call("status")["result"]["recording"], "on");
 }
 
 TEST_F(DispatcherTest, AcquireAndReleaseSayWhoHoldsControl) {

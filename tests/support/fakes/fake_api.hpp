@@ -94,8 +94,17 @@ class FakeApi final : public daemon::Api {
     daemon::Outcome<daemon::Done> photo(const daemon::ClientInfo& c) override {
         return command("photo", c);
     }
-    daemon::Outcome<daemon::Done> record(const daemon::ClientInfo& c) override {
-        return command("record", c);
+    // record answers with this (sent, recording) unless `error` is set.
+    daemon::RecordResult record_result{true, daemon::RecordingState::kUnknown};
+    daemon::Outcome<daemon::RecordResult> record(const daemon::ClientInfo& c,
+                                                 daemon::RecordRequest r) override {
+        auto done = command(fmt::format("record {} {}", r.on ? (*r.on ? "on" : "off") : "toggle",
+                                        r.force ? "force" : "-"),
+                            c);
+        if (!done) {
+            return done.error();
+        }
+        return record_result;
     }
     daemon::Outcome<std::optional<daemon::ClientInfo>> acquire(
         const daemon::ClientInfo& c) override {

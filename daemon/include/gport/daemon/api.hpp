@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "gport/daemon/events.hpp"
 #include "gport/daemon/outcome.hpp"
@@ -29,6 +30,37 @@ struct SettingsChange {
     std::optional<std::uint8_t> dead_zone;
     std::optional<std::uint8_t> follow_speed;
     std::optional<bool> inverted;
+};
+
+// What gportd assumes about the camera's recording. The gimbal never reports
+// it: 0x86 value 1 only toggles. It starts unknown, flips with every toggle
+// that went out (unknown stays unknown), and is unknown again whenever the
+// device (re)opens, since the gimbal may have been power-cycled meanwhile.
+enum class RecordingState { kUnknown, kOff, kOn };
+
+constexpr std::string_view to_string(RecordingState state) {
+    switch (state) {
+        case RecordingState::kOff:
+            return "off";
+        case RecordingState::kOn:
+            return "on";
+        case RecordingState::kUnknown:
+            break;
+    }
+    return "unknown";
+}
+
+// record: no `on` toggles. With `on`, toggles only when the assumed state
+// differs; an unknown state is refused (kInvalidParams) unless `force`, which
+// toggles and takes `on` as the new state.
+struct RecordRequest {
+    std::optional<bool> on;
+    bool force = false;
+};
+
+struct RecordResult {
+    bool sent = false;
+    RecordingState recording = RecordingState::kUnknown;
 };
 
 struct SpeedStarted {
@@ -71,8 +103,9 @@ struct Status {
     Millis uptime{0};
     std::optional<Millis> attitude_age;
     Counters counters;
-    std::optional<MotionStatus> motion;    // a speed motion under keepalive
-    std::optional<ClientInfo> controller;  // holder of acquire(), if any
+    std::optional<MotionStatus> motion;                   // a speed motion under keepalive
+    std::optional<ClientInfo> controller;                 // holder of acquire(), if any
+    RecordingState recording = RecordingState::kUnknown;  // assumed, see RecordingState
 };
 
 class Api {
@@ -96,7 +129,7 @@ class Api {
     virtual Outcome<Done> center(const ClientInfo& client) = 0;
     virtual Outcome<Done> lock(const ClientInfo& client) = 0;
     virtual Outcome<Done> photo(const ClientInfo& client) = 0;
-    virtual Outcome<Done> record(const ClientInfo& client) = 0;
+    virtual Outcome<RecordResult> record(const ClientInfo& client, RecordRequest request) = 0;
 
     // Control arbitration: returns the holder after the call.
     virtual Outcome<std::optional<ClientInfo>> acquire(const ClientInfo& client) = 0;

@@ -59,7 +59,7 @@ class Core final : public Api {
     Outcome<Done> center(const ClientInfo& client) override;
     Outcome<Done> lock(const ClientInfo& client) override;
     Outcome<Done> photo(const ClientInfo& client) override;
-    Outcome<Done> record(const ClientInfo& client) override;
+    Outcome<RecordResult> record(const ClientInfo& client, RecordRequest request) override;
     Outcome<std::optional<ClientInfo>> acquire(const ClientInfo& client) override;
     Outcome<std::optional<ClientInfo>> release(const ClientInfo& client) override;
     void get_settings(const ClientInfo& client, SettingsCallback done) override;
@@ -112,6 +112,7 @@ class Core final : public Api {
     std::uint64_t seq_ = 0;
     std::uint64_t bad_messages_ = 0;
     bool stopping_ = false;
+    RecordingState recording_ = RecordingState::kUnknown;  // assumed; unknown on each open
 };
 
 }  // namespace gport::daemon

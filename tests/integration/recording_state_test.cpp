@@ -1,0 +1,82 @@
+// Issue 12 end to end: the real gportd on the real gport-sim. The gimbal
+// never reports whether it records, so gportd assumes a state from the 0x86
+// toggles it sent; `record {"on": ...}` toggles only when that differs.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "harness.hpp"
+
+namespace gport::testing {
+namespace {
+
+class RecordingStateEndToEnd : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        sim_ = std::make_unique<SimProcess>(dir_);
+        daemon_ = std::make_unique<DaemonProcess>(
+            dir_, std::vector<std::string>{"--device", sim_->link()});
+        client_ = std::make_unique<Client>(daemon_->socket());
+        ASSERT_TRUE(client_->connected());
+        ASSERT_TRUE(
+            eventually([&] { return client_->call("status")["result"]["link"]["state"] == "up"; }));
+    }
+
+    // Sends a photo as a marker and counts the record toggles the gimbal got
+    // before it (frames go out in order): no timing involved.
+    int toggles_before_marker() {
+        EXPECT_EQ(client_->call("photo")["result"]["sent"], true);
+        int toggles = 0;
+        auto marker = sim_->process().wait_line([&](const std::string& line) {
+            auto j = Json::parse(line, nullptr, false);
+            if (!j.is_object()) {
+                return false;
+            }
+            const auto action = j.value("action", "");
+            toggles += action == "record" ? 1 : 0;
+            return action == "photo";
+        });
+        EXPECT_TRUE(marker.has_value()) << "the photo never reached the gimbal";
+        return toggles;
+    }
+
+    Json record(const Json& params) { return client_->call("record", params); }
+    std::string status_recording() {
+        return client_->call("status")["result"].value("recording", "?");
+    }
+
+    TempDir dir_;
+    std::unique_ptr<SimProcess> sim_;
+    std::unique_ptr<DaemonProcess> daemon_;
+    std::unique_ptr<Client> client_;
+};
+
+TEST_F(RecordingStateEndToEnd, OnOffSendOnlyTheTogglesNeeded) {
+    EXPECT_EQ(status_recording(), "unknown");
+
+    auto refused = record({{"on", true}});
+    EXPECT_EQ(refused["error"]["code"], -32602);
+    EXPECT_NE(refused["error"]["message"].get<std::string>().find("force"), std::string::npos);
+    EXPECT_EQ(toggles_before_marker(), 0);
+
+    EXPECT_EQ(record({{"on", true}, {"force", true}})["result"],
+              Json({{"sent", true}, {"recording", "on"}}));
+    EXPECT_EQ(toggles_before_marker(), 1);
+    EXPECT_EQ(status_recording(), "on");
+
+    EXPECT_EQ(record({{"on", true}})["result"], Json({{"sent", false}, {"recording", "on"}}));
+    EXPECT_EQ(toggles_before_marker(), 0);
+
+    EXPECT_EQ(record({{"on", false}})["result"], Json({{"sent", true}, {"recording", "off"}}));
+    EXPECT_EQ(toggles_before_marker(), 1);
+    EXPECT_EQ(status_recording(), "off");
+
+    // A plain record toggles as before, and flips the assumed state.
+    EXPECT_EQ(record(nullptr)["result"], Json({{"sent", true}, {"recording", "on"}}));
+    EXPECT_EQ(toggles_before_marker(), 1);
+}
+
+}  // namespace
+}  // namespace gport::testing
