@@ -161,6 +161,39 @@ void check_slots(Reader& r, const Json& given, const Config& c) {
         given.contains("max_clients") ? "" : ", the default"));
 }
 
+// "limits.<axis>": {"min": deg, "max": deg}, min < max.
+void read_range(Reader& r, const Json& value, const std::string& path, AxisRange& out) {
+    static const std::vector<std::string_view> kKeys = {"min", "max"};
+    if (!r.object(value, path, kKeys)) {
+        return;
+    }
+    AxisRange range = out;
+    bool ok = true;
+    for (const auto& [key, member] : value.items()) {
+        const auto member_path = fmt::format("{}.{}", path, key);
+        if (key == "min" || key == "max") {
+            if (auto n = r.number(member, member_path, -kMaxDegrees, kMaxDegrees)) {
+                (key == "min" ? range.min : range.max) = *n;
+            } else {
+                ok = false;
+            }
+        } else {
+            r.unknown_key(path, key, kKeys);
+            ok = false;
+        }
+    }
+    if (!ok) {
+        return;
+    }
+    if (range.min >= range.max) {
+        r.error(path, fmt::format("min ({}{}) must be less than max ({}{})", range.min,
+                                  value.contains("min") ? "" : ", the default", range.max,
+                                  value.contains("max") ? "" : ", the default"));
+        return;
+    }
+    out = range;
+}
+
 const std::vector<Section>& sections() {
     static const std::vector<Section> kSections = {
         {"serial",
@@ -295,6 +328,26 @@ const std::vector<Section>& sections() {
                    r.error(p, *problem);
                } else if (level) {
                    c.log.level = std::move(*level);
+               }
+           }}}},
+        {"limits",
+         {{"roll",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               read_range(r, v, p, c.limits.roll);
+           }},
+          {"pitch",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               read_range(r, v, p, c.limits.pitch);
+           }},
+          {"yaw",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               read_range(r, v, p, c.limits.yaw);
+           }},
+          {"max_speed",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               // (0, 327.67]: 0.01 °/s is the protocol's smallest non-zero speed.
+               if (auto n = r.number(v, p, 0.01, kMaxDegrees)) {
+                   c.limits.max_speed = *n;
                }
            }}}},
     };

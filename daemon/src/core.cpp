@@ -75,6 +75,7 @@ void Core::reload(const config::Config& config) {
     arbiter_.set_policy(AccessPolicy(config.access));
     config_.keepalive.default_duration = config.keepalive.default_duration;
     config_.keepalive.max_duration = config.keepalive.max_duration;
+    config_.limits = config.limits;
 }
 
 void Core::add_link_listener(std::function<void(const LinkEvent&)> listener) {

@@ -5,6 +5,7 @@
 #include <boost/asio/post.hpp>
 
 #include "gport/daemon/core.hpp"
+#include "gport/daemon/core/motion_limits.hpp"
 
 namespace gport::daemon {
 
@@ -56,20 +57,28 @@ bool Core::may_command(const ClientInfo& client) const {
 // ---- commands ----------------------------------------------------------------
 
 Outcome<SpeedStarted> Core::speed(const ClientInfo& client, gp::Axes speed,
-                                  std::optional<Millis> duration) {
+                                  std::optional<Millis> duration, bool clamp) {
     const auto max = config_.keepalive.max_duration;
     if (duration && (duration->count() < 1 || *duration > max)) {
         return CommandError{ErrorCode::kInvalidParams,
                             fmt::format("duration_ms = {} is out of range; allowed 1 to {}",
                                         duration->count(), max.count())};
     }
+    auto limited = MotionLimits(config_.limits).speed(speed, clamp);
+    if (!limited) {
+        return limited.error();
+    }
     if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
         return std::move(*refused);
     }
-    if (!send_control(gp::Control::speed_of(speed))) {
+    if (!send_control(gp::Control::speed_of(limited->axes))) {
         return link_down();
     }
-    return keepalive_.start(client, speed, duration.value_or(config_.keepalive.default_duration));
+    auto started = keepalive_.start(client, limited->axes,
+                                    duration.value_or(config_.keepalive.default_duration));
+    started.speed = limited->axes;
+    started.clamped = std::move(limited->clamped);
+    return started;
 }
 
 // Any client that may command may stop, whoever holds control: stopping is
@@ -88,8 +97,16 @@ Outcome<Done> Core::stop(const ClientInfo& client) {
     return Done{};
 }
 
-Outcome<Done> Core::angle(const ClientInfo& client, gp::Axes angle) {
-    return position(client, gp::Control::angle_of(angle));
+Outcome<AngleSent> Core::angle(const ClientInfo& client, gp::Axes angle, bool clamp) {
+    auto limited = MotionLimits(config_.limits).angle(angle, clamp);
+    if (!limited) {
+        return limited.error();
+    }
+    auto sent = position(client, gp::Control::angle_of(limited->axes));
+    if (!sent) {
+        return sent.error();
+    }
+    return AngleSent{limited->axes, std::move(limited->clamped)};
 }
 
 Outcome<Done> Core::center(const ClientInfo& client) {

@@ -117,19 +117,22 @@ void unsubscribe(MethodContext& c, const json& params, Respond respond) {
 
 void speed(MethodContext& c, const json& params, Respond respond) {
     const Params p(params);
-    p.only({"roll", "pitch", "yaw", "duration_ms"});
+    p.only({"roll", "pitch", "yaw", "duration_ms", "clamp"});
     const auto axes = p.axes();
     std::optional<daemon::Millis> duration;
     if (auto ms = p.integer("duration_ms", 1, 86'400'000)) {
         duration = daemon::Millis(*ms);
     }
-    auto outcome = c.api.speed(c.client.info, axes, duration);
+    const bool clamp = p.boolean("clamp").value_or(false);
+    auto outcome = c.api.speed(c.client.info, axes, duration, clamp);
     if (!outcome) {
         respond(error_of(outcome.error()));
         return;
     }
     respond(json{{"duration_ms", outcome->duration.count()},
-                 {"ends_at", detail::epoch_seconds(outcome->ends_at)}});
+                 {"ends_at", detail::epoch_seconds(outcome->ends_at)},
+                 {"speed", axes_json(outcome->speed)},
+                 {"clamped", outcome->clamped}});
 }
 
 void stop(MethodContext& c, const json& params, Respond respond) {
@@ -139,8 +142,16 @@ void stop(MethodContext& c, const json& params, Respond respond) {
 
 void angle(MethodContext& c, const json& params, Respond respond) {
     const Params p(params);
-    p.only({"roll", "pitch", "yaw"});
-    answer_sent(c.api.angle(c.client.info, p.axes()), respond);
+    p.only({"roll", "pitch", "yaw", "clamp"});
+    const auto axes = p.axes();
+    const bool clamp = p.boolean("clamp").value_or(false);
+    auto outcome = c.api.angle(c.client.info, axes, clamp);
+    if (!outcome) {
+        respond(error_of(outcome.error()));
+        return;
+    }
+    respond(
+        json{{"sent", true}, {"angle", axes_json(outcome->angle)}, {"clamped", outcome->clamped}});
 }
 
 void center(MethodContext& c, const json& params, Respond respond) {

@@ -42,5 +42,30 @@ TEST_F(CoreFixture, ReloadChangesSpeedDurationsButNotTheRunningMotion) {
     EXPECT_EQ(zero_speed_frames(), 0u);
 }
 
+TEST_F(CoreFixture, ReloadAppliesTheSoftLimitsToTheNextCommand) {
+    auto cfg = test_config("/dev/unused");
+    start();
+    ASSERT_TRUE(run_until([&] { return link_up(); }));
+    ASSERT_TRUE(core->angle(alice, {0, -10000, 0}).ok()) << "no limits by default";
+    cfg.limits.pitch = {-90.0, 30.0};
+    cfg.limits.max_speed = 50.0;
+    core->reload(cfg);
+    const auto refused = core->angle(alice, {0, -10000, 0});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, ErrorCode::kInvalidParams);
+    EXPECT_NE(refused.error().message.find("limits.pitch"), std::string::npos);
+    const auto clamped = core->angle(alice, {0, -10000, 0}, true);
+    ASSERT_TRUE(clamped.ok());
+    EXPECT_EQ(clamped->angle, (protocol::Axes{0, -9000, 0}));
+    EXPECT_FALSE(core->speed(alice, {0, 0, 6000}, 1000ms).ok());
+    const auto fast = core->speed(alice, {0, 0, -6000}, 1000ms, true);
+    ASSERT_TRUE(fast.ok());
+    EXPECT_EQ(fast->speed, (protocol::Axes{0, 0, -5000}));
+    ASSERT_TRUE(run_until([&] {
+        const auto frames = speed_frames();
+        return !frames.empty() && frames.back() == Json::array({0, 0, -5000});
+    }));
+}
+
 }  // namespace
 }  // namespace gport::testing

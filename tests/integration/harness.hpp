@@ -57,10 +57,11 @@ inline std::string write_test_config(const TempDir& dir, const std::string& extr
 // gportd on a device (or --simulate), with a socket in dir.
 class DaemonProcess {
   public:
+    // `config_extra`: more sections for the config file, as write_test_config.
     DaemonProcess(const TempDir& dir, std::vector<std::string> args,
-                  std::vector<std::string> env = {})
+                  std::vector<std::string> env = {}, const std::string& config_extra = "")
         : socket_(dir.file("gportd.sock")) {
-        std::vector<std::string> argv{GPORTD_PATH, "--config", write_test_config(dir),
+        std::vector<std::string> argv{GPORTD_PATH, "--config", write_test_config(dir, config_extra),
                                       "--socket",  socket_,    "--log-level",
                                       "warn"};
         argv.insert(argv.end(), args.begin(), args.end());

@@ -176,6 +176,32 @@ TEST_F(DispatcherTest, SpeedConvertsUnitsAndSaysWhenItEnds) {
     EXPECT_EQ(api_.calls.back(), "speed 0 0 0 -1 by 7");
 }
 
+TEST_F(DispatcherTest, ClampIsPassedToTheCoreAndTheReplySaysWhatWasSent) {
+    auto angle = call("angle", {{"pitch", -90}})["result"];
+    EXPECT_EQ(api_.calls.back(), "angle 0 -9000 0 by 7");
+    EXPECT_EQ(angle, json({{"sent", true},
+                           {"angle", {{"roll", 0.0}, {"pitch", -90.0}, {"yaw", 0.0}}},
+                           {"clamped", json::array()}}));
+    api_.clamped = {"pitch"};
+    angle = call("angle", {{"pitch", -90}, {"clamp", true}})["result"];
+    EXPECT_EQ(api_.calls.back(), "angle 0 -9000 0 clamp by 7");
+    EXPECT_EQ(angle["clamped"], json({"pitch"}));
+    call("angle", {{"pitch", -90}, {"clamp", false}});
+    EXPECT_EQ(api_.calls.back(), "angle 0 -9000 0 by 7");
+
+    auto speed = call("speed", {{"yaw", 20}, {"clamp", true}})["result"];
+    EXPECT_EQ(api_.calls.back(), "speed 0 0 2000 -1 clamp by 7");
+    EXPECT_EQ(speed["speed"], json({{"roll", 0.0}, {"pitch", 0.0}, {"yaw", 20.0}}));
+    EXPECT_EQ(speed["clamped"], json({"pitch"}));
+    EXPECT_TRUE(speed.contains("duration_ms"));
+
+    const auto calls = api_.calls.size();
+    EXPECT_THAT(message(call("angle", {{"clamp", 1}})), HasSubstr("clamp must be true or false"));
+    EXPECT_THAT(message(call("speed", {{"clamp", "yes"}})),
+                HasSubstr("clamp must be true or false"));
+    EXPECT_EQ(api_.calls.size(), calls);
+}
+
 TEST_F(DispatcherTest, ParamsAreValidatedNamingFieldAndRange) {
     auto range = call("speed", {{"pitch", 400}});
     EXPECT_EQ(code(range), rpc_error::kInvalidParams);
@@ -186,7 +212,7 @@ TEST_F(DispatcherTest, ParamsAreValidatedNamingFieldAndRange) {
                 HasSubstr("duration_ms must be an integer from 1"));
     EXPECT_THAT(message(call("speed", {{"duration_ms", 1.5}})), HasSubstr("duration_ms"));
     EXPECT_THAT(message(call("angle", {{"zoom", 1}})),
-                HasSubstr("unknown parameter \"zoom\"; allowed: roll, pitch and yaw"));
+                HasSubstr("unknown parameter \"zoom\"; allowed: roll, pitch, yaw and clamp"));
     EXPECT_THAT(message(call("stop", {{"now", 1}})), HasSubstr("takes no parameters"));
     EXPECT_THAT(message(call("stop", json::array({1}))), HasSubstr("params must be an object"));
     EXPECT_EQ(call("stop", json::array())["result"]["sent"], true);

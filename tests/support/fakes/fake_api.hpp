@@ -24,7 +24,8 @@ class FakeApi final : public daemon::Api {
     std::optional<daemon::CommandError> error;  // every command fails with it while set
     std::optional<daemon::ClientInfo> holder;
     daemon::Settings settings{10, 20, false};
-    bool emit_motion = false;  // speed() publishes a motion "started" event
+    std::vector<std::string> clamped;  // what angle() and speed() report as clamped
+    bool emit_motion = false;          // speed() publishes a motion "started" event
     std::vector<std::string> calls;
     std::vector<daemon::ClientInfo> gone;
     std::vector<daemon::ClientInfo> closed;
@@ -63,9 +64,10 @@ class FakeApi final : public daemon::Api {
     bool may_command(const daemon::ClientInfo&) const override { return !error; }
 
     daemon::Outcome<daemon::SpeedStarted> speed(const daemon::ClientInfo& c, protocol::Axes s,
-                                                std::optional<daemon::Millis> d) override {
-        calls.push_back(fmt::format("speed {} {} {} {} by {}", s.roll, s.pitch, s.yaw,
-                                    d ? d->count() : -1, c.id));
+                                                std::optional<daemon::Millis> d,
+                                                bool clamp = false) override {
+        calls.push_back(fmt::format("speed {} {} {} {}{} by {}", s.roll, s.pitch, s.yaw,
+                                    d ? d->count() : -1, clamp ? " clamp" : "", c.id));
         if (error) {
             return *error;
         }
@@ -77,13 +79,20 @@ class FakeApi final : public daemon::Api {
             event.duration = duration;
             observer->on_motion(event);
         }
-        return daemon::SpeedStarted{duration, std::chrono::system_clock::now() + duration};
+        return daemon::SpeedStarted{duration, std::chrono::system_clock::now() + duration, s,
+                                    clamped};
     }
     daemon::Outcome<daemon::Done> stop(const daemon::ClientInfo& c) override {
         return command("stop", c);
     }
-    daemon::Outcome<daemon::Done> angle(const daemon::ClientInfo& c, protocol::Axes a) override {
-        return command(fmt::format("angle {} {} {}", a.roll, a.pitch, a.yaw), c);
+    daemon::Outcome<daemon::AngleSent> angle(const daemon::ClientInfo& c, protocol::Axes a,
+                                             bool clamp = false) override {
+        auto done = command(
+            fmt::format("angle {} {} {}{}", a.roll, a.pitch, a.yaw, clamp ? " clamp" : ""), c);
+        if (!done) {
+            return done.error();
+        }
+        return daemon::AngleSent{a, clamped};
     }
     daemon::Outcome<daemon::Done> center(const daemon::ClientInfo& c) override {
         return command("center", c);

@@ -65,6 +65,23 @@ struct LogConfig {               // "log"
     std::string level = "info";  // "level": trace, debug, info, warn, error, critical, off
 };
 
+// Soft limits on motion, in degrees; the core refuses (or, on request, clamps)
+// commands beyond them. The defaults are the protocol's whole range: no limit.
+constexpr double kMaxDegrees = 327.67;
+
+struct AxisRange {              // "roll", "pitch", "yaw"
+    double min = -kMaxDegrees;  // "min"
+    double max = kMaxDegrees;   // "max": greater than min
+    bool operator==(const AxisRange&) const = default;
+};
+
+struct LimitsConfig {                // "limits"
+    AxisRange roll;                  // "roll": angle commands
+    AxisRange pitch;                 // "pitch"
+    AxisRange yaw;                   // "yaw"
+    double max_speed = kMaxDegrees;  // "max_speed": °/s, every axis, speed commands
+};
+
 struct Config {
     SerialConfig serial;
     SocketConfig socket;
@@ -73,6 +90,7 @@ struct Config {
     RequestConfig requests;
     AccessConfig access;
     LogConfig log;
+    LimitsConfig limits;
     bool simulate = false;  // command line only: --simulate
 };
 

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "gport/daemon/events.hpp"
 #include "gport/daemon/outcome.hpp"
@@ -66,6 +67,13 @@ struct RecordResult {
 struct SpeedStarted {
     Millis duration{0};
     WallTime ends_at{};
+    protocol::Axes speed{};              // as sent, after limits.max_speed
+    std::vector<std::string> clamped{};  // axes clamped ("roll", "pitch", "yaw")
+};
+
+struct AngleSent {
+    protocol::Axes angle{};              // as sent, after the limits
+    std::vector<std::string> clamped{};  // axes clamped ("roll", "pitch", "yaw")
 };
 
 struct Counters {
@@ -122,10 +130,15 @@ class Api {
     // ---- commands ----
     // Speed in 0.01°/s; duration empty means the configured default. A
     // duration above the configured maximum is refused (kInvalidParams).
+    // A speed faster than limits.max_speed on any axis is refused
+    // (kInvalidParams) or, with `clamp`, clamped to it.
     virtual Outcome<SpeedStarted> speed(const ClientInfo& client, protocol::Axes speed,
-                                        std::optional<Millis> duration) = 0;
+                                        std::optional<Millis> duration, bool clamp = false) = 0;
     virtual Outcome<Done> stop(const ClientInfo& client) = 0;
-    virtual Outcome<Done> angle(const ClientInfo& client, protocol::Axes angle) = 0;
+    // Angle in 0.01°. A target outside the soft limits (limits.roll/pitch/yaw)
+    // is refused (kInvalidParams) or, with `clamp`, clamped into them.
+    virtual Outcome<AngleSent> angle(const ClientInfo& client, protocol::Axes angle,
+                                     bool clamp = false) = 0;
     virtual Outcome<Done> center(const ClientInfo& client) = 0;
     virtual Outcome<Done> lock(const ClientInfo& client) = 0;
     virtual Outcome<Done> photo(const ClientInfo& client) = 0;

@@ -53,9 +53,10 @@ class Core final : public Api {
     std::optional<AttitudeSample> latest_attitude() const override { return latest_; }
     bool may_command(const ClientInfo& client) const override;
     Outcome<SpeedStarted> speed(const ClientInfo& client, protocol::Axes speed,
-                                std::optional<Millis> duration) override;
+                                std::optional<Millis> duration, bool clamp = false) override;
     Outcome<Done> stop(const ClientInfo& client) override;
-    Outcome<Done> angle(const ClientInfo& client, protocol::Axes angle) override;
+    Outcome<AngleSent> angle(const ClientInfo& client, protocol::Axes angle,
+                             bool clamp = false) override;
     Outcome<Done> center(const ClientInfo& client) override;
     Outcome<Done> lock(const ClientInfo& client) override;
     Outcome<Done> photo(const ClientInfo& client) override;

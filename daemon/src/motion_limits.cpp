@@ -1,0 +1,82 @@
+#include "gport/daemon/core/motion_limits.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+namespace gport::daemon {
+namespace {
+
+struct Axis {
+    const char* name;
+    std::int16_t protocol::Axes::*member;
+};
+
+constexpr std::array<Axis, 3> kAxes = {Axis{"roll", &protocol::Axes::roll},
+                                       Axis{"pitch", &protocol::Axes::pitch},
+                                       Axis{"yaw", &protocol::Axes::yaw}};
+
+// Degrees to 0.01 units, the unit of the commands.
+std::int16_t centi(double degrees) {
+    const auto c = std::lround(degrees * 100.0);
+    return static_cast<std::int16_t>(std::clamp<long>(c, -32767, 32767));
+}
+
+double degrees(std::int16_t centi) {
+    return static_cast<double>(centi) / 100.0;
+}
+
+const config::AxisRange& range_of(const config::LimitsConfig& c, const Axis& axis) {
+    const std::string_view name = axis.name;
+    return name == "roll" ? c.roll : name == "pitch" ? c.pitch : c.yaw;
+}
+
+}  // namespace
+
+Outcome<Limited> MotionLimits::angle(protocol::Axes target, bool clamp) const {
+    Limited out{target, {}};
+    for (const auto& axis : kAxes) {
+        const auto& range = range_of(config_, axis);
+        const auto low = centi(range.min);
+        const auto high = centi(range.max);
+        auto& value = out.axes.*axis.member;
+        if (value >= low && value <= high) {
+            continue;
+        }
+        if (!clamp) {
+            return CommandError{
+                ErrorCode::kInvalidParams,
+                fmt::format("{} = {} is outside the soft limit {} to {} (limits.{}); "
+                            "clamp: true moves as far as allowed",
+                            axis.name, degrees(value), range.min, range.max, axis.name)};
+        }
+        value = std::clamp(value, low, high);
+        out.clamped.emplace_back(axis.name);
+    }
+    return out;
+}
+
+Outcome<Limited> MotionLimits::speed(protocol::Axes speed, bool clamp) const {
+    Limited out{speed, {}};
+    const auto max = centi(config_.max_speed);
+    for (const auto& axis : kAxes) {
+        auto& value = out.axes.*axis.member;
+        if (std::abs(value) <= max) {
+            continue;
+        }
+        if (!clamp) {
+            return CommandError{ErrorCode::kInvalidParams,
+                                fmt::format("{} = {} °/s is faster than the soft limit {} °/s "
+                                            "(limits.max_speed); clamp: true moves at the limit",
+                                            axis.name, degrees(value), config_.max_speed)};
+        }
+        value = static_cast<std::int16_t>(value < 0 ? -max : max);
+        out.clamped.emplace_back(axis.name);
+    }
+    return out;
+}
+
+}  // namespace gport::daemon
