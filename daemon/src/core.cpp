@@ -137,8 +137,11 @@ void Core::on_link(const LinkEvent& event) {
 }
 
 void Core::on_motion(const MotionEvent& event) {
-    const ClientLogScope scope(event.owner);  // the motion's lines name its owner
-    if (event.change == MotionChange::kEnded) {
+    const ClientLogScope scope(event.owner);       // the motion's lines name its owner
+    if (event.change == MotionChange::kUpdated) {  // a streaming controller: not news
+        log_->debug("motion updated ({}) by pid {}: speed {} {} {}", to_string(event.mode),
+                    pid_of(event.owner), event.speed.roll, event.speed.pitch, event.speed.yaw);
+    } else if (event.change == MotionChange::kEnded) {
         log_->info("motion ended ({}), owner pid {}",
                    event.reason ? to_string(*event.reason) : "unknown", pid_of(event.owner));
     } else {

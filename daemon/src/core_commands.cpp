@@ -57,12 +57,18 @@ bool Core::may_command(const ClientInfo& client) const {
 // ---- commands ----------------------------------------------------------------
 
 Outcome<SpeedStarted> Core::speed(const ClientInfo& client, gp::Axes speed,
-                                  std::optional<Millis> duration, bool clamp) {
+                                  std::optional<Millis> duration, bool clamp,
+                                  std::optional<Millis> lease) {
     const auto max = config_.keepalive.max_duration;
     if (duration && (duration->count() < 1 || *duration > max)) {
         return CommandError{ErrorCode::kInvalidParams,
                             fmt::format("duration_ms = {} is out of range; allowed 1 to {}",
                                         duration->count(), max.count())};
+    }
+    if (lease && (lease->count() < 1 || *lease > max)) {
+        return CommandError{ErrorCode::kInvalidParams,
+                            fmt::format("lease_ms = {} is out of range; allowed 1 to {}",
+                                        lease->count(), max.count())};
     }
     auto limited = MotionLimits(config_.limits).speed(speed, clamp);
     if (!limited) {
@@ -74,8 +80,8 @@ Outcome<SpeedStarted> Core::speed(const ClientInfo& client, gp::Axes speed,
     if (!send_control(gp::Control::speed_of(limited->axes))) {
         return link_down();
     }
-    auto started = keepalive_.start(client, limited->axes,
-                                    duration.value_or(config_.keepalive.default_duration));
+    const auto length = duration.value_or(config_.keepalive.default_duration);
+    auto started = keepalive_.start(client, limited->axes, length, lease.value_or(length));
     started.speed = limited->axes;
     started.clamped = std::move(limited->clamped);
     return started;

@@ -9,17 +9,52 @@ using Clock = std::chrono::steady_clock;
 Keepalive::Keepalive(boost::asio::io_context& io, Millis period, Send send, Emit emit)
     : timer_(io), period_(period), send_(std::move(send)), emit_(std::move(emit)) {}
 
-SpeedStarted Keepalive::start(const ClientInfo& owner, protocol::Axes speed, Millis duration) {
+namespace {
+
+SpeedStarted started_for(Millis duration) {
+    const auto wall_end = std::chrono::system_clock::now() + duration;
+    return SpeedStarted{duration, std::chrono::time_point_cast<WallTime::duration>(wall_end)};
+}
+
+}  // namespace
+
+SpeedStarted Keepalive::start(const ClientInfo& owner, protocol::Axes speed, Millis duration,
+                              Millis lease) {
+    if (motion_ && motion_->owner.id == owner.id) {
+        return update(speed, duration, lease);
+    }
     const bool replacing = motion_.has_value();
     const auto now = Clock::now();
-    motion_ = Motion{owner, speed, duration, now + duration, now + period_};
+    motion_ = Motion{owner, speed, duration, now + duration, now + period_, now + lease, now};
     arm();
-    const auto wall_end = std::chrono::system_clock::now() + duration;
-    const SpeedStarted started{duration,
-                               std::chrono::time_point_cast<WallTime::duration>(wall_end)};
+    const auto started = started_for(duration);
     // Last, and nothing of motion_ afterwards: the listener may end it
     // (its owner dropped for a full outbox) before emit_ returns.
     emit_(event(replacing ? MotionChange::kReplaced : MotionChange::kStarted, std::nullopt));
+    return started;
+}
+
+// The same owner's next speed: renews the end (its duration counts from now,
+// as for any speed command) and the lease; published later, coalesced, unless
+// the last event of the motion is older than kUpdateNoteInterval.
+SpeedStarted Keepalive::update(protocol::Axes speed, Millis duration, Millis lease) {
+    ++updates_;
+    const auto now = Clock::now();
+    motion_->speed = speed;
+    motion_->duration = duration;
+    motion_->ends = now + duration;
+    motion_->lease_ends = now + lease;
+    motion_->next_tick = now + period_;  // the frame just sent counts as a tick
+    const bool note_now = now >= next_note();
+    motion_->update_pending = !note_now;
+    if (note_now) {
+        motion_->noted = now;
+    }
+    arm();
+    const auto started = started_for(duration);
+    if (note_now) {
+        emit_(event(MotionChange::kUpdated, std::nullopt));  // last, as in start()
+    }
     return started;
 }
 
@@ -55,7 +90,11 @@ std::optional<MotionStatus> Keepalive::status() const {
 }
 
 void Keepalive::arm() {
-    timer_.expires_at(std::min(motion_->next_tick, motion_->ends));
+    auto at = std::min({motion_->next_tick, motion_->ends, motion_->lease_ends});
+    if (motion_->update_pending) {
+        at = std::min(at, next_note());
+    }
+    timer_.expires_at(at);
     timer_.async_wait([this](boost::system::error_code ec) {
         if (!ec && motion_) {
             on_timer();
@@ -69,6 +108,10 @@ void Keepalive::on_timer() {
         end(EndReason::kDuration, true);
         return;
     }
+    if (now >= motion_->lease_ends) {
+        end(EndReason::kLeaseExpired, true);
+        return;
+    }
     if (now >= motion_->next_tick) {
         if (send_(protocol::Control::speed_of(motion_->speed))) {
             ++frames_sent_;
@@ -79,7 +122,15 @@ void Keepalive::on_timer() {
             motion_->next_tick += period_;
         } while (motion_->next_tick <= now);
     }
+    const bool note = motion_->update_pending && now >= next_note();
+    if (note) {
+        motion_->update_pending = false;
+        motion_->noted = now;
+    }
     arm();
+    if (note) {
+        emit_(event(MotionChange::kUpdated, std::nullopt));  // last: the listener may end it
+    }
 }
 
 MotionEvent Keepalive::event(MotionChange change, std::optional<EndReason> reason) const {

@@ -117,14 +117,18 @@ void unsubscribe(MethodContext& c, const json& params, Respond respond) {
 
 void speed(MethodContext& c, const json& params, Respond respond) {
     const Params p(params);
-    p.only({"roll", "pitch", "yaw", "duration_ms", "clamp"});
+    p.only({"roll", "pitch", "yaw", "duration_ms", "clamp", "lease_ms"});
     const auto axes = p.axes();
     std::optional<daemon::Millis> duration;
     if (auto ms = p.integer("duration_ms", 1, 86'400'000)) {
         duration = daemon::Millis(*ms);
     }
+    std::optional<daemon::Millis> lease;
+    if (auto ms = p.integer("lease_ms", 1, 86'400'000)) {
+        lease = daemon::Millis(*ms);
+    }
     const bool clamp = p.boolean("clamp").value_or(false);
-    auto outcome = c.api.speed(c.client.info, axes, duration, clamp);
+    auto outcome = c.api.speed(c.client.info, axes, duration, clamp, lease);
     if (!outcome) {
         respond(error_of(outcome.error()));
         return;

@@ -26,6 +26,7 @@ json counters_json(const daemon::Counters& c, std::uint64_t dropped) {
             {"device_opens", c.device_opens},
             {"device_failures", c.device_failures},
             {"keepalive_frames", c.keepalive_frames},
+            {"motion_updates", c.motion_updates},
             {"stops_sent", c.stops_sent},
             {"frames_replaced", c.frames_replaced},
             {"frames_refused", c.frames_refused},

@@ -63,11 +63,12 @@ class FakeApi final : public daemon::Api {
     std::optional<daemon::AttitudeSample> latest_attitude() const override { return attitude; }
     bool may_command(const daemon::ClientInfo&) const override { return !error; }
 
-    daemon::Outcome<daemon::SpeedStarted> speed(const daemon::ClientInfo& c, protocol::Axes s,
-                                                std::optional<daemon::Millis> d,
-                                                bool clamp = false) override {
-        calls.push_back(fmt::format("speed {} {} {} {}{} by {}", s.roll, s.pitch, s.yaw,
-                                    d ? d->count() : -1, clamp ? " clamp" : "", c.id));
+    daemon::Outcome<daemon::SpeedStarted> speed(
+        const daemon::ClientInfo& c, protocol::Axes s, std::optional<daemon::Millis> d,
+        bool clamp = false, std::optional<daemon::Millis> lease = std::nullopt) override {
+        calls.push_back(fmt::format("speed {} {} {} {}{}{} by {}", s.roll, s.pitch, s.yaw,
+                                    d ? d->count() : -1, clamp ? " clamp" : "",
+                                    lease ? fmt::format(" lease {}", lease->count()) : "", c.id));
         if (error) {
             return *error;
         }

@@ -90,6 +90,7 @@ struct Counters {
     std::uint64_t device_opens = 0;
     std::uint64_t device_failures = 0;  // failed opens and lost devices
     std::uint64_t keepalive_frames = 0;
+    std::uint64_t motion_updates = 0;   // speeds that updated their owner's motion
     std::uint64_t stops_sent = 0;       // zero-speed frames written to the device
     std::uint64_t frames_replaced = 0;  // waiting 0x85 frames a newer 0x85 replaced
     std::uint64_t frames_refused = 0;   // camera/settings frames refused: the device is stuck
@@ -131,9 +132,14 @@ class Api {
     // Speed in 0.01°/s; duration empty means the configured default. A
     // duration above the configured maximum is refused (kInvalidParams).
     // A speed faster than limits.max_speed on any axis is refused
-    // (kInvalidParams) or, with `clamp`, clamped to it.
+    // (kInvalidParams) or, with `clamp`, clamped to it. A speed from the
+    // client that owns the current speed motion updates it (kUpdated, rate
+    // limited) instead of replacing it. `lease` (empty: the duration, else 1
+    // to the maximum duration) ends the motion with kLeaseExpired when no
+    // further speed from its owner arrives within it.
     virtual Outcome<SpeedStarted> speed(const ClientInfo& client, protocol::Axes speed,
-                                        std::optional<Millis> duration, bool clamp = false) = 0;
+                                        std::optional<Millis> duration, bool clamp = false,
+                                        std::optional<Millis> lease = std::nullopt) = 0;
     virtual Outcome<Done> stop(const ClientInfo& client) = 0;
     // Angle in 0.01°. A target outside the soft limits (limits.roll/pitch/yaw)
     // is refused (kInvalidParams) or, with `clamp`, clamped into them.

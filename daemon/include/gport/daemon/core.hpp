@@ -53,7 +53,8 @@ class Core final : public Api {
     std::optional<AttitudeSample> latest_attitude() const override { return latest_; }
     bool may_command(const ClientInfo& client) const override;
     Outcome<SpeedStarted> speed(const ClientInfo& client, protocol::Axes speed,
-                                std::optional<Millis> duration, bool clamp = false) override;
+                                std::optional<Millis> duration, bool clamp = false,
+                                std::optional<Millis> lease = std::nullopt) override;
     Outcome<Done> stop(const ClientInfo& client) override;
     Outcome<AngleSent> angle(const ClientInfo& client, protocol::Axes angle,
                              bool clamp = false) override;

@@ -50,7 +50,10 @@ struct LinkEvent {
 using MotionMode = protocol::ControlMode;
 using protocol::to_string;
 
-enum class MotionChange { kStarted, kReplaced, kEnded };
+// kUpdated: the owner of a speed motion sent another speed (a streaming
+// controller); published at most once per kUpdateNoteInterval, the latest
+// speed winning.
+enum class MotionChange { kStarted, kReplaced, kEnded, kUpdated };
 
 // Why a speed motion ended.
 enum class EndReason {
@@ -60,7 +63,8 @@ enum class EndReason {
     kShutdown,
     kSuperseded,
     kLinkDown,
-    kPreempted,  // another client acquired control
+    kPreempted,     // another client acquired control
+    kLeaseExpired,  // no update from its owner within the lease
 };
 
 struct MotionEvent {
@@ -103,6 +107,8 @@ constexpr std::string_view to_string(MotionChange change) {
             return "replaced";
         case MotionChange::kEnded:
             return "ended";
+        case MotionChange::kUpdated:
+            return "updated";
     }
     return "unknown";
 }
@@ -123,6 +129,8 @@ constexpr std::string_view to_string(EndReason reason) {
             return "link_down";
         case EndReason::kPreempted:
             return "preempted";
+        case EndReason::kLeaseExpired:
+            return "lease_expired";
     }
     return "unknown";
 }

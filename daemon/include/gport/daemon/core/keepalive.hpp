@@ -3,6 +3,13 @@
 // when its owner goes away, on shutdown or when the link drops, the motion
 // ends. Every tick's deadline is computed from the previous deadline, not
 // from "now", so the period does not drift.
+//
+// A speed from the motion's own owner (a joystick streaming commands) is an
+// update, not a new motion: the speed, end and lease are renewed, and an
+// kUpdated event goes out at most once per kUpdateNoteInterval after the
+// previous event of the motion, carrying the latest speed. The lease is the
+// deadman for a controller that hangs with its socket open: no update within
+// it ends the motion with kLeaseExpired and a zero speed.
 #pragma once
 
 #include <boost/asio/io_context.hpp>
@@ -20,11 +27,16 @@ class Keepalive {
     using Send = std::function<bool(const protocol::Control&)>;
     using Emit = std::function<void(const MotionEvent&)>;
 
+    static constexpr Millis kUpdateNoteInterval{500};
+
     Keepalive(boost::asio::io_context& io, Millis period, Send send, Emit emit);
 
-    // Starts (or replaces) the motion; the first frame has already been sent.
-    // Both start() and end() emit last, so the listener may call back in.
-    SpeedStarted start(const ClientInfo& owner, protocol::Axes speed, Millis duration);
+    // Starts, replaces or (same owner) updates the motion; the first frame has
+    // already been sent. It ends after `duration`, or after `lease` without
+    // another start() by its owner. Both start() and end() emit last, so the
+    // listener may call back in.
+    SpeedStarted start(const ClientInfo& owner, protocol::Axes speed, Millis duration,
+                       Millis lease);
     // Ends the motion, if any, with the reason; sends zero speed if asked.
     void end(EndReason reason, bool send_zero);
 
@@ -32,6 +44,7 @@ class Keepalive {
     std::optional<ClientInfo> owner() const;
     std::optional<MotionStatus> status() const;
     std::uint64_t frames_sent() const { return frames_sent_; }
+    std::uint64_t updates() const { return updates_; }
 
   private:
     struct Motion {
@@ -40,7 +53,13 @@ class Keepalive {
         Millis duration;
         SteadyTime ends;
         SteadyTime next_tick;
+        SteadyTime lease_ends;
+        SteadyTime noted;             // when the last event of this motion went out
+        bool update_pending = false;  // an update not yet published
     };
+
+    SpeedStarted update(protocol::Axes speed, Millis duration, Millis lease);
+    SteadyTime next_note() const { return motion_->noted + kUpdateNoteInterval; }
 
     void arm();
     void on_timer();
@@ -52,6 +71,7 @@ class Keepalive {
     Emit emit_;
     std::optional<Motion> motion_;
     std::uint64_t frames_sent_ = 0;
+    std::uint64_t updates_ = 0;
 };
 
 }  // namespace gport::daemon
