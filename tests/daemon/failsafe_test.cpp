@@ -131,6 +131,32 @@ TEST_F(FailsafeTest, ShutdownCenterSendsZeroSpeedThenCentre) {
     EXPECT_LT(*zero, *center);
 }
 
+// Telemetry off: no attitude ever, so hold has nothing to hold and falls
+// back to stop; the motion still ends.
+TEST_F(FailsafeTest, HoldWithoutAttitudeFallsBackToStop) {
+    sim::SimOptions options;
+    options.model.stream_rate_hz = 0;
+    start(options, [](config::Config& c) { c.failsafe.on_owner_gone = Failsafe::kHold; });
+    ASSERT_TRUE(run_until([&] { return core->status().device_open; }));
+    ASSERT_TRUE(core->speed(alice, {0, 0, 500}, 30000ms).ok());
+    core->client_gone(alice);
+    ASSERT_TRUE(run_until([&] { return zero_speed_frames() == 1; }, 5s));
+    run_for(200ms);
+    expect_ended(EndReason::kOwnerGone);
+    EXPECT_FALSE(first_control("angle"));
+}
+
+// A reload changes the policy for a motion already running.
+TEST_F(FailsafeTest, ReloadAppliesTheNewPolicy) {
+    start_with(Failsafe::kStop, Failsafe::kStop);
+    auto next = test_config(simulator->device_path());
+    next.failsafe.on_owner_gone = Failsafe::kCenter;
+    core->reload(next);
+    core->client_gone(alice);
+    ASSERT_TRUE(run_until([&] { return first_control("center").has_value(); }, 5s));
+    expect_ended(EndReason::kOwnerGone);
+}
+
 TEST_F(FailsafeTest, NoMotionNoFailsafe) {
     start({}, [](config::Config& c) { c.failsafe.on_owner_gone = Failsafe::kCenter; });
     ASSERT_TRUE(run_until([&] { return link_up(); }));
