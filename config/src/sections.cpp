@@ -194,6 +194,33 @@ void read_range(Reader& r, const Json& value, const std::string& path, AxisRange
     out = range;
 }
 
+// "failsafe.<key>": one of the policies; "hold" only where `hold_ok`.
+void read_failsafe(Reader& r, const Json& value, const std::string& path, bool hold_ok,
+                   Failsafe& out) {
+    auto text = value.is_string() ? r.string(value, path) : std::nullopt;
+    if (value.is_string() && !text) {
+        return;  // r.string() said why
+    }
+    if (text) {
+        for (auto f : {Failsafe::kStop, Failsafe::kHold, Failsafe::kCenter}) {
+            if (*text == to_string(f) && (hold_ok || f != Failsafe::kHold)) {
+                out = f;
+                return;
+            }
+        }
+        if (*text == "hold") {
+            r.error(path,
+                    "must be \"stop\" or \"center\", got \"hold\": a lost link has no "
+                    "recent attitude to hold");
+            return;
+        }
+    }
+    r.error(path,
+            fmt::format("must be {}, got {}",
+                        hold_ok ? "\"stop\", \"hold\" or \"center\"" : "\"stop\" or \"center\"",
+                        describe(value)));
+}
+
 const std::vector<Section>& sections() {
     static const std::vector<Section> kSections = {
         {"serial",
@@ -349,6 +376,19 @@ const std::vector<Section>& sections() {
                if (auto n = r.number(v, p, 0.01, kMaxDegrees)) {
                    c.limits.max_speed = *n;
                }
+           }}}},
+        {"failsafe",
+         {{"on_owner_gone",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               read_failsafe(r, v, p, true, c.failsafe.on_owner_gone);
+           }},
+          {"on_shutdown",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               read_failsafe(r, v, p, true, c.failsafe.on_shutdown);
+           }},
+          {"on_link_lost",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               read_failsafe(r, v, p, false, c.failsafe.on_link_lost);
            }}}},
     };
     return kSections;

@@ -76,6 +76,7 @@ void Core::reload(const config::Config& config) {
     config_.keepalive.default_duration = config.keepalive.default_duration;
     config_.keepalive.max_duration = config.keepalive.max_duration;
     config_.limits = config.limits;
+    config_.failsafe = config.failsafe;
 }
 
 void Core::add_link_listener(std::function<void(const LinkEvent&)> listener) {
@@ -126,7 +127,12 @@ void Core::on_attitude(const gp::Attitude& attitude, SteadyTime now, WallTime wa
 void Core::on_link(const LinkEvent& event) {
     log_->info("link {}: {}", to_string(event.state), event.reason);
     if (event.state == LinkState::kDown) {
-        keepalive_.end(EndReason::kLinkDown, false);
+        // "stop" sends nothing (as before: the link takes no data, or the
+        // device is closed and owes nothing); "center" recentres a device
+        // that is still open but silent. Never "hold": no recent attitude.
+        const auto policy = config_.failsafe.on_link_lost;
+        const bool center = policy == config::Failsafe::kCenter && port_.is_open();
+        failsafe_end(EndReason::kLinkDown, center ? policy : config::Failsafe::kStop, center);
     }
     for (auto& listener : link_listeners_) {
         listener(event);
@@ -182,7 +188,7 @@ void Core::report_line_quality() {
 // ---- shutdown -----------------------------------------------------------
 
 void Core::shutdown(std::function<void()> done) {
-    keepalive_.end(EndReason::kShutdown, true);
+    failsafe_end(EndReason::kShutdown, config_.failsafe.on_shutdown, true);
     stopping_ = true;
     settings_.abort_all(link_down());  // after stopping_: "gportd is shutting down"
     quality_timer_.cancel();

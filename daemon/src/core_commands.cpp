@@ -4,6 +4,7 @@
 
 #include <boost/asio/post.hpp>
 
+#include "gport/daemon/client_log.hpp"
 #include "gport/daemon/core.hpp"
 #include "gport/daemon/core/motion_limits.hpp"
 
@@ -48,6 +49,54 @@ bool Core::send(const gp::Frame& frame) {
 bool Core::send_control(const gp::Control& control) {
     const auto kind = control == gp::Control::stop() ? FrameKind::kStop : FrameKind::kMotion;
     return port_.send(gp::encode(control), kind);
+}
+
+// The zero speed goes first (a stop is queued ahead of everything), then the
+// position frame behind it, so the gimbal never keeps turning. Hold aims at
+// the latest hall (joint) angles, clamped into the soft limits; without a
+// sample younger than link.stale_ms it falls back to stop.
+void Core::failsafe_end(EndReason reason, config::Failsafe policy, bool send_zero) {
+    const auto owner = keepalive_.owner();
+    if (!owner) {
+        return;
+    }
+    const ClientLogScope scope(*owner);
+    auto action = policy;
+    std::string note;
+    std::optional<gp::Control> then;
+    if (policy == config::Failsafe::kHold) {
+        const auto now = std::chrono::steady_clock::now();
+        if (!latest_) {
+            note = "; no attitude received yet, so stop instead of hold";
+        } else if (now - latest_->received > config_.link.stale_after) {
+            note = fmt::format(
+                "; the latest attitude is {} ms old (stale after {} ms), so stop instead of hold",
+                std::chrono::duration_cast<Millis>(now - latest_->received).count(),
+                config_.link.stale_after.count());
+        } else if (auto limited =
+                       MotionLimits(config_.limits).angle(latest_->attitude.hall, true)) {
+            then = gp::Control::angle_of(limited->axes);
+            note = fmt::format(" at hall roll {:.2f}°, pitch {:.2f}°, yaw {:.2f}°",
+                               limited->axes.roll / 100.0, limited->axes.pitch / 100.0,
+                               limited->axes.yaw / 100.0);
+        }
+        if (!then) {
+            action = config::Failsafe::kStop;
+        }
+    } else if (policy == config::Failsafe::kCenter) {
+        then = gp::Control::center();
+    }
+    if (then && !port_.is_open()) {
+        note += fmt::format("; device closed, so only the owed zero speed ({} not sent)",
+                            config::to_string(action));
+        then.reset();
+    }
+    log_->warn("failsafe {} on {}: motion of owner pid {} ends{}", config::to_string(action),
+               to_string(reason), owner->pid, note);
+    keepalive_.end(reason, send_zero);  // the motion ends whatever follows
+    if (then && !send_control(*then)) {
+        log_->warn("failsafe {}: the frame could not be queued", config::to_string(action));
+    }
 }
 
 bool Core::may_command(const ClientInfo& client) const {
@@ -220,7 +269,7 @@ Outcome<std::optional<ClientInfo>> Core::release(const ClientInfo& client) {
 void Core::client_gone(const ClientInfo& client) {
     const auto owner = keepalive_.owner();
     if (owner && owner->id == client.id) {
-        keepalive_.end(EndReason::kOwnerGone, true);  // the deadman
+        failsafe_end(EndReason::kOwnerGone, config_.failsafe.on_owner_gone, true);  // the deadman
     }
     if (arbiter_.client_gone(client)) {
         log_->info("control released: pid {} disconnected", client.pid);

@@ -29,6 +29,21 @@ TEST(PlanReload, SortsChangedKeysIntoAppliedAndNeedingARestart) {
     EXPECT_EQ(plan.in_effect.serial.baud, running.serial.baud) << "kept until a restart";
 }
 
+TEST(PlanReload, FailsafePoliciesApplyAtOnce) {
+    config::Config running;
+    config::Config next;
+    next.failsafe.on_owner_gone = config::Failsafe::kCenter;
+    next.failsafe.on_shutdown = config::Failsafe::kHold;
+    next.failsafe.on_link_lost = config::Failsafe::kCenter;
+    const auto plan = app::plan_reload(running, next);
+    EXPECT_EQ(plan.applied,
+              (std::vector<std::string>{"failsafe.on_owner_gone", "failsafe.on_shutdown",
+                                        "failsafe.on_link_lost"}));
+    EXPECT_TRUE(plan.need_restart.empty());
+    EXPECT_EQ(plan.in_effect.failsafe.on_owner_gone, config::Failsafe::kCenter);
+    EXPECT_EQ(plan.in_effect.failsafe.on_shutdown, config::Failsafe::kHold);
+}
+
 TEST(PlanReload, NothingChangedMeansNothingToDo) {
     const auto plan = app::plan_reload(config::Config{}, config::Config{});
     EXPECT_TRUE(plan.applied.empty());

@@ -2,7 +2,8 @@
 //
 // Only a few keys can change safely without reopening the device or the
 // socket: the log level, who may command (access.*), and the default and
-// longest speed durations. Every other changed key is reported as needing a
+// longest speed durations, the soft limits and
+// the failsafe policies. Every other changed key is reported as needing a
 // restart and keeps its running value.
 #pragma once
 

@@ -82,6 +82,31 @@ struct LimitsConfig {                // "limits"
     double max_speed = kMaxDegrees;  // "max_speed": °/s, every axis, speed commands
 };
 
+// What the daemon sends when a speed motion ends without its owner's stop
+// (docs/configuration.md, "failsafe"). kStop is zero speed; kHold adds an
+// angle command to the latest hall (joint) angles; kCenter adds the centre
+// command. The zero speed always goes first.
+enum class Failsafe { kStop, kHold, kCenter };
+
+// "stop", "hold", "center".
+constexpr const char* to_string(Failsafe f) {
+    switch (f) {
+        case Failsafe::kHold:
+            return "hold";
+        case Failsafe::kCenter:
+            return "center";
+        case Failsafe::kStop:
+            break;
+    }
+    return "stop";
+}
+
+struct FailsafeConfig {                        // "failsafe"
+    Failsafe on_owner_gone = Failsafe::kStop;  // "on_owner_gone": the owner disconnected
+    Failsafe on_shutdown = Failsafe::kStop;    // "on_shutdown": SIGTERM / shutdown
+    Failsafe on_link_lost = Failsafe::kStop;   // "on_link_lost": "stop" or "center", never "hold"
+};
+
 struct Config {
     SerialConfig serial;
     SocketConfig socket;
@@ -91,6 +116,7 @@ struct Config {
     AccessConfig access;
     LogConfig log;
     LimitsConfig limits;
+    FailsafeConfig failsafe;
     bool simulate = false;  // command line only: --simulate
 };
 

@@ -37,12 +37,15 @@ class Core final : public Api {
 
     // Opens the device (retrying forever in the background) and starts timers.
     void start();
-    // Stops any running motion with a zero-speed frame, waits (bounded) for it
+    // Stops any running motion with a zero-speed frame (then the
+    // failsafe.on_shutdown frame, if any), waits (bounded) for it
     // to reach the device, closes the device, then calls done.
     void shutdown(std::function<void()> done);
     // SIGHUP: applies the keys that may change at run time — who may command
     // (a fresh access policy, so no cached decision survives) and the default
-    // and longest speed durations. A running motion is left as it is.
+    // and longest speed durations, the soft limits and the failsafe policies
+    // (which apply to a running motion when it ends). A running motion is
+    // otherwise left as it is.
     void reload(const config::Config& config);
     // Also told of every link change (e.g. for the service manager's status).
     void add_link_listener(std::function<void(const LinkEvent&)> listener);
@@ -85,6 +88,10 @@ class Core final : public Api {
                   SettingsCallback done);
     bool send(const protocol::Frame& frame);
     bool send_control(const protocol::Control& control);
+    // Ends the speed motion, if any, for `reason` under the failsafe `policy`:
+    // zero speed first (if `send_zero`), then the hold angle or the centre
+    // frame; logs the action once at warning level.
+    void failsafe_end(EndReason reason, config::Failsafe policy, bool send_zero);
 
     // ---- the read path and events (core.cpp) ----
     void on_bytes(std::span<const std::uint8_t> bytes);
