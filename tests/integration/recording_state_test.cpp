@@ -8,22 +8,13 @@
 #include <vector>
 
 #include "harness.hpp"
+#include "sim_daemon_fixture.hpp"
 
 namespace gport::testing {
 namespace {
 
-class RecordingStateEndToEnd : public ::testing::Test {
+class RecordingStateEndToEnd : public SimDaemonTest {
   protected:
-    void SetUp() override {
-        sim_ = std::make_unique<SimProcess>(dir_);
-        daemon_ = std::make_unique<DaemonProcess>(
-            dir_, std::vector<std::string>{"--device", sim_->link()});
-        client_ = std::make_unique<Client>(daemon_->socket());
-        ASSERT_TRUE(client_->connected());
-        ASSERT_TRUE(
-            eventually([&] { return client_->call("status")["result"]["link"]["state"] == "up"; }));
-    }
-
     // Sends a photo as a marker and counts the record toggles the gimbal got
     // before it (frames go out in order): no timing involved.
     int toggles_before_marker() {
@@ -46,11 +37,6 @@ class RecordingStateEndToEnd : public ::testing::Test {
     std::string status_recording() {
         return client_->call("status")["result"].value("recording", "?");
     }
-
-    TempDir dir_;
-    std::unique_ptr<SimProcess> sim_;
-    std::unique_ptr<DaemonProcess> daemon_;
-    std::unique_ptr<Client> client_;
 };
 
 TEST_F(RecordingStateEndToEnd, OnOffSendOnlyTheTogglesNeeded) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "harness.hpp"
+#include "sim_daemon_fixture.hpp"
 
 namespace gport::testing {
 namespace {
@@ -35,18 +36,8 @@ bool is_speed(const std::string& line) {
     return j.is_object() && j.value("mode", "") == "speed";
 }
 
-class StopSafetyEndToEnd : public ::testing::Test {
+class StopSafetyEndToEnd : public SimDaemonTest {
   protected:
-    void SetUp() override {
-        sim_ = std::make_unique<SimProcess>(dir_);
-        daemon_ = std::make_unique<DaemonProcess>(
-            dir_, std::vector<std::string>{"--device", sim_->link()});
-        client_ = std::make_unique<Client>(daemon_->socket());
-        ASSERT_TRUE(client_->connected());
-        ASSERT_TRUE(
-            eventually([&] { return client_->call("status")["result"]["link"]["state"] == "up"; }));
-    }
-
     void stall_gimbal() {
         sim_->process().signal(SIGUSR1);
         ASSERT_TRUE(sim_->process().wait_line([](const std::string& l) {
@@ -78,11 +69,6 @@ class StopSafetyEndToEnd : public ::testing::Test {
     }
 
     Json counters() { return client_->call("status")["result"]["counters"]; }
-
-    TempDir dir_;
-    std::unique_ptr<SimProcess> sim_;
-    std::unique_ptr<DaemonProcess> daemon_;
-    std::unique_ptr<Client> client_;
 };
 
 TEST_F(StopSafetyEndToEnd, AStopAfter96SpeedsInOneWriteReachesAStalledGimbal) {
