@@ -19,8 +19,7 @@ class ApiEndToEnd : public ::testing::Test {
         daemon_ = std::make_unique<DaemonProcess>(dir_, std::vector<std::string>{"--simulate"});
         client_ = std::make_unique<Client>(daemon_->socket());
         ASSERT_TRUE(client_->connected());
-        ASSERT_TRUE(
-            eventually([&] { return client_->call("status")["result"]["link"]["state"] == "up"; }));
+        ASSERT_TRUE(link_up(*client_));
     }
 
     int gportctl(std::vector<std::string> args) {

@@ -160,10 +160,6 @@ std::string status_batch() {
     return batch.dump() + "\n";
 }
 
-bool link_up(Client& c) {
-    return eventually([&] { return c.call("status")["result"]["link"]["state"] == "up"; });
-}
-
 // 120 clients sending 32-request batches and never reading took RSS to 209 MB
 // (272 MB after they left). Budget: under 32 MiB whatever clients do.
 TEST(ClientLimits, RssStaysSmallWhenClientsSendBatchesAndNeverRead) {

@@ -45,8 +45,7 @@ TEST(DaemonProcess, SigtermStopsRunningMotionBeforeExit) {
     DaemonProcess daemon(dir, {"--device", sim.link()});
     Client client(daemon.socket());
     ASSERT_TRUE(client.connected());
-    ASSERT_TRUE(
-        eventually([&] { return client.call("status")["result"]["link"]["state"] == "up"; }));
+    ASSERT_TRUE(link_up(client));
     auto reply = client.call("speed", {{"yaw", 20}, {"duration_ms", 30000}});
     ASSERT_TRUE(reply.contains("result")) << reply.dump();
     ASSERT_TRUE(sim.wait_speed({0, 0, 2000}));
@@ -60,8 +59,7 @@ TEST(DaemonProcess, KilledClientMidMotionIsStopped) {
     SimProcess sim(dir);
     DaemonProcess daemon(dir, {"--device", sim.link()});
     Client watcher(daemon.socket());
-    ASSERT_TRUE(
-        eventually([&] { return watcher.call("status")["result"]["link"]["state"] == "up"; }));
+    ASSERT_TRUE(link_up(watcher));
     watcher.call("subscribe", {{"topics", {"motion"}}});
     const pid_t child = ::fork();
     ASSERT_GE(child, 0);

@@ -25,8 +25,7 @@ TEST(FailsafeEndToEnd, OwnerGoneCenterSendsZeroSpeedThenCentre) {
                          R"("failsafe": {"on_owner_gone": "center"})");
     Client watcher(daemon.socket());
     ASSERT_TRUE(watcher.connected());
-    ASSERT_TRUE(
-        eventually([&] { return watcher.call("status")["result"]["link"]["state"] == "up"; }));
+    ASSERT_TRUE(link_up(watcher));
     watcher.call("subscribe", {{"topics", {"motion"}}});
     {
         Client owner(daemon.socket());
@@ -56,8 +55,7 @@ TEST(FailsafeEndToEnd, SigtermHoldSendsZeroSpeedThenAnAngleFrame) {
                          R"("failsafe": {"on_shutdown": "hold"})");
     Client client(daemon.socket());
     ASSERT_TRUE(client.connected());
-    ASSERT_TRUE(
-        eventually([&] { return client.call("status")["result"]["link"]["state"] == "up"; }));
+    ASSERT_TRUE(link_up(client));
     auto reply = client.call("speed", {{"yaw", 20}, {"duration_ms", 30000}});
     ASSERT_TRUE(reply.contains("result")) << reply.dump();
     ASSERT_TRUE(sim.wait_speed({0, 0, 2000}));

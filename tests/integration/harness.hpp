@@ -43,6 +43,11 @@ class SimProcess {
     std::unique_ptr<Process> process_;
 };
 
+// Waits until the daemon reports its link to the gimbal up.
+inline bool link_up(Client& client) {
+    return eventually([&] { return client.call("status")["result"]["link"]["state"] == "up"; });
+}
+
 // A config file with fast timings for tests.
 inline std::string write_test_config(const TempDir& dir, const std::string& extra = "") {
     const std::string path = dir.file("gportd.json");

@@ -41,8 +41,7 @@ class Leases : public ::testing::Test {
         daemon_ = std::make_unique<InfoDaemon>(dir_, sim_.link());
         watcher_ = std::make_unique<Client>(daemon_->socket());
         ASSERT_TRUE(watcher_->connected());
-        ASSERT_TRUE(eventually(
-            [&] { return watcher_->call("status")["result"]["link"]["state"] == "up"; }));
+        ASSERT_TRUE(link_up(*watcher_));
         ASSERT_TRUE(watcher_->call("subscribe", {{"topics", {"motion"}}}).contains("result"));
         streamer_ = std::make_unique<Client>(daemon_->socket());
         ASSERT_TRUE(streamer_->connected());

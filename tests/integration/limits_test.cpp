@@ -23,8 +23,7 @@ class LimitsEndToEnd : public ::testing::Test {
             R"("limits": {"pitch": {"min": -90, "max": 30}, "max_speed": 50})");
         client_ = std::make_unique<Client>(daemon_->socket());
         ASSERT_TRUE(client_->connected());
-        ASSERT_TRUE(
-            eventually([&] { return client_->call("status")["result"]["link"]["state"] == "up"; }));
+        ASSERT_TRUE(link_up(*client_));
     }
 
     // Waits for a trace line of an angle frame equal to [roll, pitch, yaw].

@@ -54,8 +54,7 @@ class MidMotion : public ::testing::Test {
         daemon_ = std::make_unique<LoggedDaemon>(dir_, config_, sim_.link());
         client_ = std::make_unique<Client>(daemon_->socket());
         ASSERT_TRUE(client_->connected());
-        ASSERT_TRUE(
-            eventually([&] { return client_->call("status")["result"]["link"]["state"] == "up"; }));
+        ASSERT_TRUE(link_up(*client_));
         const auto reply = client_->call("speed", {{"yaw", 20}, {"duration_ms", 30000}});
         ASSERT_TRUE(reply.contains("result")) << reply.dump();
         ASSERT_TRUE(sim_.wait_speed({0, 0, 2000}));

@@ -21,8 +21,7 @@ class SimDaemonTest : public ::testing::Test {
             dir_, std::vector<std::string>{"--device", sim_->link()});
         client_ = std::make_unique<Client>(daemon_->socket());
         ASSERT_TRUE(client_->connected());
-        ASSERT_TRUE(
-            eventually([&] { return client_->call("status")["result"]["link"]["state"] == "up"; }));
+        ASSERT_TRUE(link_up(*client_));
     }
 
     TempDir dir_;
