@@ -6,12 +6,14 @@
 
 #include <thread>
 
-#include "gport/cli/connection.hpp"
 #include "gport/cli/output.hpp"
+#include "gport/client/connection.hpp"
+#include "gport/client/error.hpp"
 
 namespace gport::cli {
 namespace {
 
+using client::Connection;
 using nlohmann::json;
 using namespace std::chrono_literals;
 
@@ -189,9 +191,11 @@ class Runner {
 
 int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
         std::function<bool()> interrupted) {
-    auto opened = Connection::open(invocation.socket);
-    if (!opened) {
-        err << "gportctl: " << opened.error() << "\n";
+    std::optional<Connection> opened;
+    try {
+        opened.emplace(Connection::open(invocation.socket));
+    } catch (const client::Error& e) {
+        err << "gportctl: " << e.what() << "\n";
         return kExitUnavailable;
     }
     auto& conn = *opened;

@@ -1,17 +1,19 @@
-#include "gport/cli/connection.hpp"
+#include "gport/client/connection.hpp"
 
-#include <fmt/format.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <system_error>
 #include <utility>
 
-namespace gport::cli {
+#include "gport/client/error.hpp"
+
+namespace gport::client {
 namespace {
 
 // Reads wake up this often to look at interrupted().
@@ -19,23 +21,25 @@ constexpr int kPollSliceMs = 100;
 
 }  // namespace
 
-Result<Connection, std::string> Connection::open(const std::string& path) {
+Connection Connection::open(const std::string& path) {
     sockaddr_un address{};
     address.sun_family = AF_UNIX;
     if (path.empty() || path.size() >= sizeof(address.sun_path)) {
-        return fmt::format("cannot connect to {}: the path must be 1 to {} bytes", path,
-                           sizeof(address.sun_path) - 1);
+        throw Error(ErrorCode::kTransport,
+                    "cannot connect to " + path + ": the path must be 1 to " +
+                        std::to_string(sizeof(address.sun_path) - 1) + " bytes");
     }
     std::memcpy(address.sun_path, path.c_str(), path.size() + 1);
     const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
     if (fd < 0) {
-        return fmt::format("cannot create a socket: {}", std::strerror(errno));
+        throw Error(ErrorCode::kTransport,
+                    std::string("cannot create a socket: ") + std::strerror(errno));
     }
     if (::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) != 0) {
         const int error = errno;
         ::close(fd);
-        return fmt::format("cannot connect to {}: {} (is gportd running?)", path,
-                           std::strerror(error));
+        throw Error(ErrorCode::kTransport, "cannot connect to " + path + ": " +
+                                               std::strerror(error) + " (is gportd running?)");
     }
     return Connection(fd);
 }
@@ -62,12 +66,21 @@ Connection& Connection::operator=(Connection&& other) noexcept {
 }
 
 Connection::~Connection() {
+    close();
+}
+
+void Connection::close() noexcept {
     if (fd_ >= 0) {
         ::close(fd_);
+        fd_ = -1;
     }
+    closed_ = true;
 }
 
 std::optional<int> Connection::send(const std::string& method, const nlohmann::json& params) {
+    if (fd_ < 0) {
+        return std::nullopt;
+    }
     const int id = next_id_++;
     nlohmann::json request = {{"jsonrpc", "2.0"}, {"id", id}, {"method", method}};
     if (!params.empty()) {
@@ -89,7 +102,7 @@ std::optional<int> Connection::send(const std::string& method, const nlohmann::j
     return id;
 }
 
-bool Connection::fill(std::optional<std::chrono::steady_clock::time_point> deadline) {
+void Connection::fill(std::optional<std::chrono::steady_clock::time_point> deadline) {
     int wait = kPollSliceMs;
     if (deadline) {
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -99,19 +112,18 @@ bool Connection::fill(std::optional<std::chrono::steady_clock::time_point> deadl
     }
     pollfd p{fd_, POLLIN, 0};
     if (::poll(&p, 1, wait) <= 0) {
-        return false;  // nothing yet (or EINTR): the caller checks the clock and signals
+        return;  // nothing yet (or EINTR): the caller checks the clock and signals
     }
     char chunk[65536];
     const auto n = ::recv(fd_, chunk, sizeof(chunk), 0);
     if (n < 0 && errno == EINTR) {
-        return false;
+        return;
     }
     if (n <= 0) {
         closed_ = true;
-        return false;
+        return;
     }
     buffer_.append(chunk, static_cast<std::size_t>(n));
-    return true;
 }
 
 Connection::ReadStatus Connection::read(nlohmann::json& message,
@@ -163,4 +175,4 @@ std::optional<nlohmann::json> Connection::call(
     return std::nullopt;
 }
 
-}  // namespace gport::cli
+}  // namespace gport::client

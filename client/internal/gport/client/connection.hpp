@@ -1,6 +1,10 @@
-// A blocking connection to gportd: newline-delimited JSON-RPC over a Unix
-// socket, plain POSIX. Notifications that arrive while waiting for a reply
-// go to a handler; reads give up when `interrupted()` turns true.
+// The transport under Client and gportctl: newline-delimited JSON-RPC over
+// gportd's Unix socket, blocking, plain POSIX. Notifications that arrive
+// while waiting for a reply go to a handler; reads give up when
+// `interrupted()` turns true.
+//
+// Internal to the project (not installed): its symbols are exported from
+// libgport-client for gportctl, but its interface may change in any release.
 #pragma once
 
 #include <chrono>
@@ -9,14 +13,14 @@
 #include <optional>
 #include <string>
 
-#include "gport/base/result.hpp"
+#include "gport/client/export.hpp"
 
-namespace gport::cli {
+namespace gport::client {
 
-class Connection {
+class GPORT_CLIENT_API Connection {
   public:
-    // Connects, or returns why not ("cannot connect to PATH: ...").
-    static Result<Connection, std::string> open(const std::string& path);
+    // Connects; throws Error (kTransport) naming the path and the reason.
+    static Connection open(const std::string& path);
 
     Connection(Connection&& other) noexcept;
     Connection& operator=(Connection&& other) noexcept;
@@ -24,7 +28,7 @@ class Connection {
     Connection& operator=(const Connection&) = delete;
     ~Connection();
 
-    // Sends a request (with a fresh id) and returns the id; false on a broken connection.
+    // Sends a request (with a fresh id) and returns the id; empty on a broken connection.
     std::optional<int> send(const std::string& method, const nlohmann::json& params);
 
     enum class ReadStatus { kMessage, kTimeout, kClosed, kInterrupted };
@@ -38,12 +42,15 @@ class Connection {
         const std::string& method, const nlohmann::json& params,
         const std::function<void(const nlohmann::json&)>& on_notification = {});
 
+    bool closed() const noexcept { return closed_; }
+    void close() noexcept;
+
     // Checked between reads (set from a signal handler).
     std::function<bool()> interrupted = [] { return false; };
 
   private:
     explicit Connection(int fd) : fd_(fd) {}
-    bool fill(std::optional<std::chrono::steady_clock::time_point> deadline);
+    void fill(std::optional<std::chrono::steady_clock::time_point> deadline);
 
     int fd_ = -1;
     int next_id_ = 1;
@@ -51,4 +58,4 @@ class Connection {
     bool closed_ = false;
 };
 
-}  // namespace gport::cli
+}  // namespace gport::client

@@ -1,0 +1,83 @@
+// gport::client::AsyncClient: the asynchronous client, on a Boost.Asio
+// io_context the caller runs. Same methods and types as Client (client.hpp);
+// each takes a completion handler called with (error, result): `error` is
+// empty on success, else the daemon's error or kTransport.
+//
+//     boost::asio::io_context io;
+//     gport::client::AsyncClient gimbal(io);
+//     gimbal.async_connect(path, [&](auto error) {
+//         gimbal.async_status([](auto error, gport::client::Status s) { ... });
+//     });
+//     io.run();
+//
+// Handlers and the notification callback run on the io_context's thread,
+// from io.run(); they are never called from inside the initiating call.
+// Thread-safety: use an AsyncClient only from its io_context's thread (run
+// the io_context on one thread, or post to it). Destroying the AsyncClient
+// or close() completes the pending calls with kTransport.
+//
+// Built against the Boost 1.74 headers: compile with the same Boost.
+#pragma once
+
+#include <boost/asio/io_context.hpp>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gport/client/error.hpp"
+#include "gport/client/export.hpp"
+#include "gport/client/types.hpp"
+
+namespace gport::client {
+
+// The completion of a call without a result value (stop, lock, photo).
+struct Done {};
+
+template <typename T>
+using Handler = std::function<void(std::optional<Error> error, T result)>;
+
+class GPORT_CLIENT_API AsyncClient {
+  public:
+    explicit AsyncClient(boost::asio::io_context& io);
+    AsyncClient(const AsyncClient&) = delete;
+    AsyncClient& operator=(const AsyncClient&) = delete;
+    ~AsyncClient();
+
+    // Connects (closing any earlier connection); the handler gets kTransport
+    // when gportd cannot be reached.
+    void async_connect(const std::string& path,
+                       std::function<void(std::optional<Error> error)> handler);
+
+    void async_status(Handler<Status> handler);
+    void async_attitude(Handler<AttitudeSample> handler);
+    void async_speed(const Axes& speed, const SpeedOptions& options, Handler<SpeedResult> handler);
+    void async_stop(Handler<Done> handler);
+    void async_angle(const Axes& target, const AngleOptions& options, Handler<AngleResult> handler);
+    void async_center(const CenterOptions& options, Handler<CenterResult> handler);
+    void async_lock(Handler<Done> handler);
+    void async_photo(Handler<Done> handler);
+    void async_record(std::optional<bool> on, bool force, Handler<RecordResult> handler);
+    void async_acquire(Handler<Control> handler);
+    void async_release(Handler<Control> handler);
+    void async_settings(Handler<Settings> handler);
+    void async_set_settings(const SettingsChange& change, Handler<Settings> handler);
+    void async_subscribe(const std::vector<std::string>& topics, std::optional<double> max_rate_hz,
+                         Handler<Subscription> handler);
+    void async_unsubscribe(const std::vector<std::string>& topics, Handler<Subscription> handler);
+
+    // Every notification, in arrival order.
+    void on_notification(std::function<void(const Notification&)> callback);
+    // Called once when an open connection breaks (not on close()).
+    void on_disconnect(std::function<void(const Error&)> callback);
+
+    void close();
+    bool connected() const noexcept;
+
+  private:
+    struct Impl;
+    std::shared_ptr<Impl> impl_;
+};
+
+}  // namespace gport::client

@@ -1,0 +1,95 @@
+// gport::client::Client: a blocking connection to gportd with one typed call
+// per method of docs/api.md.
+//
+//     auto gimbal = gport::client::Client::connect();
+//     gimbal.angle({.pitch = -30, .yaw = 45}, {.wait = true});
+//     gimbal.photo();
+//
+// Errors: every call throws gport::client::Error (error.hpp): the daemon's
+// code and message, or ErrorCode::kTransport when the connection is gone
+// (then connect again; gportd may have restarted).
+//
+// Notifications: after subscribe(), samples and events arriving during any
+// call are kept in order; take them with next_notification(), or set a
+// callback with on_notification() and let dispatch() (or any call) deliver
+// them.
+//
+// Thread-safety: a Client is not synchronised. Use one Client per thread
+// (or guard one with a mutex); distinct Clients are independent. Callbacks
+// run on the thread that made the call, inside that call.
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gport/client/error.hpp"
+#include "gport/client/export.hpp"
+#include "gport/client/types.hpp"
+
+namespace gport::client {
+
+class GPORT_CLIENT_API Client {
+  public:
+    static constexpr const char* kDefaultSocket = "/run/gportd.sock";
+
+    // $GPORT_SOCKET when set and not empty, else kDefaultSocket.
+    static std::string default_socket();
+    // Connects to gportd's socket; throws Error (kTransport) when it cannot.
+    static Client connect(const std::string& path = default_socket());
+
+    Client(Client&& other) noexcept;
+    Client& operator=(Client&& other) noexcept;
+    Client(const Client&) = delete;
+    Client& operator=(const Client&) = delete;
+    ~Client();
+
+    Status status();
+    AttitudeSample attitude();
+    SpeedResult speed(const Axes& speed, std::optional<Milliseconds> duration = std::nullopt,
+                      std::optional<Milliseconds> lease = std::nullopt, bool clamp = false);
+    SpeedResult speed(const Axes& speed, const SpeedOptions& options);
+    void stop();
+    AngleResult angle(const Axes& target, const AngleOptions& options = {});
+    CenterResult center(const CenterOptions& options = {});
+    void lock();
+    void photo();
+    RecordResult record();  // one toggle
+    RecordResult record(bool on, bool force = false);
+    Control acquire();
+    Control release();
+    Settings settings();
+    Settings set_settings(const SettingsChange& change);
+
+    // topics: "attitude", "link", "motion"; max_rate_hz caps attitude.
+    Subscription subscribe(const std::vector<std::string>& topics,
+                           std::optional<double> max_rate_hz = std::nullopt);
+    // No topics: all.
+    Subscription unsubscribe(const std::vector<std::string>& topics = {});
+
+    // The next notification, waiting at most `timeout` (forever when empty);
+    // empty on timeout. Throws Error (kTransport) when the connection breaks.
+    std::optional<Notification> next_notification(
+        std::optional<Milliseconds> timeout = std::nullopt);
+    // With a callback set, notifications go to it instead of the queue
+    // (kept ones first); an empty function goes back to queueing.
+    void on_notification(std::function<void(const Notification&)> callback);
+    // Reads for `duration` and hands notifications to the callback (or the
+    // queue); returns how many arrived.
+    std::size_t dispatch(Milliseconds duration);
+
+    // Closes the connection (also done by the destructor): gportd then
+    // stops this client's motion and releases its control.
+    void close();
+    bool connected() const noexcept;
+
+  private:
+    struct Impl;
+    explicit Client(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace gport::client

@@ -1,0 +1,48 @@
+// The one error type of libgport-client: what gportd refused (its JSON-RPC
+// error code and message) or why the connection failed (kTransport) or what
+// the library could not understand (kBadReply).
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+#include "gport/client/export.hpp"
+
+namespace gport::client {
+
+// The codes of docs/api.md ("Error codes"), plus two of the library's own.
+enum class ErrorCode : int {
+    kTransport = -1,  // cannot connect, or the connection broke / was closed
+    kBadReply = -2,   // a reply the library does not understand (version mismatch?)
+    kParse = -32700,
+    kInvalidRequest = -32600,
+    kUnknownMethod = -32601,
+    kInvalidParams = -32602,
+    kInternal = -32603,
+    kLinkDown = -32000,
+    kPermission = -32001,
+    kNoAnswer = -32002,
+    kBusy = -32003,
+    kNoSlot = -32004,
+    kTooManyRequests = -32005,
+};
+
+class GPORT_CLIENT_API Error : public std::runtime_error {
+  public:
+    Error(int code, const std::string& message);
+    Error(ErrorCode code, const std::string& message);
+
+    // The API code (e.g. -32003), or -1 / -2 for kTransport / kBadReply.
+    int code() const noexcept { return code_; }
+    bool is(ErrorCode code) const noexcept { return code_ == static_cast<int>(code); }
+    // True when the connection is unusable: connect again.
+    bool transport() const noexcept { return is(ErrorCode::kTransport); }
+    // The message as gportd (or the library) gave it; what() adds the code.
+    const std::string& message() const noexcept { return message_; }
+
+  private:
+    int code_;
+    std::string message_;
+};
+
+}  // namespace gport::client

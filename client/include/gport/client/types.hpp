@@ -1,0 +1,200 @@
+// The typed results and notifications of libgport-client: plain aggregates
+// mirroring docs/api.md. Units: degrees, degrees per second, milliseconds;
+// times in seconds since the epoch.
+//
+// ABI: these structs are part of the library's ABI. Adding, removing or
+// reordering a member changes it and bumps the SONAME (libgport-client.so.N).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace gport::client {
+
+using Milliseconds = std::chrono::milliseconds;
+
+struct Axes {
+    double roll = 0;
+    double pitch = 0;
+    double yaw = 0;
+};
+
+// A client of gportd as the daemon reports it (owner, controller, yourself).
+struct Peer {
+    std::int64_t id = 0;
+    std::int64_t pid = 0;
+    std::int64_t uid = 0;
+    std::int64_t gid = 0;
+};
+
+struct ImuRates {
+    double x = 0;
+    double y = 0;
+    double z = 0;
+};
+
+// Angular rates, sent only by gimbals with the 24-byte attitude frame.
+struct Rates {
+    Axes hall;     // °/s
+    ImuRates imu;  // °/s
+};
+
+// One 0x87 attitude frame: the `attitude` method's result and notification.
+struct AttitudeSample {
+    std::uint64_t seq = 0;  // frames since the daemon started
+    double time = 0;        // receive time, seconds since the epoch (µs resolution)
+    Axes imu;
+    Axes hall;
+    std::optional<Rates> rates;
+    std::optional<std::int64_t> age_ms;  // `attitude()` only: how old the sample is
+    std::uint64_t dropped = 0;           // notifications: samples this client lost so far
+};
+
+struct Link {
+    std::string state;  // "up", "stale" or "down"
+    std::string reason;
+};
+
+// The running motion (`Status::motion`).
+struct Motion {
+    std::string mode;  // "speed", "angle", "center" or "lock"
+    std::optional<Peer> owner;
+    std::optional<Axes> speed;   // speed motions
+    std::optional<Axes> target;  // angle / centre motions
+    std::optional<std::int64_t> time_left_ms;
+    std::optional<std::int64_t> elapsed_ms;
+};
+
+struct Counters {
+    std::uint64_t frames_in = 0;
+    std::uint64_t bytes_in = 0;
+    std::uint64_t frames_out = 0;
+    std::uint64_t bytes_out = 0;
+    std::uint64_t attitude_frames = 0;
+    std::uint64_t crc_errors = 0;
+    std::uint64_t header_errors = 0;
+    std::uint64_t garbage_bytes = 0;
+    std::uint64_t resyncs = 0;
+    std::uint64_t bad_messages = 0;
+    std::uint64_t device_opens = 0;
+    std::uint64_t device_failures = 0;
+    std::uint64_t keepalive_frames = 0;
+    std::uint64_t motion_updates = 0;
+    std::uint64_t stops_sent = 0;
+    std::uint64_t frames_replaced = 0;
+    std::uint64_t frames_refused = 0;
+    std::uint64_t settings_timeouts = 0;
+    std::uint64_t dropped_notifications = 0;
+};
+
+struct Status {
+    int api_version = 0;
+    std::string daemon_version;
+    Link link;
+    std::string device;
+    bool device_open = false;
+    std::int64_t uptime_ms = 0;
+    std::optional<std::int64_t> attitude_age_ms;  // empty before the first sample
+    Counters counters;
+    std::int64_t clients = 0;
+    std::uint64_t dropped_notifications = 0;
+    std::optional<Motion> motion;
+    std::optional<Peer> controller;
+    std::string recording;  // assumed state: "on", "off" or "unknown"
+    Peer self;              // this connection
+    std::uint64_t self_dropped = 0;
+};
+
+struct SpeedOptions {
+    std::optional<Milliseconds> duration;  // default: keepalive.default_duration_ms
+    std::optional<Milliseconds> lease;     // default: the duration
+    bool clamp = false;                    // clamp to limits.max_speed instead of refusing
+};
+
+struct SpeedResult {
+    std::int64_t duration_ms = 0;
+    double ends_at = 0;  // seconds since the epoch
+    Axes speed;          // as sent, after clamping
+    std::vector<std::string> clamped;
+};
+
+struct AngleOptions {
+    bool clamp = false;  // clamp into limits.* instead of refusing
+    bool wait = false;   // reply only when the motion ends (fills `ended`)
+};
+
+struct CenterOptions {
+    bool wait = false;
+};
+
+// How a tracked angle or centre motion ended (`wait: true`).
+struct MotionEnd {
+    std::string reason;  // reached, timeout, replaced, stop, owner_gone, ...
+    std::optional<AttitudeSample> attitude;
+    std::int64_t elapsed_ms = 0;
+};
+
+struct AngleResult {
+    bool sent = false;
+    Axes angle;  // the target sent, after clamping
+    std::vector<std::string> clamped;
+    std::optional<MotionEnd> ended;
+};
+
+struct CenterResult {
+    bool sent = false;
+    std::optional<MotionEnd> ended;
+};
+
+struct RecordResult {
+    bool sent = false;
+    std::string recording;  // "on", "off" or "unknown" after the call
+};
+
+struct Control {
+    std::optional<Peer> controller;
+    bool you_hold_control = false;
+};
+
+struct Settings {
+    int dead_zone = 0;
+    int follow_speed = 0;
+    bool inverted = false;
+};
+
+// set_settings: only the fields given change (at least one).
+struct SettingsChange {
+    std::optional<int> dead_zone;
+    std::optional<int> follow_speed;
+    std::optional<bool> inverted;
+};
+
+struct Subscription {
+    std::vector<std::string> topics;
+    std::optional<double> max_rate_hz;
+};
+
+// Notifications (topics "attitude", "link", "motion").
+struct LinkEvent {
+    std::string state;
+    std::string reason;
+};
+
+struct MotionEvent {
+    std::string change;  // started, replaced, updated, ended
+    std::string mode;    // speed, angle, center, lock
+    std::optional<Peer> owner;
+    std::optional<Axes> speed;   // speed motions
+    std::optional<Axes> target;  // angle / centre motions
+    std::optional<std::int64_t> duration_ms;
+    std::optional<std::string> reason;  // ended / updated
+    std::vector<std::string> braked;    // updated with reason "limit"
+};
+
+using Notification = std::variant<AttitudeSample, LinkEvent, MotionEvent>;
+
+}  // namespace gport::client

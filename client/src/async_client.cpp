@@ -1,0 +1,313 @@
+// The asynchronous client: one socket on the caller's io_context, a queue of
+// whole request lines with one write in flight, one read loop that matches
+// replies to pending calls by id and hands notifications on. The JSON codec
+// is the blocking client's (codec.hpp).
+#include "gport/client/async_client.hpp"
+
+#include <boost/asio/local/stream_protocol.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/read_until.hpp>
+#include <boost/asio/write.hpp>
+#include <deque>
+#include <map>
+#include <utility>
+
+#include "codec.hpp"
+
+namespace gport::client {
+
+namespace asio = boost::asio;
+using nlohmann::json;
+using Socket = asio::local::stream_protocol::socket;
+using RawHandler = std::function<void(std::optional<Error>, const json&)>;
+
+struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
+    explicit Impl(asio::io_context& context) : io(context), socket(context) {}
+
+    void connect(const std::string& path, std::function<void(std::optional<Error>)> handler) {
+        shut("the connection was replaced by a new connect");
+        socket = Socket(io);
+        const auto generation = ++current;
+        socket.async_connect(
+            asio::local::stream_protocol::endpoint(path),
+            [self = shared_from_this(), generation, path,
+             handler = std::move(handler)](boost::system::error_code ec) {
+                if (ec || generation != self->current) {
+                    const auto why = ec ? ec.message() : std::string("cancelled");
+                    handler(Error(ErrorCode::kTransport, "cannot connect to " + path + ": " + why +
+                                                             " (is gportd running?)"));
+                    return;
+                }
+                self->open = true;
+                self->read(generation);
+                handler(std::nullopt);
+            });
+    }
+
+    void call(const std::string& method, const json& params, RawHandler handler) {
+        if (!open) {
+            asio::post(io, [handler = std::move(handler)] {
+                handler(Error(ErrorCode::kTransport, "not connected to gportd (connect first)"),
+                        json());
+            });
+            return;
+        }
+        const int id = next_id++;
+        json request = {{"jsonrpc", "2.0"}, {"id", id}, {"method", method}};
+        if (!params.empty()) {
+            request["params"] = params;
+        }
+        pending.emplace(id, std::move(handler));
+        outbox.push_back(request.dump() + "\n");
+        if (outbox.size() == 1) {
+            write(current);
+        }
+    }
+
+    void write(std::uint64_t generation) {
+        asio::async_write(
+            socket, asio::buffer(outbox.front()),
+            [self = shared_from_this(), generation](boost::system::error_code ec, std::size_t) {
+                if (generation != self->current) {
+                    return;
+                }
+                if (ec) {
+                    self->lost("cannot write to gportd: " + ec.message());
+                    return;
+                }
+                self->outbox.pop_front();
+                if (!self->outbox.empty()) {
+                    self->write(generation);
+                }
+            });
+    }
+
+    void read(std::uint64_t generation) {
+        asio::async_read_until(
+            socket, asio::dynamic_buffer(input), '\n',
+            [self = shared_from_this(), generation](boost::system::error_code ec, std::size_t n) {
+                if (generation != self->current) {
+                    return;
+                }
+                if (ec) {
+                    self->lost(ec == asio::error::eof ? std::string("gportd closed the connection")
+                                                      : "lost gportd: " + ec.message());
+                    return;
+                }
+                const std::string line = self->input.substr(0, n - 1);
+                self->input.erase(0, n);
+                self->handle(line);
+                if (generation == self->current) {
+                    self->read(generation);
+                }
+            });
+    }
+
+    void handle(const std::string& line) {
+        const auto message = json::parse(line, nullptr, false);
+        if (!message.is_object()) {
+            return;  // not from gportd
+        }
+        const auto id = message.find("id");
+        if (id == message.end()) {
+            notify(message);
+            return;
+        }
+        if (id->is_number_integer()) {
+            if (auto it = pending.find(id->get<int>()); it != pending.end()) {
+                auto handler = std::move(it->second);
+                pending.erase(it);
+                handler(std::nullopt, message);
+            }
+            return;
+        }
+        if (id->is_null() && message.contains("error")) {  // a refusal before close (-32004)
+            try {
+                codec::result_of(message);
+            } catch (const Error& e) {
+                fail_pending(e);
+            }
+        }
+    }
+
+    void notify(const json& message) {
+        if (!on_notification) {
+            return;
+        }
+        std::optional<Notification> n;
+        try {
+            n = codec::notification(message);
+        } catch (const Error&) {
+            return;  // a notification this version cannot read: skipped
+        }
+        if (n) {
+            on_notification(*n);
+        }
+    }
+
+    // The connection broke: every pending call fails, then on_disconnect.
+    void lost(const std::string& why) {
+        const Error error(ErrorCode::kTransport, why);
+        shut(why);
+        if (on_disconnect) {
+            on_disconnect(error);
+        }
+    }
+
+    // Closes the socket; pending calls complete with kTransport (posted).
+    void shut(const std::string& why) {
+        ++current;
+        open = false;
+        boost::system::error_code ignored;
+        socket.close(ignored);
+        outbox.clear();
+        input.clear();
+        fail_pending(Error(ErrorCode::kTransport, why));
+    }
+
+    void fail_pending(const Error& error) {
+        auto calls = std::exchange(pending, {});
+        for (auto& [id, handler] : calls) {
+            asio::post(io, [handler = std::move(handler), error] { handler(error, json()); });
+        }
+    }
+
+    asio::io_context& io;
+    Socket socket;
+    std::string input;
+    std::deque<std::string> outbox;
+    std::map<int, RawHandler> pending;
+    int next_id = 1;
+    std::uint64_t current = 0;  // the connection's generation: stale completions are ignored
+    bool open = false;
+    std::function<void(const Notification&)> on_notification;
+    std::function<void(const Error&)> on_disconnect;
+};
+
+namespace {
+
+// Decodes a raw reply into T for a typed handler; the handler itself runs
+// outside the try, so that its own exceptions reach io_context::run().
+template <typename T, typename Decode>
+RawHandler typed(Handler<T> handler, Decode decode) {
+    return [handler = std::move(handler), decode](std::optional<Error> error, const json& reply) {
+        T value{};
+        if (!error) {
+            try {
+                value = decode(codec::result_of(reply));
+            } catch (const Error& e) {
+                error = e;
+            }
+        }
+        handler(std::move(error), std::move(value));
+    };
+}
+
+Done done(const json&) {
+    return {};
+}
+
+}  // namespace
+
+AsyncClient::AsyncClient(asio::io_context& io) : impl_(std::make_shared<Impl>(io)) {}
+
+AsyncClient::~AsyncClient() {
+    impl_->on_notification = nullptr;
+    impl_->on_disconnect = nullptr;
+    impl_->shut("the client was destroyed");
+}
+
+void AsyncClient::async_connect(const std::string& path,
+                                std::function<void(std::optional<Error>)> handler) {
+    impl_->connect(path, std::move(handler));
+}
+
+void AsyncClient::async_status(Handler<Status> handler) {
+    impl_->call("status", json::object(), typed(std::move(handler), codec::status));
+}
+
+void AsyncClient::async_attitude(Handler<AttitudeSample> handler) {
+    impl_->call("attitude", json::object(), typed(std::move(handler), codec::attitude));
+}
+
+void AsyncClient::async_speed(const Axes& speed, const SpeedOptions& options,
+                              Handler<SpeedResult> handler) {
+    impl_->call("speed", codec::speed_params(speed, options),
+                typed(std::move(handler), codec::speed_result));
+}
+
+void AsyncClient::async_stop(Handler<Done> handler) {
+    impl_->call("stop", json::object(), typed(std::move(handler), done));
+}
+
+void AsyncClient::async_angle(const Axes& target, const AngleOptions& options,
+                              Handler<AngleResult> handler) {
+    impl_->call("angle", codec::angle_params(target, options),
+                typed(std::move(handler), codec::angle_result));
+}
+
+void AsyncClient::async_center(const CenterOptions& options, Handler<CenterResult> handler) {
+    impl_->call("center", codec::center_params(options),
+                typed(std::move(handler), codec::center_result));
+}
+
+void AsyncClient::async_lock(Handler<Done> handler) {
+    impl_->call("lock", json::object(), typed(std::move(handler), done));
+}
+
+void AsyncClient::async_photo(Handler<Done> handler) {
+    impl_->call("photo", json::object(), typed(std::move(handler), done));
+}
+
+void AsyncClient::async_record(std::optional<bool> on, bool force, Handler<RecordResult> handler) {
+    impl_->call("record", codec::record_params(on, force),
+                typed(std::move(handler), codec::record_result));
+}
+
+void AsyncClient::async_acquire(Handler<Control> handler) {
+    impl_->call("acquire", json::object(), typed(std::move(handler), codec::control));
+}
+
+void AsyncClient::async_release(Handler<Control> handler) {
+    impl_->call("release", json::object(), typed(std::move(handler), codec::control));
+}
+
+void AsyncClient::async_settings(Handler<Settings> handler) {
+    impl_->call("get_settings", json::object(), typed(std::move(handler), codec::settings));
+}
+
+void AsyncClient::async_set_settings(const SettingsChange& change, Handler<Settings> handler) {
+    impl_->call("set_settings", codec::settings_params(change),
+                typed(std::move(handler), codec::settings));
+}
+
+void AsyncClient::async_subscribe(const std::vector<std::string>& topics,
+                                  std::optional<double> max_rate_hz,
+                                  Handler<Subscription> handler) {
+    impl_->call("subscribe", codec::subscribe_params(topics, max_rate_hz),
+                typed(std::move(handler), codec::subscription));
+}
+
+void AsyncClient::async_unsubscribe(const std::vector<std::string>& topics,
+                                    Handler<Subscription> handler) {
+    impl_->call("unsubscribe", codec::unsubscribe_params(topics),
+                typed(std::move(handler), codec::subscription));
+}
+
+void AsyncClient::on_notification(std::function<void(const Notification&)> callback) {
+    impl_->on_notification = std::move(callback);
+}
+
+void AsyncClient::on_disconnect(std::function<void(const Error&)> callback) {
+    impl_->on_disconnect = std::move(callback);
+}
+
+void AsyncClient::close() {
+    impl_->shut("closed by the client");
+}
+
+bool AsyncClient::connected() const noexcept {
+    return impl_->open;
+}
+
+}  // namespace gport::client

@@ -1,0 +1,215 @@
+// The blocking client: Connection for the transport, codec for the JSON.
+#include "gport/client/client.hpp"
+
+#include <cstdlib>
+#include <deque>
+#include <utility>
+
+#include "codec.hpp"
+#include "gport/client/connection.hpp"
+
+namespace gport::client {
+
+using nlohmann::json;
+
+struct Client::Impl {
+    explicit Impl(Connection c) : connection(std::move(c)) {}
+
+    // Calls a method; notifications meanwhile are kept or handed on.
+    json call(const std::string& method, const json& params = json::object()) {
+        if (connection.closed()) {
+            throw Error(ErrorCode::kTransport, "not connected to gportd (connect again)");
+        }
+        auto reply = connection.call(method, params, [this](const json& m) { take(m); });
+        if (!reply) {
+            connection.close();
+            throw Error(ErrorCode::kTransport,
+                        "the connection to gportd was lost during " + method);
+        }
+        return codec::result_of(*reply);
+    }
+
+    void take(const json& message) {
+        auto n = codec::notification(message);
+        if (!n) {
+            return;
+        }
+        if (callback) {
+            callback(*n);
+        } else {
+            queue.push_back(std::move(*n));
+        }
+    }
+
+    // Reads one message that is a notification, until the deadline.
+    bool read_one(std::optional<Milliseconds> timeout) {
+        json message;
+        const auto status = connection.read(message, timeout);
+        if (status == Connection::ReadStatus::kClosed) {
+            connection.close();
+            throw Error(ErrorCode::kTransport, "gportd closed the connection");
+        }
+        if (status != Connection::ReadStatus::kMessage) {
+            return false;
+        }
+        if (!message.contains("id")) {
+            take(message);
+        } else if (message["id"].is_null()) {
+            codec::result_of(message);  // a refusal before close (e.g. -32004 idle): throws
+        }
+        return true;
+    }
+
+    Connection connection;
+    std::deque<Notification> queue;
+    std::function<void(const Notification&)> callback;
+};
+
+std::string Client::default_socket() {
+    const char* env = std::getenv("GPORT_SOCKET");
+    return env != nullptr && *env != '\0' ? std::string(env) : std::string(kDefaultSocket);
+}
+
+Client Client::connect(const std::string& path) {
+    return Client(std::make_unique<Impl>(Connection::open(path)));
+}
+
+Client::Client(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Client::Client(Client&& other) noexcept = default;
+Client& Client::operator=(Client&& other) noexcept = default;
+Client::~Client() = default;
+
+Status Client::status() {
+    return codec::status(impl_->call("status"));
+}
+AttitudeSample Client::attitude() {
+    return codec::attitude(impl_->call("attitude"));
+}
+
+SpeedResult Client::speed(const Axes& speed, std::optional<Milliseconds> duration,
+                          std::optional<Milliseconds> lease, bool clamp) {
+    return this->speed(speed, SpeedOptions{duration, lease, clamp});
+}
+
+SpeedResult Client::speed(const Axes& speed, const SpeedOptions& options) {
+    return codec::speed_result(impl_->call("speed", codec::speed_params(speed, options)));
+}
+
+void Client::stop() {
+    impl_->call("stop");
+}
+
+AngleResult Client::angle(const Axes& target, const AngleOptions& options) {
+    return codec::angle_result(impl_->call("angle", codec::angle_params(target, options)));
+}
+
+CenterResult Client::center(const CenterOptions& options) {
+    return codec::center_result(impl_->call("center", codec::center_params(options)));
+}
+
+void Client::lock() {
+    impl_->call("lock");
+}
+void Client::photo() {
+    impl_->call("photo");
+}
+
+RecordResult Client::record() {
+    return codec::record_result(impl_->call("record", codec::record_params(std::nullopt, false)));
+}
+
+RecordResult Client::record(bool on, bool force) {
+    return codec::record_result(impl_->call("record", codec::record_params(on, force)));
+}
+
+Control Client::acquire() {
+    return codec::control(impl_->call("acquire"));
+}
+Control Client::release() {
+    return codec::control(impl_->call("release"));
+}
+Settings Client::settings() {
+    return codec::settings(impl_->call("get_settings"));
+}
+
+Settings Client::set_settings(const SettingsChange& change) {
+    return codec::settings(impl_->call("set_settings", codec::settings_params(change)));
+}
+
+Subscription Client::subscribe(const std::vector<std::string>& topics,
+                               std::optional<double> max_rate_hz) {
+    return codec::subscription(
+        impl_->call("subscribe", codec::subscribe_params(topics, max_rate_hz)));
+}
+
+Subscription Client::unsubscribe(const std::vector<std::string>& topics) {
+    return codec::subscription(impl_->call("unsubscribe", codec::unsubscribe_params(topics)));
+}
+
+std::optional<Notification> Client::next_notification(std::optional<Milliseconds> timeout) {
+    const auto deadline =
+        timeout ? std::optional(std::chrono::steady_clock::now() + *timeout) : std::nullopt;
+    while (impl_->queue.empty()) {
+        std::optional<Milliseconds> left;
+        if (deadline) {
+            left = std::chrono::duration_cast<Milliseconds>(*deadline -
+                                                            std::chrono::steady_clock::now());
+            if (left->count() <= 0) {
+                return std::nullopt;
+            }
+        }
+        if (impl_->connection.closed()) {
+            throw Error(ErrorCode::kTransport, "not connected to gportd (connect again)");
+        }
+        auto saved = std::exchange(impl_->callback, nullptr);
+        try {
+            impl_->read_one(left);
+        } catch (...) {
+            impl_->callback = std::move(saved);
+            throw;
+        }
+        impl_->callback = std::move(saved);
+    }
+    auto n = std::move(impl_->queue.front());
+    impl_->queue.pop_front();
+    return n;
+}
+
+void Client::on_notification(std::function<void(const Notification&)> callback) {
+    impl_->callback = std::move(callback);
+    while (impl_->callback && !impl_->queue.empty()) {
+        auto n = std::move(impl_->queue.front());
+        impl_->queue.pop_front();
+        impl_->callback(n);
+    }
+}
+
+std::size_t Client::dispatch(Milliseconds duration) {
+    std::size_t count = 0;
+    const auto deadline = std::chrono::steady_clock::now() + duration;
+    while (true) {
+        const auto left =
+            std::chrono::duration_cast<Milliseconds>(deadline - std::chrono::steady_clock::now());
+        if (left.count() <= 0) {
+            return count;
+        }
+        if (impl_->connection.closed()) {
+            throw Error(ErrorCode::kTransport, "not connected to gportd (connect again)");
+        }
+        if (impl_->read_one(left)) {
+            ++count;
+        }
+    }
+}
+
+void Client::close() {
+    if (impl_) {
+        impl_->connection.close();
+    }
+}
+
+bool Client::connected() const noexcept {
+    return impl_ && !impl_->connection.closed();
+}
+
+}  // namespace gport::client

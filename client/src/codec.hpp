@@ -1,0 +1,45 @@
+// The JSON codec shared by Client and AsyncClient: request params from the
+// typed options, typed results and notifications from gportd's JSON
+// (docs/api.md). Decoders throw Error (kBadReply) on a shape they do not
+// know; members they do not know are ignored (newer daemons add some).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gport/client/error.hpp"
+#include "gport/client/types.hpp"
+
+namespace gport::client::codec {
+
+using nlohmann::json;
+
+json speed_params(const Axes& speed, const SpeedOptions& options);
+json angle_params(const Axes& target, const AngleOptions& options);
+json center_params(const CenterOptions& options);
+json record_params(std::optional<bool> on, bool force);
+json settings_params(const SettingsChange& change);
+json subscribe_params(const std::vector<std::string>& topics, std::optional<double> max_rate_hz);
+json unsubscribe_params(const std::vector<std::string>& topics);
+
+// The result of a reply object ({"result":...} or {"error":...}); throws the
+// error as Error.
+json result_of(const json& reply);
+
+Status status(const json& result);
+AttitudeSample attitude(const json& result);
+SpeedResult speed_result(const json& result);
+AngleResult angle_result(const json& result);
+CenterResult center_result(const json& result);
+RecordResult record_result(const json& result);
+Control control(const json& result);
+Settings settings(const json& result);
+Subscription subscription(const json& result);
+
+// A notification message ({"method":topic,"params":...}); empty for a topic
+// this library does not know.
+std::optional<Notification> notification(const json& message);
+
+}  // namespace gport::client::codec

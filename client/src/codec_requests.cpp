@@ -1,0 +1,106 @@
+// Request params and reply errors (codec.hpp).
+#include "codec.hpp"
+
+namespace gport::client::codec {
+namespace {
+
+json axes(const Axes& a) {
+    return {{"roll", a.roll}, {"pitch", a.pitch}, {"yaw", a.yaw}};
+}
+
+}  // namespace
+
+json speed_params(const Axes& speed, const SpeedOptions& options) {
+    json params = axes(speed);
+    if (options.duration) {
+        params["duration_ms"] = options.duration->count();
+    }
+    if (options.lease) {
+        params["lease_ms"] = options.lease->count();
+    }
+    if (options.clamp) {
+        params["clamp"] = true;
+    }
+    return params;
+}
+
+// `clamp` and `wait` are sent only when true, so that a daemon older than
+// the option still takes the call.
+json angle_params(const Axes& target, const AngleOptions& options) {
+    json params = axes(target);
+    if (options.clamp) {
+        params["clamp"] = true;
+    }
+    if (options.wait) {
+        params["wait"] = true;
+    }
+    return params;
+}
+
+json center_params(const CenterOptions& options) {
+    json params = json::object();
+    if (options.wait) {
+        params["wait"] = true;
+    }
+    return params;
+}
+
+json record_params(std::optional<bool> on, bool force) {
+    json params = json::object();
+    if (on) {
+        params["on"] = *on;
+        if (force) {
+            params["force"] = true;
+        }
+    }
+    return params;
+}
+
+json settings_params(const SettingsChange& change) {
+    json params = json::object();
+    if (change.dead_zone) {
+        params["dead_zone"] = *change.dead_zone;
+    }
+    if (change.follow_speed) {
+        params["follow_speed"] = *change.follow_speed;
+    }
+    if (change.inverted) {
+        params["inverted"] = *change.inverted;
+    }
+    return params;
+}
+
+json subscribe_params(const std::vector<std::string>& topics, std::optional<double> max_rate_hz) {
+    json params = {{"topics", topics}};
+    if (max_rate_hz) {
+        params["max_rate_hz"] = *max_rate_hz;
+    }
+    return params;
+}
+
+json unsubscribe_params(const std::vector<std::string>& topics) {
+    json params = json::object();
+    if (!topics.empty()) {
+        params["topics"] = topics;
+    }
+    return params;
+}
+
+json result_of(const json& reply) {
+    if (!reply.is_object()) {
+        throw Error(ErrorCode::kBadReply, "a reply that is not a JSON object: " + reply.dump());
+    }
+    if (const auto error = reply.find("error"); error != reply.end()) {
+        if (!error->is_object() || !error->contains("code") || !(*error)["code"].is_number()) {
+            throw Error(ErrorCode::kBadReply, "an error without a code: " + error->dump());
+        }
+        const auto message = error->value("message", std::string());
+        throw Error((*error)["code"].get<int>(), message);
+    }
+    if (const auto result = reply.find("result"); result != reply.end()) {
+        return *result;
+    }
+    throw Error(ErrorCode::kBadReply, "a reply with neither result nor error: " + reply.dump());
+}
+
+}  // namespace gport::client::codec

@@ -1,0 +1,238 @@
+// Typed results and notifications from gportd's JSON (codec.hpp).
+#include <utility>
+
+#include "codec.hpp"
+
+namespace gport::client::codec {
+namespace {
+
+// Runs a decoder, turning nlohmann's type errors into Error (kBadReply).
+template <typename F>
+auto guarded(const char* what, const json& value, F&& decode) {
+    if (!value.is_object()) {
+        throw Error(ErrorCode::kBadReply,
+                    std::string("a ") + what + " that is not an object: " + value.dump());
+    }
+    try {
+        return std::forward<F>(decode)();
+    } catch (const json::exception& e) {
+        throw Error(ErrorCode::kBadReply,
+                    std::string("cannot read a ") + what + " (" + e.what() + "): " + value.dump());
+    }
+}
+
+template <typename T>
+std::optional<T> optional_of(const json& object, const char* key) {
+    const auto it = object.find(key);
+    if (it == object.end() || it->is_null()) {
+        return std::nullopt;
+    }
+    return it->get<T>();
+}
+
+Axes axes(const json& j) {
+    return {j.value("roll", 0.0), j.value("pitch", 0.0), j.value("yaw", 0.0)};
+}
+
+std::optional<Axes> optional_axes(const json& object, const char* key) {
+    const auto it = object.find(key);
+    if (it == object.end() || !it->is_object()) {
+        return std::nullopt;
+    }
+    return axes(*it);
+}
+
+std::optional<Peer> peer(const json& object, const char* key) {
+    const auto it = object.find(key);
+    if (it == object.end() || !it->is_object()) {
+        return std::nullopt;
+    }
+    return Peer{it->value("id", std::int64_t{0}), it->value("pid", std::int64_t{0}),
+                it->value("uid", std::int64_t{0}), it->value("gid", std::int64_t{0})};
+}
+
+std::vector<std::string> strings(const json& object, const char* key) {
+    return object.value(key, std::vector<std::string>{});
+}
+
+AttitudeSample sample(const json& j) {
+    AttitudeSample s;
+    s.seq = j.at("seq").get<std::uint64_t>();
+    s.time = j.at("t").get<double>();
+    s.imu = axes(j.at("imu"));
+    s.hall = axes(j.at("hall"));
+    if (const auto rates = j.find("rates"); rates != j.end() && rates->is_object()) {
+        const auto& imu = rates->at("imu");
+        s.rates = Rates{axes(rates->at("hall")),
+                        {imu.value("x", 0.0), imu.value("y", 0.0), imu.value("z", 0.0)}};
+    }
+    s.age_ms = optional_of<std::int64_t>(j, "age_ms");
+    s.dropped = j.value("dropped", std::uint64_t{0});
+    return s;
+}
+
+std::optional<MotionEnd> motion_end(const json& result) {
+    const auto it = result.find("ended");
+    if (it == result.end() || !it->is_object()) {
+        return std::nullopt;
+    }
+    MotionEnd end;
+    end.reason = it->at("reason").get<std::string>();
+    if (const auto a = it->find("attitude"); a != it->end() && a->is_object()) {
+        end.attitude = sample(*a);
+    }
+    end.elapsed_ms = it->value("elapsed_ms", std::int64_t{0});
+    return end;
+}
+
+Counters counters(const json& j) {
+    const auto n = [&](const char* key) { return j.value(key, std::uint64_t{0}); };
+    return {n("frames_in"),
+            n("bytes_in"),
+            n("frames_out"),
+            n("bytes_out"),
+            n("attitude_frames"),
+            n("crc_errors"),
+            n("header_errors"),
+            n("garbage_bytes"),
+            n("resyncs"),
+            n("bad_messages"),
+            n("device_opens"),
+            n("device_failures"),
+            n("keepalive_frames"),
+            n("motion_updates"),
+            n("stops_sent"),
+            n("frames_replaced"),
+            n("frames_refused"),
+            n("settings_timeouts"),
+            n("dropped_notifications")};
+}
+
+std::optional<Motion> motion(const json& status) {
+    const auto it = status.find("motion");
+    if (it == status.end() || !it->is_object()) {
+        return std::nullopt;
+    }
+    const json& m = *it;
+    Motion motion;
+    motion.mode = m.value("mode", std::string());
+    motion.owner = peer(m, "owner");
+    motion.speed = optional_axes(m, "speed");
+    motion.target = optional_axes(m, "target");
+    if (!motion.target) {
+        motion.target = optional_axes(m, "angle");
+    }
+    motion.time_left_ms = optional_of<std::int64_t>(m, "time_left_ms");
+    motion.elapsed_ms = optional_of<std::int64_t>(m, "elapsed_ms");
+    return motion;
+}
+
+}  // namespace
+
+Status status(const json& result) {
+    return guarded("status", result, [&] {
+        Status s;
+        s.api_version = result.value("api_version", 0);
+        s.daemon_version = result.value("daemon_version", std::string());
+        const auto& link = result.at("link");
+        s.link = {link.value("state", std::string()), link.value("reason", std::string())};
+        s.device = result.value("device", std::string());
+        s.device_open = result.value("device_open", false);
+        s.uptime_ms = result.value("uptime_ms", std::int64_t{0});
+        s.attitude_age_ms = optional_of<std::int64_t>(result, "attitude_age_ms");
+        s.counters = counters(result.value("counters", json::object()));
+        s.clients = result.value("clients", std::int64_t{0});
+        s.dropped_notifications = result.value("dropped_notifications", std::uint64_t{0});
+        s.motion = motion(result);
+        s.controller = peer(result, "controller");
+        s.recording = result.value("recording", std::string("unknown"));
+        s.self = peer(result, "client").value_or(Peer{});
+        s.self_dropped = result.value("client", json::object()).value("dropped", std::uint64_t{0});
+        return s;
+    });
+}
+
+AttitudeSample attitude(const json& result) {
+    return guarded("attitude sample", result, [&] { return sample(result); });
+}
+
+SpeedResult speed_result(const json& result) {
+    return guarded("speed result", result, [&] {
+        return SpeedResult{result.value("duration_ms", std::int64_t{0}),
+                           result.value("ends_at", 0.0), axes(result.at("speed")),
+                           strings(result, "clamped")};
+    });
+}
+
+AngleResult angle_result(const json& result) {
+    return guarded("angle result", result, [&] {
+        return AngleResult{result.value("sent", false), axes(result.value("angle", json::object())),
+                           strings(result, "clamped"), motion_end(result)};
+    });
+}
+
+CenterResult center_result(const json& result) {
+    return guarded("center result", result, [&] {
+        return CenterResult{result.value("sent", false), motion_end(result)};
+    });
+}
+
+RecordResult record_result(const json& result) {
+    return guarded("record result", result, [&] {
+        return RecordResult{result.at("sent").get<bool>(),
+                            result.value("recording", std::string("unknown"))};
+    });
+}
+
+Control control(const json& result) {
+    return guarded("control result", result, [&] {
+        return Control{peer(result, "controller"), result.value("you_hold_control", false)};
+    });
+}
+
+Settings settings(const json& result) {
+    return guarded("settings result", result, [&] {
+        return Settings{result.at("dead_zone").get<int>(), result.at("follow_speed").get<int>(),
+                        result.at("inverted").get<bool>()};
+    });
+}
+
+Subscription subscription(const json& result) {
+    return guarded("subscription", result, [&] {
+        return Subscription{strings(result, "topics"), optional_of<double>(result, "max_rate_hz")};
+    });
+}
+
+std::optional<Notification> notification(const json& message) {
+    const auto method = message.value("method", std::string());
+    const auto& params = message.contains("params") ? message["params"] : json::object();
+    if (method == "attitude") {
+        return guarded("attitude notification", params, [&] { return sample(params); });
+    }
+    if (method == "link") {
+        return guarded("link notification", params, [&] {
+            return LinkEvent{params.value("state", std::string()),
+                             params.value("reason", std::string())};
+        });
+    }
+    if (method == "motion") {
+        return guarded("motion notification", params, [&] {
+            MotionEvent e;
+            e.change = params.value("change", std::string());
+            e.mode = params.value("mode", std::string());
+            e.owner = peer(params, "owner");
+            e.speed = optional_axes(params, "speed");
+            e.target = optional_axes(params, "target");
+            if (!e.target) {
+                e.target = optional_axes(params, "angle");
+            }
+            e.duration_ms = optional_of<std::int64_t>(params, "duration_ms");
+            e.reason = optional_of<std::string>(params, "reason");
+            e.braked = strings(params, "braked");
+            return e;
+        });
+    }
+    return std::nullopt;
+}
+
+}  // namespace gport::client::codec
