@@ -49,24 +49,24 @@ struct AttitudeSample {
     double time = 0;        // receive time, seconds since the epoch (µs resolution)
     Axes imu;
     Axes hall;
-    std::optional<Rates> rates;
-    std::optional<std::int64_t> age_ms;  // `attitude()` only: how old the sample is
-    std::uint64_t dropped = 0;           // notifications: samples this client lost so far
+    std::optional<Rates> rates{};
+    std::optional<std::int64_t> age_ms{};  // `attitude()` only: how old the sample is
+    std::uint64_t dropped = 0;             // notifications: samples this client lost so far
 };
 
 struct Link {
-    std::string state;  // "up", "stale" or "down"
-    std::string reason;
+    std::string state{};  // "up", "stale" or "down"
+    std::string reason{};
 };
 
 // The running motion (`Status::motion`).
 struct Motion {
-    std::string mode;  // "speed", "angle", "center" or "lock"
-    std::optional<Peer> owner;
-    std::optional<Axes> speed;   // speed motions
-    std::optional<Axes> target;  // angle / centre motions
-    std::optional<std::int64_t> time_left_ms;
-    std::optional<std::int64_t> elapsed_ms;
+    std::string mode{};  // "speed", "angle", "center" or "lock"
+    std::optional<Peer> owner{};
+    std::optional<Axes> speed{};   // speed motions
+    std::optional<Axes> target{};  // angle / centre motions
+    std::optional<std::int64_t> time_left_ms{};
+    std::optional<std::int64_t> elapsed_ms{};
 };
 
 struct Counters {
@@ -93,33 +93,33 @@ struct Counters {
 
 struct Status {
     int api_version = 0;
-    std::string daemon_version;
+    std::string daemon_version{};
     Link link;
-    std::string device;
+    std::string device{};
     bool device_open = false;
     std::int64_t uptime_ms = 0;
-    std::optional<std::int64_t> attitude_age_ms;  // empty before the first sample
+    std::optional<std::int64_t> attitude_age_ms{};  // empty before the first sample
     Counters counters;
     std::int64_t clients = 0;
     std::uint64_t dropped_notifications = 0;
-    std::optional<Motion> motion;
-    std::optional<Peer> controller;
-    std::string recording;  // assumed state: "on", "off" or "unknown"
-    Peer self;              // this connection
+    std::optional<Motion> motion{};
+    std::optional<Peer> controller{};
+    std::string recording{};  // assumed state: "on", "off" or "unknown"
+    Peer self;                // this connection
     std::uint64_t self_dropped = 0;
 };
 
 struct SpeedOptions {
-    std::optional<Milliseconds> duration;  // default: keepalive.default_duration_ms
-    std::optional<Milliseconds> lease;     // default: the duration
-    bool clamp = false;                    // clamp to limits.max_speed instead of refusing
+    std::optional<Milliseconds> duration{};  // default: keepalive.default_duration_ms
+    std::optional<Milliseconds> lease{};     // default: the duration
+    bool clamp = false;                      // clamp to limits.max_speed instead of refusing
 };
 
 struct SpeedResult {
     std::int64_t duration_ms = 0;
     double ends_at = 0;  // seconds since the epoch
     Axes speed;          // as sent, after clamping
-    std::vector<std::string> clamped;
+    std::vector<std::string> clamped{};
 };
 
 struct AngleOptions {
@@ -133,30 +133,30 @@ struct CenterOptions {
 
 // How a tracked angle or centre motion ended (`wait: true`).
 struct MotionEnd {
-    std::string reason;  // reached, timeout, replaced, stop, owner_gone, ...
-    std::optional<AttitudeSample> attitude;
+    std::string reason{};  // reached, timeout, replaced, stop, owner_gone, ...
+    std::optional<AttitudeSample> attitude{};
     std::int64_t elapsed_ms = 0;
 };
 
 struct AngleResult {
     bool sent = false;
     Axes angle;  // the target sent, after clamping
-    std::vector<std::string> clamped;
-    std::optional<MotionEnd> ended;
+    std::vector<std::string> clamped{};
+    std::optional<MotionEnd> ended{};
 };
 
 struct CenterResult {
     bool sent = false;
-    std::optional<MotionEnd> ended;
+    std::optional<MotionEnd> ended{};
 };
 
 struct RecordResult {
     bool sent = false;
-    std::string recording;  // "on", "off" or "unknown" after the call
+    std::string recording{};  // "on", "off" or "unknown" after the call
 };
 
 struct Control {
-    std::optional<Peer> controller;
+    std::optional<Peer> controller{};
     bool you_hold_control = false;
 };
 
@@ -168,31 +168,31 @@ struct Settings {
 
 // set_settings: only the fields given change (at least one).
 struct SettingsChange {
-    std::optional<int> dead_zone;
-    std::optional<int> follow_speed;
-    std::optional<bool> inverted;
+    std::optional<int> dead_zone{};
+    std::optional<int> follow_speed{};
+    std::optional<bool> inverted{};
 };
 
 struct Subscription {
-    std::vector<std::string> topics;
-    std::optional<double> max_rate_hz;
+    std::vector<std::string> topics{};
+    std::optional<double> max_rate_hz{};
 };
 
 // Notifications (topics "attitude", "link", "motion").
 struct LinkEvent {
-    std::string state;
-    std::string reason;
+    std::string state{};
+    std::string reason{};
 };
 
 struct MotionEvent {
-    std::string change;  // started, replaced, updated, ended
-    std::string mode;    // speed, angle, center, lock
-    std::optional<Peer> owner;
-    std::optional<Axes> speed;   // speed motions
-    std::optional<Axes> target;  // angle / centre motions
-    std::optional<std::int64_t> duration_ms;
-    std::optional<std::string> reason;  // ended / updated
-    std::vector<std::string> braked;    // updated with reason "limit"
+    std::string change{};  // started, replaced, updated, ended
+    std::string mode{};    // speed, angle, center, lock
+    std::optional<Peer> owner{};
+    std::optional<Axes> speed{};   // speed motions
+    std::optional<Axes> target{};  // angle / centre motions
+    std::optional<std::int64_t> duration_ms{};
+    std::optional<std::string> reason{};  // ended / updated
+    std::vector<std::string> braked{};    // updated with reason "limit"
 };
 
 using Notification = std::variant<AttitudeSample, LinkEvent, MotionEvent>;
