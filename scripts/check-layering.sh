@@ -2,7 +2,7 @@
 # Fails when a folder includes a folder above it in the layering order
 # (docs/architecture.md, "Layout"):
 #
-#   base  protocol  config  daemon  sim  ipc  systemd  app  client  cli
+#   base  protocol  config  daemon  sim  ipc  systemd  app  client  cli  examples
 #
 # Each folder may include its own headers and those of the folders before
 # it, never those after it. Checked: quoted or angled "gport/<part>/..."
@@ -14,7 +14,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-order=(base protocol config daemon sim ipc systemd app client cli)
+order=(base protocol config daemon sim ipc systemd app client cli examples)
 
 rank() {  # the folder's place in the order, or nothing
   local i

@@ -149,13 +149,17 @@ Subscription Client::unsubscribe(const std::vector<std::string>& topics) {
 std::optional<Notification> Client::next_notification(std::optional<Milliseconds> timeout) {
     const auto deadline =
         timeout ? std::optional(std::chrono::steady_clock::now() + *timeout) : std::nullopt;
+    bool tried = false;  // a zero timeout still reads what already arrived
     while (impl_->queue.empty()) {
         std::optional<Milliseconds> left;
         if (deadline) {
             left = std::chrono::duration_cast<Milliseconds>(*deadline -
                                                             std::chrono::steady_clock::now());
             if (left->count() <= 0) {
-                return std::nullopt;
+                if (tried) {
+                    return std::nullopt;
+                }
+                left = Milliseconds(0);
             }
         }
         if (impl_->connection.closed()) {
@@ -169,6 +173,7 @@ std::optional<Notification> Client::next_notification(std::optional<Milliseconds
             throw;
         }
         impl_->callback = std::move(saved);
+        tried = true;
     }
     auto n = std::move(impl_->queue.front());
     impl_->queue.pop_front();

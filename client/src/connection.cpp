@@ -132,6 +132,7 @@ Connection::ReadStatus Connection::read(nlohmann::json& message,
     if (timeout) {
         deadline = std::chrono::steady_clock::now() + *timeout;
     }
+    bool polled = false;  // a zero timeout still looks at the socket once
     while (true) {
         if (auto nl = buffer_.find('\n'); nl != std::string::npos) {
             const std::string line = buffer_.substr(0, nl);
@@ -148,10 +149,11 @@ Connection::ReadStatus Connection::read(nlohmann::json& message,
         if (interrupted()) {
             return ReadStatus::kInterrupted;
         }
-        if (deadline && std::chrono::steady_clock::now() >= *deadline) {
+        if (polled && deadline && std::chrono::steady_clock::now() >= *deadline) {
             return ReadStatus::kTimeout;
         }
         fill(deadline);
+        polled = true;
     }
 }
 
