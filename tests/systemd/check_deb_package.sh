@@ -1,7 +1,8 @@
 #!/bin/sh
 # Builds the Debian package with `cpack -G DEB` (into a temporary directory)
 # and checks what it holds: the programs, units, sysusers.d file, udev rule,
-# default config (as a conffile), the maintainer scripts, and dependencies
+# default config (as a conffile), libgport-client with its headers, pkg-config
+# and CMake files, the maintainer scripts, and dependencies
 # computed by dpkg-shlibdeps (package dpkg-dev).
 #
 # usage: check_deb_package.sh BUILD_DIR
@@ -33,7 +34,10 @@ for pattern in '^\./usr/bin/gportd$' '^\./usr/bin/gportctl$' '^\./usr/bin/gport-
                '/systemd/system/gportd\.service$' '/systemd/system/gportd\.socket$' \
                '/systemd/system/gportd@\.service$' '/systemd/system/gportd@\.socket$' \
                '/sysusers\.d/gportd\.conf$' '/udev/rules\.d/60-gportd\.rules$' \
-               '^\./etc/gportd/gportd\.json$' '^\./usr/share/doc/gportd/operations\.md$'; do
+               '^\./etc/gportd/gportd\.json$' '^\./usr/share/doc/gportd/operations\.md$' \
+               '/libgport-client\.so\.1$' '/libgport-client\.so$' \
+               '/pkgconfig/gport-client\.pc$' '/cmake/gport-client/gport-clientConfig\.cmake$' \
+               '^\./usr/include/gport/client/client\.hpp$'; do
     printf '%s\n' "$contents" | grep -q -- "$pattern" \
         || fail "the package lacks a file matching $pattern; it holds:
 $contents"
