@@ -4,14 +4,14 @@
 namespace gport::client::codec {
 namespace {
 
-json axes(const Axes& a) {
+json axes_json(const Axes& a) {
     return {{"roll", a.roll}, {"pitch", a.pitch}, {"yaw", a.yaw}};
 }
 
 }  // namespace
 
 json speed_params(const Axes& speed, const SpeedOptions& options) {
-    json params = axes(speed);
+    json params = axes_json(speed);
     if (options.duration) {
         params["duration_ms"] = options.duration->count();
     }
@@ -27,7 +27,7 @@ json speed_params(const Axes& speed, const SpeedOptions& options) {
 // `clamp` and `wait` are sent only when true, so that a daemon older than
 // the option still takes the call.
 json angle_params(const Axes& target, const AngleOptions& options) {
-    json params = axes(target);
+    json params = axes_json(target);
     if (options.clamp) {
         params["clamp"] = true;
     }
