@@ -1,6 +1,7 @@
 // The blocking client: Connection for the transport, codec for the JSON.
 #include "gport/client/client.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <deque>
 #include <utility>
@@ -29,20 +30,31 @@ struct Client::Impl {
         return codec::result_of(*reply);
     }
 
-    void take(const json& message) {
-        auto n = codec::notification(message);
+    // Hands a notification to the callback, or queues it (always, when
+    // `queue_only`: next_notification() returns it). One this version cannot
+    // read is skipped rather than failing the call that received it.
+    void take(const json& message, bool queue_only = false) {
+        std::optional<Notification> n;
+        try {
+            n = codec::notification(message);
+        } catch (const Error&) {
+            return;
+        }
         if (!n) {
             return;
         }
-        if (callback) {
+        if (callback && !queue_only) {
             callback(*n);
         } else {
             queue.push_back(std::move(*n));
         }
     }
 
-    // Reads one message that is a notification, until the deadline.
-    bool read_one(std::optional<Milliseconds> timeout) {
+    // Reads one message within the timeout; false when none came.
+    bool read_one(std::optional<Milliseconds> timeout, bool queue_only) {
+        if (connection.closed()) {
+            throw Error(ErrorCode::kTransport, "not connected to gportd (connect again)");
+        }
         json message;
         const auto status = connection.read(message, timeout);
         if (status == Connection::ReadStatus::kClosed) {
@@ -53,7 +65,7 @@ struct Client::Impl {
             return false;
         }
         if (!message.contains("id")) {
-            take(message);
+            take(message, queue_only);
         } else if (message["id"].is_null()) {
             codec::result_of(message);  // a refusal before close (e.g. -32004 idle): throws
         }
@@ -75,15 +87,22 @@ Client Client::connect(const std::string& path) {
 }
 
 Client::Client(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Client::Impl& Client::impl() {
+    if (!impl_) {
+        throw Error(ErrorCode::kTransport, "this Client was moved from; connect a new one");
+    }
+    return *impl_;
+}
 Client::Client(Client&& other) noexcept = default;
 Client& Client::operator=(Client&& other) noexcept = default;
 Client::~Client() = default;
 
 Status Client::status() {
-    return codec::status(impl_->call("status"));
+    return codec::status(impl().call("status"));
 }
 AttitudeSample Client::attitude() {
-    return codec::attitude(impl_->call("attitude"));
+    return codec::attitude(impl().call("attitude"));
 }
 
 SpeedResult Client::speed(const Axes& speed, std::optional<Milliseconds> duration,
@@ -92,104 +111,94 @@ SpeedResult Client::speed(const Axes& speed, std::optional<Milliseconds> duratio
 }
 
 SpeedResult Client::speed(const Axes& speed, const SpeedOptions& options) {
-    return codec::speed_result(impl_->call("speed", codec::speed_params(speed, options)));
+    return codec::speed_result(impl().call("speed", codec::speed_params(speed, options)));
 }
 
 void Client::stop() {
-    impl_->call("stop");
+    impl().call("stop");
 }
 
 AngleResult Client::angle(const Axes& target, const AngleOptions& options) {
-    return codec::angle_result(impl_->call("angle", codec::angle_params(target, options)));
+    return codec::angle_result(impl().call("angle", codec::angle_params(target, options)));
 }
 
 CenterResult Client::center(const CenterOptions& options) {
-    return codec::center_result(impl_->call("center", codec::center_params(options)));
+    return codec::center_result(impl().call("center", codec::center_params(options)));
 }
 
 void Client::lock() {
-    impl_->call("lock");
+    impl().call("lock");
 }
 void Client::photo() {
-    impl_->call("photo");
+    impl().call("photo");
 }
 
 RecordResult Client::record() {
-    return codec::record_result(impl_->call("record", codec::record_params(std::nullopt, false)));
+    return codec::record_result(impl().call("record", codec::record_params(std::nullopt, false)));
 }
 
 RecordResult Client::record(bool on, bool force) {
-    return codec::record_result(impl_->call("record", codec::record_params(on, force)));
+    return codec::record_result(impl().call("record", codec::record_params(on, force)));
 }
 
 Control Client::acquire() {
-    return codec::control(impl_->call("acquire"));
+    return codec::control(impl().call("acquire"));
 }
 Control Client::release() {
-    return codec::control(impl_->call("release"));
+    return codec::control(impl().call("release"));
 }
 Settings Client::settings() {
-    return codec::settings(impl_->call("get_settings"));
+    return codec::settings(impl().call("get_settings"));
 }
 
 Settings Client::set_settings(const SettingsChange& change) {
-    return codec::settings(impl_->call("set_settings", codec::settings_params(change)));
+    return codec::settings(impl().call("set_settings", codec::settings_params(change)));
 }
 
 Subscription Client::subscribe(const std::vector<std::string>& topics,
                                std::optional<double> max_rate_hz) {
     return codec::subscription(
-        impl_->call("subscribe", codec::subscribe_params(topics, max_rate_hz)));
+        impl().call("subscribe", codec::subscribe_params(topics, max_rate_hz)));
 }
 
 Subscription Client::unsubscribe(const std::vector<std::string>& topics) {
-    return codec::subscription(impl_->call("unsubscribe", codec::unsubscribe_params(topics)));
+    return codec::subscription(impl().call("unsubscribe", codec::unsubscribe_params(topics)));
 }
 
 std::optional<Notification> Client::next_notification(std::optional<Milliseconds> timeout) {
+    auto& impl = this->impl();
     const auto deadline =
         timeout ? std::optional(std::chrono::steady_clock::now() + *timeout) : std::nullopt;
     bool tried = false;  // a zero timeout still reads what already arrived
-    while (impl_->queue.empty()) {
+    while (impl.queue.empty()) {
         std::optional<Milliseconds> left;
         if (deadline) {
-            left = std::chrono::duration_cast<Milliseconds>(*deadline -
-                                                            std::chrono::steady_clock::now());
-            if (left->count() <= 0) {
-                if (tried) {
-                    return std::nullopt;
-                }
-                left = Milliseconds(0);
+            left = std::max(Milliseconds(0), std::chrono::duration_cast<Milliseconds>(
+                                                 *deadline - std::chrono::steady_clock::now()));
+            if (tried && left->count() == 0) {
+                return std::nullopt;
             }
         }
-        if (impl_->connection.closed()) {
-            throw Error(ErrorCode::kTransport, "not connected to gportd (connect again)");
-        }
-        auto saved = std::exchange(impl_->callback, nullptr);
-        try {
-            impl_->read_one(left);
-        } catch (...) {
-            impl_->callback = std::move(saved);
-            throw;
-        }
-        impl_->callback = std::move(saved);
+        impl.read_one(left, true);
         tried = true;
     }
-    auto n = std::move(impl_->queue.front());
-    impl_->queue.pop_front();
+    auto n = std::move(impl.queue.front());
+    impl.queue.pop_front();
     return n;
 }
 
 void Client::on_notification(std::function<void(const Notification&)> callback) {
-    impl_->callback = std::move(callback);
-    while (impl_->callback && !impl_->queue.empty()) {
-        auto n = std::move(impl_->queue.front());
-        impl_->queue.pop_front();
-        impl_->callback(n);
+    auto& impl = this->impl();
+    impl.callback = std::move(callback);
+    while (impl.callback && !impl.queue.empty()) {
+        auto n = std::move(impl.queue.front());
+        impl.queue.pop_front();
+        impl.callback(n);
     }
 }
 
 std::size_t Client::dispatch(Milliseconds duration) {
+    auto& impl = this->impl();
     std::size_t count = 0;
     const auto deadline = std::chrono::steady_clock::now() + duration;
     while (true) {
@@ -198,12 +207,7 @@ std::size_t Client::dispatch(Milliseconds duration) {
         if (left.count() <= 0) {
             return count;
         }
-        if (impl_->connection.closed()) {
-            throw Error(ErrorCode::kTransport, "not connected to gportd (connect again)");
-        }
-        if (impl_->read_one(left)) {
-            ++count;
-        }
+        count += impl.read_one(left, false) ? 1 : 0;
     }
 }
 

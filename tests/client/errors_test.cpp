@@ -104,7 +104,12 @@ TEST_F(ClientErrors, DaemonGoingAwayIsATransportErrorAndConnectWorksAfterARestar
     EXPECT_EQ(again.status().api_version, 1);
 }
 
-TEST_F(ClientErrors, ClosedClientRefusesCalls) {
+TEST_F(ClientErrors, MovedFromAndClosedClientsRefuseCalls) {
+    gc::Client moved = std::move(client());
+    EXPECT_FALSE(client().connected());
+    EXPECT_EQ(error_code_of([&] { client().status(); }), -1) << "moved from";
+    EXPECT_EQ(moved.status().link.state, "up") << "the connection moved with it";
+    client() = std::move(moved);
     client().close();
     EXPECT_FALSE(client().connected());
     EXPECT_EQ(error_code_of([&] { client().status(); }), -1);

@@ -16,7 +16,8 @@
 //
 // Thread-safety: a Client is not synchronised. Use one Client per thread
 // (or guard one with a mutex); distinct Clients are independent. Callbacks
-// run on the thread that made the call, inside that call.
+// run on the thread that made the call, inside that call; an exception from
+// a callback leaves that call (its reply is then lost).
 #pragma once
 
 #include <chrono>
@@ -89,6 +90,7 @@ class GPORT_CLIENT_API Client {
   private:
     struct Impl;
     explicit Client(std::unique_ptr<Impl> impl);
+    Impl& impl();  // throws kTransport on a moved-from Client
     std::unique_ptr<Impl> impl_;
 };
 

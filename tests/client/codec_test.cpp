@@ -1,0 +1,130 @@
+// The client's JSON codec on its own: the shapes of docs/api.md and of the
+// API additions (tracked motions with `ended`, braking events), without a
+// daemon. The codec is internal to the library, so its sources are compiled in.
+#include "codec.hpp"
+
+#include <gtest/gtest.h>
+
+namespace gport::client::codec {
+namespace {
+
+TEST(ClientCodec, OptionsAreSentOnlyWhenSet) {
+    EXPECT_EQ(angle_params({.yaw = 5}, {}), json::parse(R"({"roll":0,"pitch":0,"yaw":5})"));
+    EXPECT_EQ(angle_params({}, {.clamp = true, .wait = true})["wait"], true);
+    EXPECT_EQ(center_params({}), json::object());
+    EXPECT_EQ(center_params({.wait = true}), json::parse(R"({"wait":true})"));
+    const auto speed = speed_params(
+        {.pitch = 2}, {std::chrono::milliseconds(900), std::chrono::milliseconds(300), true});
+    EXPECT_EQ(speed["duration_ms"], 900);
+    EXPECT_EQ(speed["lease_ms"], 300);
+    EXPECT_EQ(speed["clamp"], true);
+    EXPECT_FALSE(speed_params({}, {}).contains("lease_ms"));
+    EXPECT_EQ(record_params(std::nullopt, true), json::object()) << "force needs on";
+    EXPECT_EQ(record_params(false, true), json::parse(R"({"on":false,"force":true})"));
+    EXPECT_EQ(settings_params({.inverted = true}), json::parse(R"({"inverted":true})"));
+    EXPECT_EQ(unsubscribe_params({}), json::object()) << "no topics: all";
+    EXPECT_EQ(subscribe_params({"link"}, std::nullopt), json::parse(R"({"topics":["link"]})"));
+}
+
+TEST(ClientCodec, ErrorsBecomeErrorWithTheirCode) {
+    try {
+        result_of(json::parse(R"({"id":1,"error":{"code":-32003,"message":"held by pid 7"}})"));
+        FAIL() << "no throw";
+    } catch (const Error& e) {
+        EXPECT_TRUE(e.is(ErrorCode::kBusy));
+        EXPECT_EQ(e.message(), "held by pid 7");
+    }
+    EXPECT_EQ(result_of(json::parse(R"({"id":1,"result":{"sent":true}})"))["sent"], true);
+    for (const char* bad : {R"([1])", R"({"id":1})", R"({"id":1,"error":{"message":"x"}})"}) {
+        try {
+            result_of(json::parse(bad));
+            FAIL() << bad;
+        } catch (const Error& e) {
+            EXPECT_TRUE(e.is(ErrorCode::kBadReply)) << bad;
+        }
+    }
+}
+
+TEST(ClientCodec, AngleWaitResultCarriesTheEnd) {
+    const auto r = angle_result(json::parse(R"({"sent":true,"angle":{"roll":0,"pitch":-90,"yaw":45},
+        "clamped":["pitch"],"ended":{"reason":"reached","elapsed_ms":812,
+        "attitude":{"seq":9,"t":1763770000.5,"imu":{"roll":0,"pitch":-89.9,"yaw":45},
+                    "hall":{"roll":0,"pitch":-90,"yaw":44.8},"age_ms":3}}})"));
+    EXPECT_EQ(r.angle.pitch, -90);
+    EXPECT_EQ(r.clamped, std::vector<std::string>{"pitch"});
+    ASSERT_TRUE(r.ended.has_value());
+    EXPECT_EQ(r.ended->reason, "reached");
+    EXPECT_EQ(r.ended->elapsed_ms, 812);
+    ASSERT_TRUE(r.ended->attitude.has_value());
+    EXPECT_EQ(r.ended->attitude->seq, 9U);
+    EXPECT_EQ(r.ended->attitude->age_ms, 3);
+    const auto none = center_result(json::parse(
+        R"({"sent":true,"ended":{"reason":"link_down","elapsed_ms":5,"attitude":null}})"));
+    ASSERT_TRUE(none.ended.has_value());
+    EXPECT_FALSE(none.ended->attitude.has_value()) << "null when there is no sample";
+}
+
+TEST(ClientCodec, AttitudeWithRatesAndDrops) {
+    const auto n = notification(json::parse(R"({"jsonrpc":"2.0","method":"attitude","params":
+        {"seq":1042,"t":1763770000.123456,"imu":{"roll":0,"pitch":0,"yaw":-39.29},
+         "hall":{"roll":-19.21,"pitch":-0.16,"yaw":4.66},"dropped":3,
+         "rates":{"hall":{"roll":1.25,"pitch":-0.5,"yaw":0},"imu":{"x":0.12,"y":-2.3,"z":0}}}})"));
+    ASSERT_TRUE(n.has_value());
+    const auto& s = std::get<AttitudeSample>(*n);
+    EXPECT_EQ(s.seq, 1042U);
+    EXPECT_DOUBLE_EQ(s.time, 1763770000.123456);
+    EXPECT_DOUBLE_EQ(s.imu.yaw, -39.29);
+    EXPECT_EQ(s.dropped, 3U);
+    ASSERT_TRUE(s.rates.has_value());
+    EXPECT_DOUBLE_EQ(s.rates->hall.roll, 1.25);
+    EXPECT_DOUBLE_EQ(s.rates->imu.y, -2.3);
+}
+
+TEST(ClientCodec, MotionEventsOfEveryKind) {
+    const auto braked = notification(json::parse(R"({"method":"motion","params":
+        {"change":"updated","mode":"speed","owner":{"id":4,"pid":812,"uid":1000,"gid":1000},
+         "speed":{"roll":0,"pitch":0,"yaw":20},"reason":"limit","braked":["pitch"]}})"));
+    const auto& b = std::get<MotionEvent>(*braked);
+    EXPECT_EQ(b.change, "updated");
+    EXPECT_EQ(b.reason, "limit");
+    EXPECT_EQ(b.braked, std::vector<std::string>{"pitch"});
+    EXPECT_EQ(b.owner->pid, 812);
+    const auto tracked = notification(json::parse(R"({"method":"motion","params":
+        {"change":"ended","mode":"angle","owner":null,"target":{"roll":0,"pitch":-10,"yaw":30},
+         "reason":"reached"}})"));
+    const auto& t = std::get<MotionEvent>(*tracked);
+    EXPECT_FALSE(t.owner.has_value());
+    ASSERT_TRUE(t.target.has_value());
+    EXPECT_EQ(t.target->yaw, 30);
+    EXPECT_FALSE(t.speed.has_value());
+    const auto link = notification(json::parse(
+        R"({"method":"link","params":{"state":"stale","reason":"no attitude for 500 ms"}})"));
+    EXPECT_EQ(std::get<LinkEvent>(*link).state, "stale");
+    EXPECT_FALSE(notification(json::parse(R"({"method":"weather","params":{}})")).has_value())
+        << "an unknown topic is not an error";
+    EXPECT_THROW(notification(json::parse(R"({"method":"attitude","params":{"seq":"x"}})")), Error);
+}
+
+TEST(ClientCodec, StatusWithATrackedMotionAndUnknownMembers) {
+    const auto s = status(json::parse(R"({"api_version":1,"daemon_version":"0.2.0",
+        "link":{"state":"up","reason":"attitude arriving"},"device":"/dev/gimbal",
+        "device_open":true,"uptime_ms":5,"attitude_age_ms":null,"counters":{"frames_in":3,
+        "something_new":1},"clients":2,"dropped_notifications":0,
+        "motion":{"mode":"angle","owner":{"id":1,"pid":2,"uid":3,"gid":4},
+                  "target":{"roll":0,"pitch":-10,"yaw":30},"elapsed_ms":120},
+        "controller":null,"recording":"off","client":{"id":7,"pid":990,"uid":0,"gid":0,"dropped":4},
+        "a_future_member":true})"));
+    EXPECT_EQ(s.counters.frames_in, 3U);
+    EXPECT_FALSE(s.attitude_age_ms.has_value());
+    ASSERT_TRUE(s.motion.has_value());
+    EXPECT_EQ(s.motion->mode, "angle");
+    EXPECT_EQ(s.motion->target->pitch, -10);
+    EXPECT_EQ(s.motion->elapsed_ms, 120);
+    EXPECT_FALSE(s.motion->time_left_ms.has_value());
+    EXPECT_EQ(s.self.id, 7);
+    EXPECT_EQ(s.self_dropped, 4U);
+    EXPECT_EQ(s.recording, "off");
+}
+
+}  // namespace
+}  // namespace gport::client::codec
