@@ -39,16 +39,16 @@ struct ImuRates {
 
 // Angular rates, sent only by gimbals with the 24-byte attitude frame.
 struct Rates {
-    Axes hall;     // °/s
-    ImuRates imu;  // °/s
+    Axes hall{};     // °/s
+    ImuRates imu{};  // °/s
 };
 
 // One 0x87 attitude frame: the `attitude` method's result and notification.
 struct AttitudeSample {
     std::uint64_t seq = 0;  // frames since the daemon started
     double time = 0;        // receive time, seconds since the epoch (µs resolution)
-    Axes imu;
-    Axes hall;
+    Axes imu{};
+    Axes hall{};
     std::optional<Rates> rates{};
     std::optional<std::int64_t> age_ms{};  // `attitude()` only: how old the sample is
     std::uint64_t dropped = 0;             // notifications: samples this client lost so far
@@ -94,18 +94,18 @@ struct Counters {
 struct Status {
     int api_version = 0;
     std::string daemon_version{};
-    Link link;
+    Link link{};
     std::string device{};
     bool device_open = false;
     std::int64_t uptime_ms = 0;
     std::optional<std::int64_t> attitude_age_ms{};  // empty before the first sample
-    Counters counters;
+    Counters counters{};
     std::int64_t clients = 0;
     std::uint64_t dropped_notifications = 0;
     std::optional<Motion> motion{};
     std::optional<Peer> controller{};
     std::string recording{};  // assumed state: "on", "off" or "unknown"
-    Peer self;                // this connection
+    Peer self{};              // this connection
     std::uint64_t self_dropped = 0;
 };
 
@@ -118,7 +118,7 @@ struct SpeedOptions {
 struct SpeedResult {
     std::int64_t duration_ms = 0;
     double ends_at = 0;  // seconds since the epoch
-    Axes speed;          // as sent, after clamping
+    Axes speed{};        // as sent, after clamping
     std::vector<std::string> clamped{};
 };
 
@@ -140,7 +140,7 @@ struct MotionEnd {
 
 struct AngleResult {
     bool sent = false;
-    Axes angle;  // the target sent, after clamping
+    Axes angle{};  // the target sent, after clamping
     std::vector<std::string> clamped{};
     std::optional<MotionEnd> ended{};
 };
