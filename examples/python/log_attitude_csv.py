@@ -48,7 +48,7 @@ def log(gimbal: gport.Client, output: TextIO, rate: float, seconds: float) -> in
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--socket", help="gportd's socket (default $GPORT_SOCKET or /run/gportd.sock)")
+    parser.add_argument("--socket", help="default: $GPORT_SOCKET, else /run/gportd.sock")
     parser.add_argument("--rate", type=float, default=10.0, help="samples per second (at most)")
     parser.add_argument("--seconds", type=float, default=10.0, help="how long to log")
     parser.add_argument("--output", help="CSV file (default: standard output)")

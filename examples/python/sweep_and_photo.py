@@ -18,7 +18,7 @@ import gport
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--socket", help="gportd's socket (default $GPORT_SOCKET or /run/gportd.sock)")
+    parser.add_argument("--socket", help="default: $GPORT_SOCKET, else /run/gportd.sock")
     parser.add_argument("--pitch", type=float, default=-20.0, help="pitch for every shot, degrees")
     parser.add_argument("--yaw", type=float, nargs="+", default=[-30.0, 0.0, 30.0],
                         help="yaw positions, degrees")
@@ -30,7 +30,8 @@ def main() -> int:
                 result = gimbal.angle(pitch=args.pitch, yaw=yaw, clamp=True, wait=True)
                 reason = result.ended.reason if result.ended else "sent"
                 gimbal.photo()
-                print(f"yaw {result.angle.yaw:7.2f} pitch {result.angle.pitch:7.2f}: {reason}, photo taken")
+                target = result.angle
+                print(f"yaw {target.yaw:7.2f} pitch {target.pitch:7.2f}: {reason}, photo taken")
             gimbal.center(wait=True)
     except gport.GportError as error:
         print(f"sweep_and_photo: {error}", file=sys.stderr)

@@ -56,7 +56,7 @@ def track(gimbal: gport.Client, seconds: float, lease_ms: int) -> int:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--socket", help="gportd's socket (default $GPORT_SOCKET or /run/gportd.sock)")
+    parser.add_argument("--socket", help="default: $GPORT_SOCKET, else /run/gportd.sock")
     parser.add_argument("--seconds", type=float, default=10.0, help="how long to track")
     parser.add_argument("--lease-ms", type=int, default=300, help="the deadman lease of each speed")
     args = parser.parse_args()

@@ -38,7 +38,8 @@ class Daemon:
         self.config = os.path.join(self.dir, "gportd.json")
         with open(self.config, "w", encoding="utf-8") as file:
             json.dump(settings, file)
-        self.args = [GPORTD, "--config", self.config, "--socket", self.socket, "--log-level", "warn"]
+        self.args = [GPORTD, "--config", self.config, "--socket", self.socket]
+        self.args += ["--log-level", "warn"]
         if simulate:
             self.args.append("--simulate")
         else:

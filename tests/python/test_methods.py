@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from typing import Callable
 
 import pytest
@@ -140,3 +141,9 @@ def test_socket_path_from_environment(daemon: Daemon, monkeypatch: pytest.Monkey
     with gport.Client() as client:
         assert client.path == daemon.socket
         assert eventually(lambda: client.status().api_version == 1)
+
+
+def test_module_version_is_the_projects(client: gport.Client) -> None:
+    # The module and the daemon ship together, in one version.
+    expected = os.environ.get("GPORT_PROJECT_VERSION") or client.status().daemon_version
+    assert gport.__version__ == expected

@@ -81,7 +81,8 @@ def test_each_error_code_has_its_class(fake: Callable[[Script], str]) -> None:
 def test_notifications_before_the_reply_are_queued(fake: Callable[[Script], str]) -> None:
     sample = {"seq": 7, "t": 1.5, "imu": {"roll": 1, "pitch": 2, "yaw": 3},
               "hall": {"roll": 4, "pitch": 5, "yaw": 6},
-              "rates": {"hall": {"roll": 0.5, "pitch": 0, "yaw": 0}, "imu": {"x": 1, "y": 2, "z": 3}}}
+              "rates": {"hall": {"roll": 0.5, "pitch": 0, "yaw": 0},
+                        "imu": {"x": 1, "y": 2, "z": 3}}}
 
     def script(connection: socket.socket, request: Any) -> None:
         send(connection, {"jsonrpc": "2.0", "method": "attitude", "params": sample})

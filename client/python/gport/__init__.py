@@ -51,6 +51,7 @@ from .types import (
     Subscription,
 )
 
+# The project's version (CMakeLists.txt project()); tests/python checks they agree.
 __version__ = "0.1.0"
 
 __all__ = [

@@ -79,6 +79,7 @@ class AsyncClient:
         finally:
             if self._writer is writer:
                 self._lost()
+                writer.close()
 
     def _lost(self) -> None:
         self._alive = False
@@ -277,7 +278,9 @@ class AsyncClient:
             except asyncio.TimeoutError:
                 return None
 
-    async def notifications(self, topics: Iterable[str] | None = None) -> AsyncIterator[Notification]:
+    async def notifications(
+        self, topics: Iterable[str] | None = None
+    ) -> AsyncIterator[Notification]:
         while True:
             item = await self.next_notification(topics)
             if item is not None:

@@ -289,9 +289,9 @@ def _counters(raw: Json) -> Counters:
 def _me(raw: Json | None) -> Me | None:
     if raw is None:
         return None
-    return Me(
-        int(raw["id"]), int(raw["pid"]), int(raw["uid"]), int(raw["gid"]), int(raw.get("dropped", 0))
-    )
+    peer = _peer(raw)
+    assert peer is not None
+    return Me(peer.id, peer.pid, peer.uid, peer.gid, int(raw.get("dropped", 0)))
 
 
 def parse_status(raw: Json) -> Status:
