@@ -8,6 +8,7 @@ import os
 import socket
 import tempfile
 import threading
+import time
 from typing import Any, Callable, Iterator
 
 import pytest
@@ -118,3 +119,30 @@ def test_refusal_with_null_id_names_the_reason(fake: Callable[[Script], str]) ->
             client.status()
         assert "idle for 100 ms" in raised.value.message and "-32004" in raised.value.message
         assert not client.connected
+
+
+def test_wait_sends_the_flag_and_parses_ended(fake: Callable[[Script], str]) -> None:
+    # The shape of CONTRACT's tracked motions, answered late: a waited call
+    # is not limited by the client's reply timeout.
+    sample = {"seq": 3, "t": 2.0, "imu": {"roll": 0, "pitch": 0, "yaw": 10},
+              "hall": {"roll": 0, "pitch": 0, "yaw": 9.8}, "age_ms": 4}
+    seen: list[Any] = []
+
+    def script(connection: socket.socket, request: Any) -> None:
+        seen.append(request)
+        time.sleep(0.3)
+        ended = {"reason": "reached", "attitude": sample, "elapsed_ms": 812}
+        result: dict[str, Any] = {"sent": True, "ended": ended}
+        if request["method"] == "angle":
+            result.update(angle={"roll": 0, "pitch": 0, "yaw": 10}, clamped=[])
+        send(connection, {"jsonrpc": "2.0", "id": request["id"], "result": result})
+
+    with gport.Client(fake(script), timeout=0.1) as client:
+        result = client.angle(yaw=10, wait=True)
+        assert result.ended is not None and result.ended.reason == "reached"
+        assert result.ended.elapsed_ms == 812
+        assert result.ended.attitude is not None and result.ended.attitude.hall.yaw == 9.8
+        centered = client.center(wait=True)
+        assert centered.ended is not None and centered.ended.reason == "reached"
+    assert seen[0]["params"] == {"roll": 0.0, "pitch": 0.0, "yaw": 10, "wait": True}
+    assert seen[1]["params"] == {"wait": True}
