@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import socket
 import subprocess
 import tempfile
 import time
@@ -50,12 +51,16 @@ class Daemon:
     def start(self) -> None:
         self.process = subprocess.Popen(self.args)
         deadline = time.monotonic() + 10
-        while not os.path.exists(self.socket):
+        while not self._accepting():  # the file appears at bind(), before listen()
             if self.process.poll() is not None:
                 pytest.fail(f"gportd exited with {self.process.returncode}")
             if time.monotonic() > deadline:
-                pytest.fail("gportd made no socket within 10 s")
+                pytest.fail("gportd did not accept connections within 10 s")
             time.sleep(0.02)
+
+    def _accepting(self) -> bool:
+        with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as probe:
+            return probe.connect_ex(self.socket) == 0
 
     def stop(self) -> None:
         if self.process is not None and self.process.poll() is None:
