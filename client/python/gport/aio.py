@@ -5,7 +5,7 @@ from __future__ import annotations
 import asyncio
 import time
 from contextlib import asynccontextmanager
-from typing import Any, AsyncIterator, Awaitable, Callable, Iterable, Mapping
+from typing import Any, AsyncGenerator, AsyncIterator, Awaitable, Callable, Iterable, Mapping
 
 from . import _protocol as p
 from .errors import ConnectionLost, GportError, Timeout
@@ -280,7 +280,7 @@ class AsyncClient:
 
     async def notifications(
         self, topics: Iterable[str] | None = None
-    ) -> AsyncIterator[Notification]:
+    ) -> AsyncGenerator[Notification, None]:
         while True:
             item = await self.next_notification(topics)
             if item is not None:
@@ -288,7 +288,7 @@ class AsyncClient:
 
     async def attitude_stream(
         self, rate: float | None = 10.0, timeout: float | None = None
-    ) -> AsyncIterator[Attitude]:
+    ) -> AsyncGenerator[Attitude, None]:
         """``async for sample in client.attitude_stream(rate=10):``; as gport.Client's."""
         await self.subscribe("attitude", max_rate_hz=rate)
         try:

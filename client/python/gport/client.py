@@ -6,7 +6,7 @@ import socket
 import threading
 import time
 from contextlib import contextmanager
-from typing import Any, Iterable, Iterator, Mapping
+from typing import Any, Generator, Iterable, Iterator, Mapping
 
 from . import _protocol as p
 from .errors import ConnectionLost, GportError, Timeout
@@ -301,7 +301,9 @@ class Client:
                     return None
                 self._cond.wait(left)
 
-    def notifications(self, topics: Iterable[str] | None = None) -> Iterator[Notification]:
+    def notifications(
+        self, topics: Iterable[str] | None = None
+    ) -> Generator[Notification, None, None]:
         """Every notification as it arrives (subscribe first); ends on ConnectionLost."""
         while True:
             item = self.next_notification(topics)
@@ -310,7 +312,7 @@ class Client:
 
     def attitude_stream(
         self, rate: float | None = 10.0, timeout: float | None = None
-    ) -> Iterator[Attitude]:
+    ) -> Generator[Attitude, None, None]:
         """Subscribes to attitude at ``rate`` Hz (None: every sample) and yields
         the samples; unsubscribes when the loop ends. Other notifications
         stay queued. ``timeout``: Timeout when no sample comes for that long."""
