@@ -16,6 +16,7 @@ import pytest
 import gport
 
 GPORTD = os.environ.get("GPORTD", "")
+GPORT_SIM = os.environ.get("GPORT_SIM", "")
 
 
 class Daemon:
@@ -105,6 +106,26 @@ def make_daemon() -> Iterator[Callable[..., Daemon]]:
     yield make
     for daemon in daemons:
         daemon.close()
+
+
+@pytest.fixture
+def start_sim() -> Iterator[Callable[..., subprocess.Popen[bytes]]]:
+    """Starts gport-sim (a simulated gimbal on a pty) with a symlink at a path."""
+    sims: list[subprocess.Popen[bytes]] = []
+
+    def start(link: str, *extra: str) -> subprocess.Popen[bytes]:
+        if not GPORT_SIM or not os.access(GPORT_SIM, os.X_OK):
+            pytest.fail(f"set GPORT_SIM to the gport-sim binary (got {GPORT_SIM!r})")
+        sim = subprocess.Popen([GPORT_SIM, "--link", link, *extra], stdout=subprocess.PIPE)
+        sims.append(sim)
+        assert sim.stdout is not None and sim.stdout.readline(), "gport-sim printed no path"
+        return sim
+
+    yield start
+    for sim in sims:
+        if sim.poll() is None:
+            sim.terminate()
+            sim.wait(timeout=10)
 
 
 @pytest.fixture

@@ -2,6 +2,13 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import time
+from typing import Callable
+
+from conftest import Daemon
+
 import gport
 
 
@@ -64,3 +71,33 @@ def test_notifications_iterator_in_arrival_order(client: gport.Client) -> None:
             if item.change == "ended":
                 break
     assert changes == ["started", "ended"]
+
+
+def link_states(client: gport.Client, until: set[str]) -> list[str]:
+    """The link notifications' states, up to the first in `until` (10 s at most)."""
+    states: list[str] = []
+    deadline = time.monotonic() + 10
+    while not states or states[-1] not in until:
+        left = deadline - time.monotonic()
+        event = client.next_notification("link", timeout=max(left, 0))
+        if event is None:
+            break
+        assert isinstance(event, gport.Link)
+        states.append(event.state)
+    return states
+
+
+def test_link_events_and_rates_with_gport_sim(
+    make_daemon: Callable[..., Daemon], start_sim: Callable[..., subprocess.Popen[bytes]]
+) -> None:
+    daemon = make_daemon(simulate=False)  # its device does not exist yet
+    device = os.path.join(daemon.dir, "no-such-tty")
+    with daemon.client() as client:
+        client.subscribe("link")
+        sim = start_sim(device, "--form", "24")  # the gimbal appears: 24-byte frames
+        assert link_states(client, {"up"})[-1:] == ["up"]
+        sample = client.attitude()
+        assert sample.rates is not None and isinstance(sample.rates.imu, gport.ImuRates)
+        sim.terminate()  # the gimbal goes
+        sim.wait(timeout=10)
+        assert link_states(client, {"stale", "down"})[-1:] in (["stale"], ["down"])
