@@ -10,8 +10,8 @@ asyncio. Both speak gportd's JSON-RPC over its Unix socket (default
         gimbal.photo()
 """
 
-from .aio import AsyncClient, AsyncMovement
-from .client import Client, Movement
+from .aio import AsyncClient
+from .client import Client
 from .errors import (
     Busy,
     ConnectionLost,
@@ -28,7 +28,8 @@ from .errors import (
     Timeout,
     TooManyRequests,
 )
-from .types import (
+from .moving import AsyncMovement, Movement
+from .results import (
     AngleResult,
     Attitude,
     Axes,

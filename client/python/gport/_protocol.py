@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from typing import Any, Iterable, Mapping
 
 from .errors import GportError, NoSlot, error_from_reply
-from .types import Notification, parse_notification
+from .results import Notification, parse_notification
 
 DEFAULT_SOCKET = "/run/gportd.sock"
 SOCKET_ENV = "GPORT_SOCKET"

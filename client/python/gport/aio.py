@@ -5,11 +5,12 @@ from __future__ import annotations
 import asyncio
 import time
 from contextlib import asynccontextmanager
-from typing import Any, AsyncGenerator, AsyncIterator, Awaitable, Callable, Iterable, Mapping
+from typing import Any, AsyncGenerator, AsyncIterator, Iterable, Mapping
 
 from . import _protocol as p
 from .errors import ConnectionLost, GportError, Timeout
-from .types import (
+from .moving import AsyncMovement, quietly_async
+from .results import (
     AngleResult,
     Attitude,
     CenterResult,
@@ -313,7 +314,7 @@ class AsyncClient:
         try:
             yield result
         except BaseException as error:
-            await _quietly(self.release, error)
+            await quietly_async(self.release, error)
             raise
         await self.release()
 
@@ -337,69 +338,9 @@ class AsyncClient:
             yield movement
         except BaseException as error:
             await movement.halt()
-            await _quietly(self.stop, error)
+            await quietly_async(self.stop, error)
             raise
         await movement.halt()
         await self.stop()
         if movement.error is not None:
             raise movement.error
-
-
-async def _quietly(action: Callable[[], Awaitable[Any]], pending: BaseException) -> None:
-    try:
-        await action()
-    except GportError as error:
-        pending.add_note(f"gport: clean-up failed too: {error}")
-
-
-class AsyncMovement:
-    """The speed an async ``moving`` block keeps alive; ``update`` changes it."""
-
-    def __init__(self, client: AsyncClient, params: dict[str, Any]) -> None:
-        self._client = client
-        self._params = params
-        self._task: asyncio.Task[None] | None = None
-        self._deadline: float | None = None
-        self.result: SpeedResult | None = None
-        self.error: GportError | None = None
-
-    async def start(self, interval: float, duration_ms: int | None) -> None:
-        if duration_ms is not None:
-            self._deadline = time.monotonic() + duration_ms / 1000.0
-        await self._send()
-        self._task = asyncio.create_task(self._keep(interval))
-
-    async def update(
-        self, roll: float | None = None, pitch: float | None = None, yaw: float | None = None
-    ) -> SpeedResult | None:
-        self._params.update(p.drop_none(roll=roll, pitch=pitch, yaw=yaw))
-        return await self._send()
-
-    @property
-    def alive(self) -> bool:
-        return self._task is not None and not self._task.done()
-
-    async def _send(self) -> SpeedResult | None:
-        params = dict(self._params)
-        if self._deadline is not None:
-            left = int((self._deadline - time.monotonic()) * 1000)
-            if left <= 0:
-                return None
-            params["duration_ms"] = left
-        self.result = parse_speed(await self._client.call("speed", params))
-        return self.result
-
-    async def _keep(self, interval: float) -> None:
-        while True:
-            await asyncio.sleep(interval)
-            try:
-                if await self._send() is None:
-                    return
-            except GportError as error:
-                self.error = error
-                return
-
-    async def halt(self) -> None:
-        if self._task is not None:
-            self._task.cancel()
-            await asyncio.gather(self._task, return_exceptions=True)

@@ -10,7 +10,8 @@ from typing import Any, Generator, Iterable, Iterator, Mapping
 
 from . import _protocol as p
 from .errors import ConnectionLost, GportError, Timeout
-from .types import (
+from .moving import Movement, quietly
+from .results import (
     AngleResult,
     Attitude,
     CenterResult,
@@ -339,7 +340,7 @@ class Client:
         try:
             yield result
         except BaseException as error:
-            _quietly(self.release, error)
+            quietly(self.release, error)
             raise
         self.release()
 
@@ -369,78 +370,9 @@ class Client:
             yield movement
         except BaseException as error:
             movement.halt()
-            _quietly(self.stop, error)
+            quietly(self.stop, error)
             raise
         movement.halt()
         self.stop()
         if movement.error is not None:
             raise movement.error
-
-
-def _quietly(action: Any, pending: BaseException) -> None:
-    """Runs a clean-up while ``pending`` propagates; its failure becomes a note."""
-    try:
-        action()
-    except GportError as error:
-        pending.add_note(f"gport: clean-up failed too: {error}")
-
-
-class Movement:
-    """The speed a ``moving`` block keeps alive; ``update`` changes it."""
-
-    def __init__(self, client: Client, params: dict[str, Any]) -> None:
-        self._client = client
-        self._params = params
-        self._lock = threading.Lock()
-        self._stop = threading.Event()
-        self._thread: threading.Thread | None = None
-        self._deadline: float | None = None
-        self.result: SpeedResult | None = None
-        self.error: GportError | None = None
-
-    def start(self, interval: float, duration_ms: int | None) -> None:
-        if duration_ms is not None:
-            self._deadline = time.monotonic() + duration_ms / 1000.0
-        self._send()  # the first speed's errors go to the caller
-        self._thread = threading.Thread(
-            target=self._keep, args=(interval,), name="gport-moving", daemon=True
-        )
-        self._thread.start()
-
-    def update(
-        self, roll: float | None = None, pitch: float | None = None, yaw: float | None = None
-    ) -> SpeedResult | None:
-        """Changes the given axes' speeds and sends the new speed at once."""
-        with self._lock:
-            self._params.update(p.drop_none(roll=roll, pitch=pitch, yaw=yaw))
-        return self._send()
-
-    @property
-    def alive(self) -> bool:
-        """True while the re-sends go on."""
-        return self._thread is not None and self._thread.is_alive()
-
-    def _send(self) -> SpeedResult | None:
-        with self._lock:
-            params = dict(self._params)
-        if self._deadline is not None:
-            left = int((self._deadline - time.monotonic()) * 1000)
-            if left <= 0:
-                return None
-            params["duration_ms"] = left
-        self.result = parse_speed(self._client.call("speed", params))
-        return self.result
-
-    def _keep(self, interval: float) -> None:
-        while not self._stop.wait(interval):
-            try:
-                if self._send() is None:
-                    return
-            except GportError as error:
-                self.error = error
-                return
-
-    def halt(self) -> None:
-        self._stop.set()
-        if self._thread is not None and self._thread is not threading.current_thread():
-            self._thread.join()
