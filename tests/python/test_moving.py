@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
 import time
 
 import pytest
@@ -73,3 +75,29 @@ def test_moving_raises_the_keepalive_error_when_control_is_taken(
                 assert eventually(lambda: not movement.alive)
                 assert isinstance(movement.error, gport.Busy)
         assert client.status().motion is None
+
+
+HANGING_CHILD = """
+import os, signal, sys
+import gport
+with gport.Client(sys.argv[1]) as client:
+    with client.moving(yaw=10, lease_ms=300):
+        os.kill(os.getpid(), signal.SIGSTOP)  # hangs: every thread stops, the socket stays open
+"""
+
+
+def test_a_hung_process_is_stopped_by_the_lease(daemon: Daemon, client: gport.Client) -> None:
+    client.subscribe("motion")
+    child = subprocess.Popen([sys.executable, "-c", HANGING_CHILD, daemon.socket])
+    try:
+        reasons = []
+        while "lease_expired" not in reasons:
+            event = client.next_notification("motion", timeout=10)
+            assert isinstance(event, gport.MotionEvent), f"no motion event; so far {reasons}"
+            if event.change == "ended" and event.reason is not None:
+                reasons.append(event.reason)
+        assert client.status().motion is None
+        assert child.poll() is None, "the child is still there, hung"
+    finally:
+        child.kill()
+        child.wait(timeout=10)

@@ -176,15 +176,17 @@ class Client:
     def _await_reply(self, request_id: int, method: str, limit: float | None) -> Any:
         deadline = None if limit is None else time.monotonic() + limit
         with self._cond:
-            while True:
-                reply = self._pending.get(request_id)
-                if reply is not None or request_id not in self._pending or not self._alive:
-                    break
-                left = None if deadline is None else deadline - time.monotonic()
-                if left is not None and left <= 0:
-                    break
-                self._cond.wait(left)
-            self._pending.pop(request_id, None)
+            try:
+                while True:
+                    reply = self._pending.get(request_id)
+                    if reply is not None or request_id not in self._pending or not self._alive:
+                        break
+                    left = None if deadline is None else deadline - time.monotonic()
+                    if left is not None and left <= 0:
+                        break
+                    self._cond.wait(left)
+            finally:  # also when interrupted (Ctrl-C): a late reply is dropped
+                self._pending.pop(request_id, None)
             if reply is None and not self._alive:
                 raise ConnectionLost(p.closed_message(self._refused))
         if reply is None:
