@@ -90,7 +90,7 @@ def test_a_hung_process_is_stopped_by_the_lease(daemon: Daemon, client: gport.Cl
     client.subscribe("motion")
     child = subprocess.Popen([sys.executable, "-c", HANGING_CHILD, daemon.socket])
     try:
-        reasons = []
+        reasons: list[str] = []
         while "lease_expired" not in reasons:
             event = client.next_notification("motion", timeout=10)
             assert isinstance(event, gport.MotionEvent), f"no motion event; so far {reasons}"
