@@ -70,8 +70,8 @@ set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Shared, safe, observable G-Port gimbal se
 set(CPACK_PACKAGE_DESCRIPTION
     "gportd owns the UART of a HEQUAV G-Port camera gimbal and serves it to any number of local \
 processes over a Unix socket (newline-delimited JSON-RPC). Includes gportctl, the command-line \
-client, gport-sim, a simulated gimbal on a pseudo-terminal, and libgport-client, the C++ client \
-library, with its headers, pkg-config file and CMake package.")
+client, gport-sim, a simulated gimbal on a pseudo-terminal, libgport-client, the C++ client \
+library, with its headers, pkg-config file and CMake package, and gport, the Python client module.")
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_STRIP_FILES ON)
 set(CPACK_PACKAGING_INSTALL_PREFIX "/usr")
@@ -85,7 +85,11 @@ set(CPACK_DEBIAN_PACKAGE_PRIORITY "optional")
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "systemd, udev, init-system-helpers (>= 1.54~)")
 # Building against libgport-client's headers: AsyncClient needs Boost.Asio.
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libboost-dev (>= 1.74), pkg-config")
+# The Python client (client/python, pure Python, standard library only) ships
+# in this package under /usr/lib/python3/dist-packages rather than in a
+# separate python3-gport: it is a few small files, versioned with the daemon
+# whose protocol it speaks. Python is only suggested: the daemon runs without it.
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libboost-dev (>= 1.74), pkg-config, python3 (>= 3.11)")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 
 # Maintainer scripts, plus a conffiles list generated from what was actually

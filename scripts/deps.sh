@@ -13,6 +13,8 @@ GPORT_PACKAGES=(
   # lacks: `file` (CPackDeb, in the systemd_deb_package test) and procps
   # (/bin/kill, the units' ExecReload, which systemd_units verifies).
   file procps
+  # The Python client's tests: pytest and mypy --strict (client/python).
+  python3 python3-pytest mypy
 )
 
 gport_install_deps() {

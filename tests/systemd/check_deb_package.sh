@@ -2,7 +2,8 @@
 # Builds the Debian package with `cpack -G DEB` (into a temporary directory)
 # and checks what it holds: the programs, units, sysusers.d file, udev rule,
 # default config (as a conffile), libgport-client with its headers, pkg-config
-# and CMake files, the maintainer scripts, and dependencies
+# and CMake files, the Python client module gport (Debian's dist-packages, no
+# bytecode), the maintainer scripts, and dependencies
 # computed by dpkg-shlibdeps (package dpkg-dev).
 #
 # usage: check_deb_package.sh BUILD_DIR
@@ -37,7 +38,11 @@ for pattern in '^\./usr/bin/gportd$' '^\./usr/bin/gportctl$' '^\./usr/bin/gport-
                '^\./etc/gportd/gportd\.json$' '^\./usr/share/doc/gportd/operations\.md$' \
                '/libgport-client\.so\.1$' '/libgport-client\.so$' \
                '/pkgconfig/gport-client\.pc$' '/cmake/gport-client/gport-clientConfig\.cmake$' \
-               '^\./usr/include/gport/client/client\.hpp$'; do
+               '^\./usr/include/gport/client/client\.hpp$' \
+               '^\./usr/lib/python3/dist-packages/gport/__init__\.py$' \
+               '^\./usr/lib/python3/dist-packages/gport/client\.py$' \
+               '^\./usr/lib/python3/dist-packages/gport/aio\.py$' \
+               '^\./usr/lib/python3/dist-packages/gport/py\.typed$'; do
     printf '%s\n' "$contents" | grep -q -- "$pattern" \
         || fail "the package lacks a file matching $pattern; it holds:
 $contents"
@@ -57,6 +62,10 @@ for dependency in libc6 'libsystemd0' systemd udev init-system-helpers; do
     printf '%s\n' "$depends" | grep -q "$dependency" \
         || fail "Depends lacks $dependency (dpkg-shlibdeps adds the libraries)"
 done
+
+printf '%s\n' "$contents" | grep -q '__pycache__' && fail "the package holds Python bytecode"
+printf '%s\n' "$(dpkg-deb -f "$deb" Suggests)" | grep -q python3 \
+    || fail "Suggests lacks python3 (the gport module)"
 
 unit=$(printf '%s\n' "$contents" | grep '/systemd/system/gportd\.service$')
 dpkg-deb --fsys-tarfile "$deb" | tar -xOf - "$unit" | grep -qx "ExecStart=/usr/bin/gportd" \

@@ -1,0 +1,97 @@
+"""gport: the Python client of gportd, the G-Port gimbal daemon.
+
+Standard library only. ``gport.Client`` blocks; ``gport.AsyncClient`` is for
+asyncio. Both speak gportd's JSON-RPC over its Unix socket (default
+/run/gportd.sock, or $GPORT_SOCKET). See docs/client-python.md.
+
+    import gport
+    with gport.Client() as gimbal:
+        gimbal.angle(pitch=-30, yaw=45, wait=True)
+        gimbal.photo()
+"""
+
+from .aio import AsyncClient
+from .client import Client
+from .errors import (
+    Busy,
+    ConnectionLost,
+    GportError,
+    InternalError,
+    InvalidParams,
+    InvalidRequest,
+    LinkDown,
+    MethodNotFound,
+    NoSlot,
+    NotAnswering,
+    ParseError,
+    PermissionDenied,
+    Timeout,
+    TooManyRequests,
+)
+from .moving import AsyncMovement, Movement
+from .results import (
+    AngleResult,
+    Attitude,
+    Axes,
+    CenterResult,
+    Control,
+    Counters,
+    Ended,
+    ImuRates,
+    Link,
+    Me,
+    Motion,
+    MotionEvent,
+    Notification,
+    Peer,
+    Rates,
+    RecordResult,
+    Settings,
+    SpeedResult,
+    Status,
+    Subscription,
+)
+
+# The project's version (CMakeLists.txt project()); tests/python checks they agree.
+__version__ = "0.1.0"
+
+__all__ = [
+    "AngleResult",
+    "AsyncClient",
+    "AsyncMovement",
+    "Attitude",
+    "Axes",
+    "Busy",
+    "CenterResult",
+    "Client",
+    "ConnectionLost",
+    "Control",
+    "Counters",
+    "Ended",
+    "GportError",
+    "ImuRates",
+    "InternalError",
+    "InvalidParams",
+    "InvalidRequest",
+    "Link",
+    "LinkDown",
+    "Me",
+    "MethodNotFound",
+    "Motion",
+    "MotionEvent",
+    "Movement",
+    "NoSlot",
+    "NotAnswering",
+    "Notification",
+    "ParseError",
+    "Peer",
+    "PermissionDenied",
+    "Rates",
+    "RecordResult",
+    "Settings",
+    "SpeedResult",
+    "Status",
+    "Subscription",
+    "Timeout",
+    "TooManyRequests",
+]

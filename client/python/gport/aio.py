@@ -1,0 +1,346 @@
+"""The asyncio client: the same methods as gport.Client, as coroutines."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+from contextlib import asynccontextmanager
+from typing import Any, AsyncGenerator, AsyncIterator, Iterable, Mapping
+
+from . import _protocol as p
+from .errors import ConnectionLost, GportError, Timeout
+from .moving import AsyncMovement, quietly_async
+from .results import (
+    AngleResult,
+    Attitude,
+    CenterResult,
+    Control,
+    Notification,
+    RecordResult,
+    Settings,
+    SpeedResult,
+    Status,
+    Subscription,
+    parse_angle,
+    parse_attitude,
+    parse_center,
+    parse_control,
+    parse_record,
+    parse_settings,
+    parse_speed,
+    parse_status,
+    parse_subscription,
+)
+
+_DEFAULT: Any = object()
+
+
+class AsyncClient:
+    """A connection to gportd for asyncio programs (one event loop).
+
+    ``client = await AsyncClient.open(path)`` or ``async with AsyncClient(path)
+    as client:``; then ``await client.status()`` and so on. Arguments and
+    results are those of gport.Client.
+    """
+
+    def __init__(self, path: str | None = None, *, timeout: float | None = 10.0) -> None:
+        self.path = p.socket_path(path)
+        self.timeout = timeout
+        self._pending: dict[int, asyncio.Future[p.Reply]] = {}
+        self._inbox = p.Inbox()
+        self._changed = asyncio.Event()
+        self._subscribed: dict[str, float | None] = {}
+        self._next_id = 0
+        self._writer: asyncio.StreamWriter | None = None
+        self._reader_task: asyncio.Task[None] | None = None
+        self._alive = False
+        self._refused: GportError | None = None
+
+    @classmethod
+    async def open(cls, path: str | None = None, *, timeout: float | None = 10.0) -> AsyncClient:
+        client = cls(path, timeout=timeout)
+        await client.connect()
+        return client
+
+    # ---- connection -------------------------------------------------------
+    async def connect(self) -> None:
+        try:
+            reader, writer = await asyncio.open_unix_connection(self.path, limit=p.LINE_LIMIT)
+        except OSError as error:
+            raise ConnectionLost(f"cannot connect to {self.path}: {error.strerror}") from error
+        self._writer, self._alive, self._refused = writer, True, None
+        self._reader_task = asyncio.create_task(self._read(reader, writer))
+
+    async def _read(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        try:
+            while line := await reader.readline():
+                self._dispatch(p.decode(line))
+        except (OSError, ValueError):
+            pass
+        finally:
+            if self._writer is writer:
+                self._lost()
+                writer.close()
+
+    def _lost(self) -> None:
+        self._alive = False
+        for future in self._pending.values():
+            if not future.done():
+                future.set_exception(ConnectionLost(p.closed_message(self._refused)))
+        self._pending.clear()
+        self._changed.set()
+
+    def _dispatch(self, message: p.Message) -> None:
+        if isinstance(message, p.Reply):
+            future = self._pending.pop(message.id, None)
+            if future is not None and not future.done():
+                future.set_result(message)
+        elif isinstance(message, p.Pushed):
+            self._inbox.put(message.topic, message.item)
+            self._changed.set()
+        elif isinstance(message, p.Refused):
+            self._refused = message.error
+
+    @property
+    def connected(self) -> bool:
+        return self._alive
+
+    async def close(self) -> None:
+        """Closes the connection: the daemon stops this client's motion and releases control."""
+        writer, self._writer = self._writer, None
+        self._lost()
+        if writer is not None:
+            writer.close()
+            try:
+                await writer.wait_closed()
+            except OSError:
+                pass
+        if self._reader_task is not None:
+            await asyncio.gather(self._reader_task, return_exceptions=True)
+
+    async def reconnect(self, retry_for: float = 5.0) -> None:
+        """As gport.Client.reconnect: a new connection, the same subscriptions."""
+        await self.close()
+        deadline = time.monotonic() + retry_for
+        while True:
+            try:
+                await self.connect()
+                break
+            except ConnectionLost:
+                if time.monotonic() >= deadline:
+                    raise
+                await asyncio.sleep(0.05)
+        self._inbox.clear()
+        topics = dict(self._subscribed)
+        if "attitude" in topics:
+            await self.subscribe("attitude", max_rate_hz=topics.pop("attitude"))
+        if topics:
+            await self.subscribe(list(topics))
+
+    async def __aenter__(self) -> AsyncClient:
+        if not self._alive:
+            await self.connect()
+        return self
+
+    async def __aexit__(self, *exc: object) -> None:
+        await self.close()
+
+    # ---- requests ---------------------------------------------------------
+    async def call(
+        self, method: str, params: Mapping[str, Any] | None = None, timeout: Any = _DEFAULT
+    ) -> Any:
+        """Any method by name; returns the decoded ``result`` or raises GportError."""
+        limit: float | None = self.timeout if timeout is _DEFAULT else timeout
+        if not self._alive or self._writer is None:
+            raise ConnectionLost(p.closed_message(self._refused))
+        self._next_id += 1
+        request_id = self._next_id
+        future: asyncio.Future[p.Reply] = asyncio.get_running_loop().create_future()
+        self._pending[request_id] = future
+        try:
+            self._writer.write(p.encode(request_id, method, params))
+            await self._writer.drain()
+        except OSError as error:
+            self._pending.pop(request_id, None)
+            raise ConnectionLost(f"cannot send to {self.path}: {error.strerror}") from error
+        try:
+            reply = await asyncio.wait_for(future, limit)
+        except asyncio.TimeoutError:
+            self._pending.pop(request_id, None)
+            raise Timeout(f"no reply to {method} within {limit} s") from None
+        if reply.error is not None:
+            raise reply.error
+        return reply.result
+
+    async def status(self) -> Status:
+        return parse_status(await self.call("status"))
+
+    async def attitude(self) -> Attitude:
+        return parse_attitude(await self.call("attitude"))
+
+    async def speed(
+        self,
+        roll: float = 0.0,
+        pitch: float = 0.0,
+        yaw: float = 0.0,
+        *,
+        duration_ms: int | None = None,
+        lease_ms: int | None = None,
+        clamp: bool = False,
+    ) -> SpeedResult:
+        params = p.speed_params(roll, pitch, yaw, duration_ms, lease_ms, clamp)
+        return parse_speed(await self.call("speed", params))
+
+    async def stop(self) -> None:
+        await self.call("stop")
+
+    async def angle(
+        self,
+        roll: float = 0.0,
+        pitch: float = 0.0,
+        yaw: float = 0.0,
+        *,
+        clamp: bool = False,
+        wait: bool = False,
+    ) -> AngleResult:
+        params = p.angle_params(roll, pitch, yaw, clamp, wait)
+        return parse_angle(await self.call("angle", params, None if wait else _DEFAULT))
+
+    async def center(self, *, wait: bool = False) -> CenterResult:
+        params = {"wait": True} if wait else None
+        return parse_center(await self.call("center", params, None if wait else _DEFAULT))
+
+    async def lock(self) -> None:
+        await self.call("lock")
+
+    async def photo(self) -> None:
+        await self.call("photo")
+
+    async def record(self, on: bool | None = None, force: bool = False) -> RecordResult:
+        return parse_record(await self.call("record", p.record_params(on, force)))
+
+    async def acquire(self) -> Control:
+        return parse_control(await self.call("acquire"))
+
+    async def release(self) -> Control:
+        return parse_control(await self.call("release"))
+
+    async def settings(self) -> Settings:
+        return parse_settings(await self.call("get_settings"))
+
+    async def set_settings(
+        self,
+        *,
+        dead_zone: int | None = None,
+        follow_speed: int | None = None,
+        inverted: bool | None = None,
+    ) -> Settings:
+        params = p.settings_params(dead_zone, follow_speed, inverted)
+        return parse_settings(await self.call("set_settings", params))
+
+    async def subscribe(
+        self, topics: str | Iterable[str], max_rate_hz: float | None = None
+    ) -> Subscription:
+        wanted = p.topic_list(topics)
+        raw = await self.call("subscribe", p.subscribe_params(wanted, max_rate_hz))
+        result = parse_subscription(raw)
+        for topic in result.topics:
+            self._subscribed.setdefault(topic, None)
+        if "attitude" in wanted:
+            self._subscribed["attitude"] = max_rate_hz
+        return result
+
+    async def unsubscribe(self, topics: str | Iterable[str] | None = None) -> Subscription:
+        params = None if topics is None else {"topics": p.topic_list(topics)}
+        result = parse_subscription(await self.call("unsubscribe", params))
+        self._subscribed = {t: self._subscribed.get(t) for t in result.topics}
+        self._inbox.clear(None if topics is None else p.topic_list(topics))
+        return result
+
+    # ---- notifications ----------------------------------------------------
+    async def next_notification(
+        self, topics: Iterable[str] | None = None, timeout: float | None = None
+    ) -> Notification | None:
+        """As gport.Client.next_notification."""
+        wanted = None if topics is None else frozenset(p.topic_list(topics))
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while True:
+            item = self._inbox.take(wanted)
+            if item is not None:
+                return item
+            if not self._alive:
+                raise ConnectionLost(p.closed_message(self._refused))
+            left = None if deadline is None else deadline - time.monotonic()
+            if left is not None and left <= 0:
+                return None
+            self._changed.clear()
+            try:
+                await asyncio.wait_for(self._changed.wait(), left)
+            except asyncio.TimeoutError:
+                return None
+
+    async def notifications(
+        self, topics: Iterable[str] | None = None
+    ) -> AsyncGenerator[Notification, None]:
+        while True:
+            item = await self.next_notification(topics)
+            if item is not None:
+                yield item
+
+    async def attitude_stream(
+        self, rate: float | None = 10.0, timeout: float | None = None
+    ) -> AsyncGenerator[Attitude, None]:
+        """``async for sample in client.attitude_stream(rate=10):``; as gport.Client's."""
+        await self.subscribe("attitude", max_rate_hz=rate)
+        try:
+            while True:
+                item = await self.next_notification(("attitude",), timeout)
+                if item is None:
+                    raise Timeout(f"no attitude sample within {timeout} s")
+                assert isinstance(item, Attitude)
+                yield item
+        finally:
+            if self._alive:
+                try:
+                    await self.unsubscribe("attitude")
+                except GportError:
+                    pass
+
+    # ---- context managers -------------------------------------------------
+    @asynccontextmanager
+    async def control(self) -> AsyncIterator[Control]:
+        """``async with client.control():`` holds control for the block."""
+        result = await self.acquire()
+        try:
+            yield result
+        except BaseException as error:
+            await quietly_async(self.release, error)
+            raise
+        await self.release()
+
+    @asynccontextmanager
+    async def moving(
+        self,
+        roll: float = 0.0,
+        pitch: float = 0.0,
+        yaw: float = 0.0,
+        *,
+        lease_ms: int = 500,
+        duration_ms: int | None = None,
+        clamp: bool = False,
+    ) -> AsyncIterator[AsyncMovement]:
+        """``async with client.moving(yaw=30):`` as gport.Client.moving, with
+        a task re-sending the speed."""
+        interval = p.keepalive_interval(lease_ms)
+        movement = AsyncMovement(self, p.speed_params(roll, pitch, yaw, None, lease_ms, clamp))
+        await movement.start(interval, duration_ms)
+        try:
+            yield movement
+        except BaseException as error:
+            await movement.halt()
+            await quietly_async(self.stop, error)
+            raise
+        await movement.halt()
+        await self.stop()
+        if movement.error is not None:
+            raise movement.error

@@ -1,0 +1,380 @@
+"""The blocking client: one socket, a reader thread, calls from any thread."""
+
+from __future__ import annotations
+
+import socket
+import threading
+import time
+from contextlib import contextmanager
+from typing import Any, Generator, Iterable, Iterator, Mapping
+
+from . import _protocol as p
+from .errors import ConnectionLost, GportError, Timeout
+from .moving import Movement, quietly
+from .results import (
+    AngleResult,
+    Attitude,
+    CenterResult,
+    Control,
+    Notification,
+    RecordResult,
+    Settings,
+    SpeedResult,
+    Status,
+    Subscription,
+    parse_angle,
+    parse_attitude,
+    parse_center,
+    parse_control,
+    parse_record,
+    parse_settings,
+    parse_speed,
+    parse_status,
+    parse_subscription,
+)
+
+_DEFAULT: Any = object()  # "the client's timeout", distinct from None (no limit)
+
+
+class Client:
+    """A connection to gportd. Thread-safe: calls may come from several threads.
+
+    ``path``: the socket (default $GPORT_SOCKET, else /run/gportd.sock).
+    ``timeout``: seconds to wait for a reply (None: no limit); calls with
+    ``wait=True`` have no client-side limit (the daemon's motion.timeout_ms
+    ends the motion). The connection opens at once; ConnectionLost if it
+    cannot.
+    """
+
+    def __init__(self, path: str | None = None, *, timeout: float | None = 10.0) -> None:
+        self.path = p.socket_path(path)
+        self.timeout = timeout
+        self._cond = threading.Condition()
+        self._write_lock = threading.Lock()
+        self._pending: dict[int, p.Reply | None] = {}
+        self._inbox = p.Inbox()
+        self._subscribed: dict[str, float | None] = {}
+        self._next_id = 0
+        self._sock: socket.socket | None = None
+        self._reader: threading.Thread | None = None
+        self._alive = False
+        self._refused: GportError | None = None
+        self._open()
+
+    # ---- connection -------------------------------------------------------
+    def _open(self) -> None:
+        sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        try:
+            sock.connect(self.path)
+        except OSError as error:
+            sock.close()
+            raise ConnectionLost(f"cannot connect to {self.path}: {error.strerror}") from error
+        with self._cond:
+            self._sock = sock
+            self._alive = True
+            self._refused = None
+        self._reader = threading.Thread(
+            target=self._read, args=(sock,), name="gport-reader", daemon=True
+        )
+        self._reader.start()
+
+    def _read(self, sock: socket.socket) -> None:
+        try:
+            with sock.makefile("rb") as lines:
+                for line in lines:
+                    self._dispatch(p.decode(line))
+        except (OSError, ValueError):
+            pass
+        with self._cond:
+            if self._sock is sock:
+                self._alive = False
+            self._cond.notify_all()
+
+    def _dispatch(self, message: p.Message) -> None:
+        with self._cond:
+            if isinstance(message, p.Reply):
+                if message.id in self._pending:
+                    self._pending[message.id] = message
+            elif isinstance(message, p.Pushed):
+                self._inbox.put(message.topic, message.item)
+            elif isinstance(message, p.Refused):
+                self._refused = message.error
+            else:
+                return
+            self._cond.notify_all()
+
+    @property
+    def connected(self) -> bool:
+        """False once the daemon closed the connection or close() was called."""
+        with self._cond:
+            return self._alive
+
+    def close(self) -> None:
+        """Closes the connection: the daemon stops this client's motion and releases control."""
+        with self._cond:
+            sock, self._sock, self._alive = self._sock, None, False
+            self._pending.clear()
+            self._cond.notify_all()
+        if sock is not None:
+            try:
+                sock.shutdown(socket.SHUT_RDWR)
+            except OSError:
+                pass
+            sock.close()
+        if self._reader is not None and self._reader is not threading.current_thread():
+            self._reader.join()
+
+    def reconnect(self, retry_for: float = 5.0) -> None:
+        """Opens a new connection (retrying for ``retry_for`` seconds) and
+        subscribes again to the topics this client had subscribed to.
+        Control and motions are not restored: the daemon ended them."""
+        self.close()
+        deadline = time.monotonic() + retry_for
+        while True:
+            try:
+                self._open()
+                break
+            except ConnectionLost:
+                if time.monotonic() >= deadline:
+                    raise
+                time.sleep(0.05)
+        with self._cond:
+            self._inbox.clear()
+            topics = dict(self._subscribed)
+        if "attitude" in topics:
+            self.subscribe("attitude", max_rate_hz=topics.pop("attitude"))
+        if topics:
+            self.subscribe(list(topics))
+
+    def __enter__(self) -> Client:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # ---- requests ---------------------------------------------------------
+    def call(
+        self, method: str, params: Mapping[str, Any] | None = None, timeout: Any = _DEFAULT
+    ) -> Any:
+        """Any method by name; returns the decoded ``result`` or raises GportError."""
+        limit: float | None = self.timeout if timeout is _DEFAULT else timeout
+        with self._cond:
+            if not self._alive or self._sock is None:
+                raise ConnectionLost(p.closed_message(self._refused))
+            self._next_id += 1
+            request_id, sock = self._next_id, self._sock
+            self._pending[request_id] = None
+        try:
+            with self._write_lock:
+                sock.sendall(p.encode(request_id, method, params))
+        except OSError as error:
+            with self._cond:
+                self._pending.pop(request_id, None)
+            raise ConnectionLost(f"cannot send to {self.path}: {error.strerror}") from error
+        return self._await_reply(request_id, method, limit)
+
+    def _await_reply(self, request_id: int, method: str, limit: float | None) -> Any:
+        deadline = None if limit is None else time.monotonic() + limit
+        with self._cond:
+            try:
+                while True:
+                    reply = self._pending.get(request_id)
+                    if reply is not None or request_id not in self._pending or not self._alive:
+                        break
+                    left = None if deadline is None else deadline - time.monotonic()
+                    if left is not None and left <= 0:
+                        break
+                    self._cond.wait(left)
+            finally:  # also when interrupted (Ctrl-C): a late reply is dropped
+                self._pending.pop(request_id, None)
+            if reply is None and not self._alive:
+                raise ConnectionLost(p.closed_message(self._refused))
+        if reply is None:
+            raise Timeout(f"no reply to {method} within {limit} s")
+        if reply.error is not None:
+            raise reply.error
+        return reply.result
+
+    def status(self) -> Status:
+        return parse_status(self.call("status"))
+
+    def attitude(self) -> Attitude:
+        return parse_attitude(self.call("attitude"))
+
+    def speed(
+        self,
+        roll: float = 0.0,
+        pitch: float = 0.0,
+        yaw: float = 0.0,
+        *,
+        duration_ms: int | None = None,
+        lease_ms: int | None = None,
+        clamp: bool = False,
+    ) -> SpeedResult:
+        params = p.speed_params(roll, pitch, yaw, duration_ms, lease_ms, clamp)
+        return parse_speed(self.call("speed", params))
+
+    def stop(self) -> None:
+        self.call("stop")
+
+    def angle(
+        self,
+        roll: float = 0.0,
+        pitch: float = 0.0,
+        yaw: float = 0.0,
+        *,
+        clamp: bool = False,
+        wait: bool = False,
+    ) -> AngleResult:
+        params = p.angle_params(roll, pitch, yaw, clamp, wait)
+        return parse_angle(self.call("angle", params, None if wait else _DEFAULT))
+
+    def center(self, *, wait: bool = False) -> CenterResult:
+        params = {"wait": True} if wait else None
+        return parse_center(self.call("center", params, None if wait else _DEFAULT))
+
+    def lock(self) -> None:
+        self.call("lock")
+
+    def photo(self) -> None:
+        self.call("photo")
+
+    def record(self, on: bool | None = None, force: bool = False) -> RecordResult:
+        return parse_record(self.call("record", p.record_params(on, force)))
+
+    def acquire(self) -> Control:
+        return parse_control(self.call("acquire"))
+
+    def release(self) -> Control:
+        return parse_control(self.call("release"))
+
+    def settings(self) -> Settings:
+        return parse_settings(self.call("get_settings"))
+
+    def set_settings(
+        self,
+        *,
+        dead_zone: int | None = None,
+        follow_speed: int | None = None,
+        inverted: bool | None = None,
+    ) -> Settings:
+        params = p.settings_params(dead_zone, follow_speed, inverted)
+        return parse_settings(self.call("set_settings", params))
+
+    def subscribe(
+        self, topics: str | Iterable[str], max_rate_hz: float | None = None
+    ) -> Subscription:
+        """Subscribes to ``attitude``, ``link`` and/or ``motion``; read with
+        next_notification(), notifications() or attitude_stream()."""
+        wanted = p.topic_list(topics)
+        result = parse_subscription(self.call("subscribe", p.subscribe_params(wanted, max_rate_hz)))
+        with self._cond:
+            for topic in result.topics:
+                self._subscribed.setdefault(topic, None)
+            if "attitude" in wanted:
+                self._subscribed["attitude"] = max_rate_hz
+        return result
+
+    def unsubscribe(self, topics: str | Iterable[str] | None = None) -> Subscription:
+        params = None if topics is None else {"topics": p.topic_list(topics)}
+        result = parse_subscription(self.call("unsubscribe", params))
+        with self._cond:
+            self._subscribed = {t: self._subscribed.get(t) for t in result.topics}
+            self._inbox.clear(None if topics is None else p.topic_list(topics))
+        return result
+
+    # ---- notifications ----------------------------------------------------
+    def next_notification(
+        self, topics: Iterable[str] | None = None, timeout: float | None = None
+    ) -> Notification | None:
+        """The oldest waiting notification (of ``topics``, default all),
+        waiting up to ``timeout`` seconds (None: no limit); None on timeout.
+        Raises ConnectionLost once the connection is gone and none waits."""
+        wanted = None if topics is None else frozenset(p.topic_list(topics))
+        deadline = None if timeout is None else time.monotonic() + timeout
+        with self._cond:
+            while True:
+                item = self._inbox.take(wanted)
+                if item is not None:
+                    return item
+                if not self._alive:
+                    raise ConnectionLost(p.closed_message(self._refused))
+                left = None if deadline is None else deadline - time.monotonic()
+                if left is not None and left <= 0:
+                    return None
+                self._cond.wait(left)
+
+    def notifications(
+        self, topics: Iterable[str] | None = None
+    ) -> Generator[Notification, None, None]:
+        """Every notification as it arrives (subscribe first); ends on ConnectionLost."""
+        while True:
+            item = self.next_notification(topics)
+            if item is not None:
+                yield item
+
+    def attitude_stream(
+        self, rate: float | None = 10.0, timeout: float | None = None
+    ) -> Generator[Attitude, None, None]:
+        """Subscribes to attitude at ``rate`` Hz (None: every sample) and yields
+        the samples; unsubscribes when the loop ends. Other notifications
+        stay queued. ``timeout``: Timeout when no sample comes for that long."""
+        self.subscribe("attitude", max_rate_hz=rate)
+        try:
+            while True:
+                item = self.next_notification(("attitude",), timeout)
+                if item is None:
+                    raise Timeout(f"no attitude sample within {timeout} s")
+                assert isinstance(item, Attitude)
+                yield item
+        finally:
+            if self.connected:
+                try:
+                    self.unsubscribe("attitude")
+                except GportError:
+                    pass
+
+    # ---- context managers -------------------------------------------------
+    @contextmanager
+    def control(self) -> Iterator[Control]:
+        """``with client.control():`` holds control (acquire) for the block."""
+        result = self.acquire()
+        try:
+            yield result
+        except BaseException as error:
+            quietly(self.release, error)
+            raise
+        self.release()
+
+    @contextmanager
+    def moving(
+        self,
+        roll: float = 0.0,
+        pitch: float = 0.0,
+        yaw: float = 0.0,
+        *,
+        lease_ms: int = 500,
+        duration_ms: int | None = None,
+        clamp: bool = False,
+    ) -> Iterator[Movement]:
+        """``with client.moving(yaw=30):`` moves at that speed for the block.
+
+        A background thread re-sends the speed three times per ``lease_ms``;
+        leaving the block (also by an exception) sends ``stop``. If this
+        process hangs, the daemon's lease stops the gimbal. ``duration_ms``
+        caps the whole movement. An error of a re-send (another client took
+        control, the link went down) ends the re-sends and is raised when the
+        block ends normally."""
+        interval = p.keepalive_interval(lease_ms)
+        movement = Movement(self, p.speed_params(roll, pitch, yaw, None, lease_ms, clamp))
+        movement.start(interval, duration_ms)
+        try:
+            yield movement
+        except BaseException as error:
+            movement.halt()
+            quietly(self.stop, error)
+            raise
+        movement.halt()
+        self.stop()
+        if movement.error is not None:
+            raise movement.error

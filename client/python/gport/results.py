@@ -1,0 +1,390 @@
+"""Typed results and notifications: frozen dataclasses built from the daemon's JSON.
+
+Each ``parse_*`` function takes the decoded ``result`` (or notification
+``params``) and returns the dataclass; members a newer daemon adds are kept
+in ``raw`` where a type has it, so nothing is lost.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from typing import Any, Mapping, Union
+
+Json = Mapping[str, Any]
+
+
+@dataclass(frozen=True)
+class Axes:
+    """Roll, pitch and yaw: degrees (angles) or degrees per second (speeds)."""
+
+    roll: float = 0.0
+    pitch: float = 0.0
+    yaw: float = 0.0
+
+
+@dataclass(frozen=True)
+class ImuRates:
+    """The IMU's angular rates, x/y/z, in degrees per second."""
+
+    x: float = 0.0
+    y: float = 0.0
+    z: float = 0.0
+
+
+@dataclass(frozen=True)
+class Rates:
+    """Angular rates of a 24-byte attitude frame."""
+
+    hall: Axes
+    imu: ImuRates
+
+
+@dataclass(frozen=True)
+class Attitude:
+    """One attitude sample (method ``attitude`` or notification ``attitude``)."""
+
+    seq: int
+    t: float  # receive time, seconds since the epoch
+    imu: Axes
+    hall: Axes
+    rates: Rates | None = None
+    age_ms: int | None = None  # only in the ``attitude`` method's result
+    dropped: int | None = None  # notifications lost so far, when some were
+
+
+@dataclass(frozen=True)
+class Peer:
+    """A connected client as the daemon identifies it (SO_PEERCRED)."""
+
+    id: int
+    pid: int
+    uid: int
+    gid: int
+
+
+@dataclass(frozen=True)
+class Me(Peer):
+    """The calling client in ``status``, with its own notification drop count."""
+
+    dropped: int = 0
+
+
+@dataclass(frozen=True)
+class Link:
+    """The gimbal link: ``state`` is ``up``, ``stale`` or ``down``."""
+
+    state: str
+    reason: str
+
+
+@dataclass(frozen=True)
+class Counters:
+    """The daemon's counters (``status.counters``); missing ones read 0."""
+
+    frames_in: int = 0
+    bytes_in: int = 0
+    frames_out: int = 0
+    bytes_out: int = 0
+    attitude_frames: int = 0
+    crc_errors: int = 0
+    header_errors: int = 0
+    garbage_bytes: int = 0
+    resyncs: int = 0
+    bad_messages: int = 0
+    device_opens: int = 0
+    device_failures: int = 0
+    keepalive_frames: int = 0
+    motion_updates: int = 0
+    stops_sent: int = 0
+    frames_replaced: int = 0
+    frames_refused: int = 0
+    settings_timeouts: int = 0
+    dropped_notifications: int = 0
+
+
+@dataclass(frozen=True)
+class Motion:
+    """The running motion (``status.motion``): speed, angle or centre."""
+
+    mode: str
+    owner: Peer | None
+    speed: Axes | None = None  # speed motions
+    time_left_ms: int | None = None  # speed motions
+    target: Axes | None = None  # tracked angle and centre motions
+    elapsed_ms: int | None = None
+
+
+@dataclass(frozen=True)
+class Status:
+    """The ``status`` result."""
+
+    api_version: int
+    daemon_version: str
+    link: Link
+    device: str
+    device_open: bool
+    uptime_ms: int
+    attitude_age_ms: int | None
+    counters: Counters
+    clients: int
+    dropped_notifications: int
+    motion: Motion | None
+    controller: Peer | None
+    recording: str  # assumed: on, off or unknown
+    client: Me | None
+    raw: Json = field(default_factory=dict, compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class SpeedResult:
+    """The ``speed`` result: what was sent and until when."""
+
+    duration_ms: int
+    ends_at: float  # seconds since the epoch
+    speed: Axes
+    clamped: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Ended:
+    """How a waited-for angle or centre motion ended."""
+
+    reason: str  # reached, timeout, replaced, stop, owner_gone, ...
+    attitude: Attitude | None
+    elapsed_ms: int
+
+
+@dataclass(frozen=True)
+class AngleResult:
+    """The ``angle`` result; ``ended`` is set when called with ``wait=True``."""
+
+    sent: bool
+    angle: Axes
+    clamped: tuple[str, ...]
+    ended: Ended | None = None
+
+
+@dataclass(frozen=True)
+class CenterResult:
+    """The ``center`` result; ``ended`` is set when called with ``wait=True``."""
+
+    sent: bool
+    ended: Ended | None = None
+
+
+@dataclass(frozen=True)
+class RecordResult:
+    """The ``record`` result: whether a toggle was sent, the assumed state after."""
+
+    sent: bool
+    recording: str
+
+
+@dataclass(frozen=True)
+class Control:
+    """The ``acquire`` / ``release`` result."""
+
+    controller: Peer | None
+    you_hold_control: bool
+
+
+@dataclass(frozen=True)
+class Settings:
+    """The gimbal's settings (``get_settings`` / ``set_settings``)."""
+
+    dead_zone: int
+    follow_speed: int
+    inverted: bool
+
+
+@dataclass(frozen=True)
+class Subscription:
+    """The topics now subscribed and the attitude rate cap."""
+
+    topics: tuple[str, ...]
+    max_rate_hz: float | None
+
+
+@dataclass(frozen=True)
+class MotionEvent:
+    """A ``motion`` notification: started, replaced, updated or ended."""
+
+    change: str
+    mode: str
+    owner: Peer | None
+    speed: Axes | None = None
+    duration_ms: int | None = None
+    angle: Axes | None = None
+    target: Axes | None = None
+    reason: str | None = None  # for ``ended`` (and ``updated`` when braked)
+    braked: tuple[str, ...] = ()
+    raw: Json = field(default_factory=dict, compare=False, repr=False)
+
+
+Notification = Union[Attitude, Link, MotionEvent]
+
+
+def _axes(raw: Json | None) -> Axes | None:
+    if raw is None:
+        return None
+    return Axes(float(raw.get("roll", 0)), float(raw.get("pitch", 0)), float(raw.get("yaw", 0)))
+
+
+def _axes_required(raw: Json) -> Axes:
+    return Axes(float(raw.get("roll", 0)), float(raw.get("pitch", 0)), float(raw.get("yaw", 0)))
+
+
+def _peer(raw: Json | None) -> Peer | None:
+    if raw is None:
+        return None
+    return Peer(int(raw["id"]), int(raw["pid"]), int(raw["uid"]), int(raw["gid"]))
+
+
+def _optional_int(value: Any) -> int | None:
+    return None if value is None else int(value)
+
+
+def parse_attitude(raw: Json) -> Attitude:
+    rates = raw.get("rates")
+    parsed_rates = None
+    if rates is not None:
+        imu = rates.get("imu", {})
+        parsed_rates = Rates(
+            _axes_required(rates.get("hall", {})),
+            ImuRates(float(imu.get("x", 0)), float(imu.get("y", 0)), float(imu.get("z", 0))),
+        )
+    return Attitude(
+        seq=int(raw["seq"]),
+        t=float(raw["t"]),
+        imu=_axes_required(raw["imu"]),
+        hall=_axes_required(raw["hall"]),
+        rates=parsed_rates,
+        age_ms=_optional_int(raw.get("age_ms")),
+        dropped=_optional_int(raw.get("dropped")),
+    )
+
+
+def parse_link(raw: Json) -> Link:
+    return Link(str(raw["state"]), str(raw.get("reason", "")))
+
+
+def _motion(raw: Json | None) -> Motion | None:
+    if raw is None:
+        return None
+    return Motion(
+        mode=str(raw["mode"]),
+        owner=_peer(raw.get("owner")),
+        speed=_axes(raw.get("speed")),
+        time_left_ms=_optional_int(raw.get("time_left_ms")),
+        target=_axes(raw.get("target")),
+        elapsed_ms=_optional_int(raw.get("elapsed_ms")),
+    )
+
+
+def _counters(raw: Json) -> Counters:
+    values = {f.name: int(raw.get(f.name, 0)) for f in fields(Counters)}
+    return Counters(**values)
+
+
+def _me(raw: Json | None) -> Me | None:
+    if raw is None:
+        return None
+    peer = _peer(raw)
+    assert peer is not None
+    return Me(peer.id, peer.pid, peer.uid, peer.gid, int(raw.get("dropped", 0)))
+
+
+def parse_status(raw: Json) -> Status:
+    return Status(
+        api_version=int(raw["api_version"]),
+        daemon_version=str(raw["daemon_version"]),
+        link=parse_link(raw["link"]),
+        device=str(raw.get("device", "")),
+        device_open=bool(raw.get("device_open", False)),
+        uptime_ms=int(raw.get("uptime_ms", 0)),
+        attitude_age_ms=_optional_int(raw.get("attitude_age_ms")),
+        counters=_counters(raw.get("counters", {})),
+        clients=int(raw.get("clients", 0)),
+        dropped_notifications=int(raw.get("dropped_notifications", 0)),
+        motion=_motion(raw.get("motion")),
+        controller=_peer(raw.get("controller")),
+        recording=str(raw.get("recording", "unknown")),
+        client=_me(raw.get("client")),
+        raw=raw,
+    )
+
+
+def parse_speed(raw: Json) -> SpeedResult:
+    return SpeedResult(
+        duration_ms=int(raw["duration_ms"]),
+        ends_at=float(raw["ends_at"]),
+        speed=_axes_required(raw["speed"]),
+        clamped=tuple(str(a) for a in raw.get("clamped", [])),
+    )
+
+
+def _ended(raw: Json | None) -> Ended | None:
+    if raw is None:
+        return None
+    sample = raw.get("attitude")
+    return Ended(
+        reason=str(raw["reason"]),
+        attitude=None if sample is None else parse_attitude(sample),
+        elapsed_ms=int(raw.get("elapsed_ms", 0)),
+    )
+
+
+def parse_angle(raw: Json) -> AngleResult:
+    return AngleResult(
+        sent=bool(raw.get("sent", True)),
+        angle=_axes_required(raw["angle"]),
+        clamped=tuple(str(a) for a in raw.get("clamped", [])),
+        ended=_ended(raw.get("ended")),
+    )
+
+
+def parse_center(raw: Json) -> CenterResult:
+    return CenterResult(sent=bool(raw.get("sent", True)), ended=_ended(raw.get("ended")))
+
+
+def parse_record(raw: Json) -> RecordResult:
+    return RecordResult(sent=bool(raw["sent"]), recording=str(raw["recording"]))
+
+
+def parse_control(raw: Json) -> Control:
+    return Control(_peer(raw.get("controller")), bool(raw["you_hold_control"]))
+
+
+def parse_settings(raw: Json) -> Settings:
+    return Settings(int(raw["dead_zone"]), int(raw["follow_speed"]), bool(raw["inverted"]))
+
+
+def parse_subscription(raw: Json) -> Subscription:
+    rate = raw.get("max_rate_hz")
+    return Subscription(tuple(str(t) for t in raw["topics"]), None if rate is None else float(rate))
+
+
+def parse_motion_event(raw: Json) -> MotionEvent:
+    return MotionEvent(
+        change=str(raw["change"]),
+        mode=str(raw["mode"]),
+        owner=_peer(raw.get("owner")),
+        speed=_axes(raw.get("speed")),
+        duration_ms=_optional_int(raw.get("duration_ms")),
+        angle=_axes(raw.get("angle")),
+        target=_axes(raw.get("target")),
+        reason=None if raw.get("reason") is None else str(raw["reason"]),
+        braked=tuple(str(a) for a in raw.get("braked", [])),
+        raw=raw,
+    )
+
+
+def parse_notification(method: str, params: Json) -> Notification | None:
+    """The typed notification, or None for a topic this version does not know."""
+    if method == "attitude":
+        return parse_attitude(params)
+    if method == "link":
+        return parse_link(params)
+    if method == "motion":
+        return parse_motion_event(params)
+    return None
