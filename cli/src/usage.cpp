@@ -16,7 +16,7 @@ commands:
   attitude                   the latest attitude sample
   watch [TOPIC...]           stream attitude, link and motion events
   speed --yaw DEG/S ...      move at a speed (until Ctrl-C, or --for DURATION)
-  stop                       stop any speed motion now
+  stop                       stop any motion now
   angle --pitch DEG ...      go to an angle (--wait: until it is reached)
   center                     centre the gimbal (--wait: until it is centred)
   lock                       lock mode (control mode 4)

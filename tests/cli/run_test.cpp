@@ -99,6 +99,19 @@ TEST_F(RunTest, WaitPrintsHowTheMotionEndedAndExitsByIt) {
     EXPECT_EQ(json::parse(replaced.out)["ended"]["reason"], "replaced");
 }
 
+TEST_F(RunTest, StatusShowsATrackedMotionsTarget) {
+    h_.on_io([&] {
+        daemon::MotionStatus motion;
+        motion.mode = daemon::MotionMode::kAngle;
+        motion.target = {0, -3000, 4500};
+        motion.elapsed = daemon::Millis(420);
+        h_.api.status_value.motion = motion;
+    });
+    EXPECT_THAT(
+        run({"status"}).out,
+        HasSubstr("motion:    angle to roll 0.00 pitch -30.00 yaw 45.00 deg, 420 ms so far"));
+}
+
 TEST_F(RunTest, RecordOnOffAndTheAssumedState) {
     h_.on_io([&] {
         h_.api.record_result = {false, daemon::RecordingState::kOn};
