@@ -140,6 +140,22 @@ TEST_F(TrackedMotions, AFireAndForgetAngleGoesOnAfterItsOwnerLeaves) {
     EXPECT_EQ(last.value("reason", ""), "reached");
 }
 
+TEST_F(TrackedMotions, AWaiterThatDisconnectsEndsItOwnerGoneWithZeroSpeed) {
+    Client watcher(daemon_->socket());
+    ASSERT_TRUE(watcher.call("subscribe", {{"topics", {"motion"}}}).contains("result"));
+    {
+        Client waiter(daemon_->socket());
+        send(waiter, "angle", {{"yaw", 160}, {"wait", true}});
+        auto started = watcher.notification("motion");
+        ASSERT_TRUE(started);
+        EXPECT_EQ((*started)["params"]["change"], "started");
+    }  // closes the connection while it waits
+    auto ended = watcher.notification("motion");
+    ASSERT_TRUE(ended);
+    EXPECT_EQ((*ended)["params"]["reason"], "owner_gone");
+    EXPECT_TRUE(sim_->wait_speed(Json::array({0, 0, 0}))) << "failsafe.on_owner_gone: stop";
+}
+
 TEST_F(TrackedMotions, GportctlWaitPrintsTheEndAndExitsByIt) {
     std::string out;
     EXPECT_EQ(gportctl({"angle", "--pitch", "-25", "--wait"}, &out), 0);
