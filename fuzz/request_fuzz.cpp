@@ -43,6 +43,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         input.remove_prefix(newline + 1);
     }
-    api.run_settings();  // the asynchronous answers, after the lines as on the loop
+    api.run_settings();             // the asynchronous answers, after the lines as on the loop
+    while (!api.waiters.empty()) {  // and the replies of angle/center with wait
+        api.end_waiter({gport::daemon::EndReason::kReached, std::nullopt, {}});
+    }
     return 0;
 }

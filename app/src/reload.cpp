@@ -53,6 +53,8 @@ const std::vector<Key>& keys() {
         key<&Config::failsafe, &FailsafeConfig::on_owner_gone>("failsafe.on_owner_gone", true),
         key<&Config::failsafe, &FailsafeConfig::on_shutdown>("failsafe.on_shutdown", true),
         key<&Config::failsafe, &FailsafeConfig::on_link_lost>("failsafe.on_link_lost", true),
+        key<&Config::motion, &MotionConfig::tolerance_deg>("motion.tolerance_deg", true),
+        key<&Config::motion, &MotionConfig::timeout>("motion.timeout_ms", true),
     };
     return all;
 }

@@ -18,7 +18,7 @@ using nlohmann::json;
 struct CommandSpec {
     std::string_view name;
     std::string_view method;
-    std::vector<std::string_view> options;  // value-taking options, without "--"
+    std::vector<std::string_view> options;  // options (and flags), without "--"
 };
 
 const std::vector<CommandSpec>& commands() {
@@ -26,10 +26,10 @@ const std::vector<CommandSpec>& commands() {
         {"status", "status", {}},
         {"attitude", "attitude", {}},
         {"watch", "subscribe", {"rate"}},
-        {"speed", "speed", {"roll", "pitch", "yaw", "for"}},
+        {"speed", "speed", {"roll", "pitch", "yaw", "for", "lease", "clamp"}},
         {"stop", "stop", {}},
-        {"angle", "angle", {"roll", "pitch", "yaw"}},
-        {"center", "center", {}},
+        {"angle", "angle", {"roll", "pitch", "yaw", "clamp", "wait"}},
+        {"center", "center", {"wait"}},
         {"lock", "lock", {}},
         {"photo", "photo", {}},
         {"record", "record", {"force"}},
@@ -105,9 +105,28 @@ void build_watch(Invocation& inv, const Raw& raw) {
     }
 }
 
+// --lease MS: milliseconds, or a duration with its unit (500ms, 2s).
+std::chrono::milliseconds lease_of(const std::string& text) {
+    const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+    auto lease = parse_duration(digits ? text + "ms" : text);
+    if (!lease) {
+        throw UsageError{fmt::format(
+            "--lease {}: expected milliseconds from 1 to 86400000, or a duration such as "
+            "500ms or 2s",
+            text)};
+    }
+    return *lease;
+}
+
+// speed, angle and center: axes, --for, --lease and the flags --clamp, --wait.
 void build_axes(Invocation& inv, const Raw& raw) {
     for (const auto& [option, value] : raw.options) {
-        if (option == "for") {
+        if (option == "clamp" || option == "wait") {
+            inv.params[option] = true;
+            inv.wait = inv.wait || option == "wait";
+        } else if (option == "lease") {
+            inv.params["lease_ms"] = lease_of(value).count();
+        } else if (option == "for") {
             inv.duration = parse_duration(value);
             if (!inv.duration) {
                 throw UsageError{fmt::format(
@@ -167,8 +186,8 @@ Raw split(const std::vector<std::string>& args, Invocation& inv, const char* env
             inv.help = true;
         } else if (arg == "--json") {
             inv.json = true;
-        } else if (arg == "--force") {
-            raw.options.emplace_back("force", "");  // a flag: takes no value
+        } else if (arg == "--force" || arg == "--clamp" || arg == "--wait") {
+            raw.options.emplace_back(arg.substr(2), "");  // a flag: takes no value
         } else if (arg.rfind("--", 0) == 0 && arg.size() > 2) {
             std::string name = arg.substr(2);
             std::string value;
@@ -237,7 +256,7 @@ Invocation parse_or_throw(const std::vector<std::string>& args, const char* env_
     inv.method = spec->method;
     if (spec->name == "watch") {
         build_watch(inv, raw);
-    } else if (spec->name == "speed" || spec->name == "angle") {
+    } else if (spec->name == "speed" || spec->name == "angle" || spec->name == "center") {
         build_axes(inv, raw);
     } else if (spec->name == "settings") {
         build_settings(inv, raw);

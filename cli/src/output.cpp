@@ -69,6 +69,11 @@ std::string motion(const json& m) {
     if (!m.is_object()) {
         return "none";
     }
+    if (m.contains("target")) {  // a tracked angle or centre motion
+        return fmt::format("{} to {} deg, {} ms so far, owner {}", get(m, "mode", std::string("?")),
+                           axes(m["target"]), get(m, "elapsed_ms", 0ll),
+                           client(m.value("owner", json())));
+    }
     return fmt::format("{} {} deg/s, {} ms left, owner {}", get(m, "mode", std::string("?")),
                        axes(m.value("speed", json::object())), get(m, "time_left_ms", 0ll),
                        client(m.value("owner", json())));
@@ -107,6 +112,32 @@ std::string status(const json& s) {
     return out;
 }
 
+// angle and center: "sent", what was clamped, and with --wait how it ended.
+std::string position(const std::string& command, const json& result) {
+    std::string out = fmt::format("{}: sent", command);
+    if (result.contains("angle")) {
+        out += " " + axes(result["angle"]) + " deg";
+    }
+    std::string clamped;
+    for (const auto& axis : result.value("clamped", json::array())) {
+        clamped += (clamped.empty() ? "" : ", ") +
+                   (axis.is_string() ? axis.get<std::string>() : axis.dump());
+    }
+    if (!clamped.empty()) {
+        out += " (clamped: " + clamped + ")";
+    }
+    out += "\n";
+    const auto ended = result.value("ended", json());
+    if (ended.is_object()) {
+        const auto at = ended.value("attitude", json());
+        out += fmt::format("ended: {} after {} ms; {}\n", get(ended, "reason", std::string("?")),
+                           get(ended, "elapsed_ms", 0ll),
+                           at.is_object() ? "hall " + axes(at.value("hall", json::object()))
+                                          : std::string("no attitude received"));
+    }
+    return out;
+}
+
 std::string settings(const json& s) {
     return fmt::format("dead zone:     {}\nfollow speed:  {}\ninverted:      {}\n",
                        get(s, "dead_zone", 0), get(s, "follow_speed", 0),
@@ -124,6 +155,9 @@ std::string format_result(const std::string& command, const json& result) {
     }
     if (command == "settings") {
         return settings(result);
+    }
+    if (command == "angle" || command == "center") {
+        return position(command, result);
     }
     if (command == "speed") {
         return fmt::format("moving for {} ms\n", get(result, "duration_ms", 0ll));
@@ -159,7 +193,9 @@ std::string format_notification(const json& message) {
         if (params.contains("speed")) {
             out += " " + axes(params["speed"]) + " deg/s";
         }
-        if (params.contains("angle")) {
+        if (params.contains("target")) {
+            out += " to " + axes(params["target"]) + " deg";
+        } else if (params.contains("angle")) {
             out += " " + axes(params["angle"]) + " deg";
         }
         if (params.contains("reason")) {

@@ -36,10 +36,11 @@ class Runner {
         }
         json result;
         const int status = call(inv_.method, inv_.params, result);
-        if (status == kExitOk) {
-            print(result);
+        if (status != kExitOk) {
+            return status;
         }
-        return status;
+        print(result);
+        return inv_.wait && !reached(result) ? kExitNotReached : kExitOk;
     }
 
   private:
@@ -144,6 +145,12 @@ class Runner {
             }
         }
         return kExitOk;
+    }
+
+    // angle/center --wait: the reply came when the motion ended.
+    static bool reached(const json& result) {
+        const auto ended = result.value("ended", json::object());
+        return ended.is_object() && ended.value("reason", "") == "reached";
     }
 
     static bool motion_over(const json& message) {

@@ -16,9 +16,9 @@ commands:
   attitude                   the latest attitude sample
   watch [TOPIC...]           stream attitude, link and motion events
   speed --yaw DEG/S ...      move at a speed (until Ctrl-C, or --for DURATION)
-  stop                       stop any speed motion now
-  angle --pitch DEG ...      go to an angle
-  center                     centre the gimbal
+  stop                       stop any motion now
+  angle --pitch DEG ...      go to an angle (--wait: until it is reached)
+  center                     centre the gimbal (--wait: until it is centred)
   lock                       lock mode (control mode 4)
   photo                      take a photo
   record [on|off [--force]]  toggle recording, or switch it on or off
@@ -36,7 +36,8 @@ would be released the moment it exits. A program that needs exclusive
 control keeps its own connection and calls "acquire" (see docs/api.md).
 
 exit status: 0 success, 1 the daemon refused (message and code on stderr),
-64 usage error, 69 daemon unreachable.
+2 angle/center --wait ended without reaching the target, 64 usage error,
+69 daemon unreachable, 130 interrupted.
 )";
 
 const std::map<std::string, std::string, std::less<>>& pages() {
@@ -54,8 +55,11 @@ const std::map<std::string, std::string, std::less<>>& pages() {
          "delivering the newest one.\n"},
         {"speed",
          "usage: gportctl speed [--roll DEG/S] [--pitch DEG/S] [--yaw DEG/S] "
-         "[--for DURATION]\n\n"
-         "Axes not given are 0; each within -327.67..327.67 deg/s.\n"
+         "[--for DURATION] [--lease MS] [--clamp]\n\n"
+         "Axes not given are 0; each within -327.67..327.67 deg/s. A speed above\n"
+         "gportd's limits.max_speed is refused, or with --clamp slowed to it.\n"
+         "--lease MS (or 500ms, 2s): the daemon ends the motion when no further\n"
+         "speed arrives within it (default: the duration).\n"
          "Without --for the motion lasts until Ctrl-C or SIGTERM: gportctl re-sends\n"
          "the speed every 200 ms for 500 ms at a time (if gportctl dies, the gimbal\n"
          "stops within half a second), then sends stop and exits 0.\n"
@@ -64,9 +68,18 @@ const std::map<std::string, std::string, std::less<>>& pages() {
          "client that disconnects), and Ctrl-C stops it early.\n"},
         {"stop", "usage: gportctl stop\n\nSends zero speed at once.\n"},
         {"angle",
-         "usage: gportctl angle [--roll DEG] [--pitch DEG] [--yaw DEG]\n\n"
-         "Angle control; axes not given are 0, each within -327.67..327.67.\n"},
-        {"center", "usage: gportctl center\n\nCentres the gimbal.\n"},
+         "usage: gportctl angle [--roll DEG] [--pitch DEG] [--yaw DEG] [--clamp] [--wait]\n\n"
+         "Angle control relative to the aircraft; axes not given are 0, each within\n"
+         "-327.67..327.67. A target beyond gportd's soft limits is refused, or with\n"
+         "--clamp clamped into them.\n"
+         "--wait: waits until the motion ends and prints how (reached, timeout,\n"
+         "replaced, stop, superseded, preempted, link_down, shutdown) and the final\n"
+         "hall angles; exits 0 when reached, 2 otherwise. Ctrl-C while waiting\n"
+         "exits 130 and the daemon applies its failsafe (default: stop).\n"
+         "Without --wait the gimbal goes on to the target after gportctl exits.\n"},
+        {"center",
+         "usage: gportctl center [--wait]\n\n"
+         "Centres the gimbal. --wait: as for angle (exit 0 when centred, 2 otherwise).\n"},
         {"lock", "usage: gportctl lock\n\nLock mode (control mode 4).\n"},
         {"photo", "usage: gportctl photo\n\nTakes a photo.\n"},
         {"record",

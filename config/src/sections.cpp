@@ -390,6 +390,18 @@ const std::vector<Section>& sections() {
            [](Reader& r, const Json& v, const std::string& p, Config& c) {
                read_failsafe(r, v, p, false, c.failsafe.on_link_lost);
            }}}},
+        {"motion",
+         {{"tolerance_deg",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               // 0.01°: the protocol's resolution; 10°: "reached" means little beyond.
+               if (auto n = r.number(v, p, 0.01, 10.0)) {
+                   c.motion.tolerance_deg = *n;
+               }
+           }},
+          {"timeout_ms",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               c.motion.timeout = r.millis(v, p, 100, 600000).value_or(c.motion.timeout);
+           }}}},
     };
     return kSections;
 }

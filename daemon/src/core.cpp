@@ -20,6 +20,10 @@ namespace {
 constexpr auto kLineQualityInterval = 10s;
 constexpr auto kShutdownDrainLimit = 500ms;
 
+MotionTracker::Options tracker_options(const config::MotionConfig& motion) {
+    return {motion.tolerance_deg, motion.timeout};
+}
+
 Millis keepalive_period(double rate_hz) {
     return std::chrono::duration_cast<Millis>(std::chrono::duration<double>(1.0 / rate_hz));
 }
@@ -53,6 +57,7 @@ Core::Core(asio::io_context& io, const config::Config& config, std::shared_ptr<s
           io, keepalive_period(config.keepalive.rate_hz),
           [this](const gp::Control& c) { return send_control(c); },
           [this](const MotionEvent& e) { on_motion(e); }),
+      tracker_(io, tracker_options(config.motion), [this](const MotionEvent& e) { on_motion(e); }),
       settings_(io, config.requests,
                 [this](const gp::Frame& f) -> std::optional<CommandError> {
                     if (send(f)) {
@@ -77,6 +82,8 @@ void Core::reload(const config::Config& config) {
     config_.keepalive.max_duration = config.keepalive.max_duration;
     config_.limits = config.limits;
     config_.failsafe = config.failsafe;
+    config_.motion = config.motion;
+    tracker_.set_options(tracker_options(config.motion));
 }
 
 void Core::add_link_listener(std::function<void(const LinkEvent&)> listener) {
@@ -120,6 +127,7 @@ void Core::on_attitude(const gp::Attitude& attitude, SteadyTime now, WallTime wa
     if (observer_ != nullptr) {
         observer_->on_attitude(*latest_);
     }
+    tracker_.on_attitude(*latest_);  // after the sample is published: it may end a motion
 }
 
 // ---- events ------------------------------------------------------------------
@@ -143,7 +151,11 @@ void Core::on_link(const LinkEvent& event) {
 }
 
 void Core::on_motion(const MotionEvent& event) {
-    const ClientLogScope scope(event.owner);       // the motion's lines name its owner
+    const ClientLogScope scope(event.owner);  // the motion's lines name its owner
+    if (event.mode == MotionMode::kSpeed &&
+        (event.change == MotionChange::kStarted || event.change == MotionChange::kReplaced)) {
+        speed_started_ = std::chrono::steady_clock::now();
+    }
     if (event.change == MotionChange::kUpdated) {  // a streaming controller: not news
         log_->debug("motion updated ({}) by pid {}: speed {} {} {}", to_string(event.mode),
                     pid_of(event.owner), event.speed.roll, event.speed.pitch, event.speed.yaw);

@@ -56,7 +56,7 @@ bool Core::send_control(const gp::Control& control) {
 // the latest hall (joint) angles, clamped into the soft limits; without a
 // sample younger than link.stale_ms it falls back to stop.
 void Core::failsafe_end(EndReason reason, config::Failsafe policy, bool send_zero) {
-    const auto owner = keepalive_.owner();
+    const auto owner = motion_owner();
     if (!owner) {
         return;
     }
@@ -93,10 +93,29 @@ void Core::failsafe_end(EndReason reason, config::Failsafe policy, bool send_zer
     }
     log_->warn("failsafe {} on {}: motion of owner pid {} ends{}", config::to_string(action),
                to_string(reason), owner->pid, note);
-    keepalive_.end(reason, send_zero);  // the motion ends whatever follows
+    end_motion(reason, send_zero);  // the motion ends whatever follows
     if (then && !send_control(*then)) {
         log_->warn("failsafe {}: the frame could not be queued", config::to_string(action));
     }
+}
+
+std::optional<ClientInfo> Core::motion_owner() const {
+    if (auto owner = keepalive_.owner()) {
+        return owner;
+    }
+    return tracker_.owner();
+}
+
+// At most one of the two runs; the zero speed goes out once, from whichever.
+void Core::end_motion(EndReason reason, bool send_zero) {
+    if (tracker_.active()) {
+        if (send_zero) {
+            send_control(gp::Control::stop());
+        }
+        tracker_.end(reason);
+        return;
+    }
+    keepalive_.end(reason, send_zero);
 }
 
 bool Core::may_command(const ClientInfo& client) const {
@@ -129,6 +148,7 @@ Outcome<SpeedStarted> Core::speed(const ClientInfo& client, gp::Axes speed,
     if (!send_control(gp::Control::speed_of(limited->axes))) {
         return link_down();
     }
+    tracker_.end(EndReason::kSuperseded);  // a speed ends an angle or centre motion
     const auto length = duration.value_or(config_.keepalive.default_duration);
     auto started = keepalive_.start(client, limited->axes, length, lease.value_or(length));
     started.speed = limited->axes;
@@ -144,7 +164,7 @@ Outcome<Done> Core::stop(const ClientInfo& client) {
         return std::move(*refused);
     }
     const bool queued = send_control(gp::Control::stop());
-    keepalive_.end(EndReason::kStop, false);
+    end_motion(EndReason::kStop, false);
     if (!queued) {
         return link_down(stopping_ ? ""
                                    : "zero speed will be the first frame sent when it reopens");
@@ -152,27 +172,32 @@ Outcome<Done> Core::stop(const ClientInfo& client) {
     return Done{};
 }
 
-Outcome<AngleSent> Core::angle(const ClientInfo& client, gp::Axes angle, bool clamp) {
+Outcome<AngleSent> Core::angle(const ClientInfo& client, gp::Axes angle, bool clamp,
+                               MotionEndCallback on_end) {
     auto limited = MotionLimits(config_.limits).angle(angle, clamp);
     if (!limited) {
         return limited.error();
     }
-    auto sent = position(client, gp::Control::angle_of(limited->axes));
+    auto sent = position(client, gp::Control::angle_of(limited->axes), std::move(on_end));
     if (!sent) {
         return sent.error();
     }
     return AngleSent{limited->axes, std::move(limited->clamped)};
 }
 
-Outcome<Done> Core::center(const ClientInfo& client) {
-    return position(client, gp::Control::center());
+Outcome<Done> Core::center(const ClientInfo& client, MotionEndCallback on_end) {
+    return position(client, gp::Control::center(), std::move(on_end));
 }
 
 Outcome<Done> Core::lock(const ClientInfo& client) {
     return position(client, gp::Control::lock());
 }
 
-Outcome<Done> Core::position(const ClientInfo& client, const gp::Control& control) {
+// angle and centre become tracked motions (a newer one replaces the running
+// one: kReplaced); lock ends any motion (kSuperseded) and is not tracked: it
+// has no target.
+Outcome<Done> Core::position(const ClientInfo& client, const gp::Control& control,
+                             MotionEndCallback on_end) {
     if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
         return std::move(*refused);
     }
@@ -180,6 +205,11 @@ Outcome<Done> Core::position(const ClientInfo& client, const gp::Control& contro
         return link_down();
     }
     keepalive_.end(EndReason::kSuperseded, false);
+    if (control.mode != gp::ControlMode::kLock) {
+        tracker_.start(client, control.mode, control.angle, std::move(on_end));
+        return Done{};
+    }
+    tracker_.end(EndReason::kSuperseded);
     MotionEvent e;
     e.change = MotionChange::kStarted;
     e.mode = control.mode;
@@ -240,7 +270,7 @@ Outcome<Done> Core::camera(const ClientInfo& client, gp::CameraAction action) {
 // ---- control -------------------------------------------------------------------
 
 Outcome<std::optional<ClientInfo>> Core::acquire(const ClientInfo& client) {
-    auto acquired = arbiter_.acquire(client, keepalive_.owner());
+    auto acquired = arbiter_.acquire(client, motion_owner());
     if (!acquired) {
         return acquired.error();
     }
@@ -250,7 +280,7 @@ Outcome<std::optional<ClientInfo>> Core::acquire(const ClientInfo& client) {
     // The arbiter has recorded the new holder: an observer called from end()
     // sees it.
     if (acquired->preempts) {
-        keepalive_.end(EndReason::kPreempted, true);
+        end_motion(EndReason::kPreempted, true);
     }
     return arbiter_.holder();
 }
@@ -266,10 +296,14 @@ Outcome<std::optional<ClientInfo>> Core::release(const ClientInfo& client) {
     return arbiter_.holder();
 }
 
+// The deadman: a speed motion's owner, or a tracked motion's waiting owner,
+// is gone. A tracked motion nobody waits for was a completed command: it
+// runs on.
 void Core::client_gone(const ClientInfo& client) {
-    const auto owner = keepalive_.owner();
-    if (owner && owner->id == client.id) {
-        failsafe_end(EndReason::kOwnerGone, config_.failsafe.on_owner_gone, true);  // the deadman
+    const auto owner = motion_owner();
+    const bool deadman = keepalive_.active() || tracker_.waiting();
+    if (owner && owner->id == client.id && deadman) {
+        failsafe_end(EndReason::kOwnerGone, config_.failsafe.on_owner_gone, true);
     }
     if (arbiter_.client_gone(client)) {
         log_->info("control released: pid {} disconnected", client.pid);

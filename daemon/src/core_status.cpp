@@ -36,6 +36,11 @@ Status Core::status() const {
     c.frames_refused = l.queue_overflows;
     c.settings_timeouts = settings_.timeouts();
     s.motion = keepalive_.status();
+    if (s.motion) {
+        s.motion->elapsed = std::chrono::duration_cast<Millis>(now - speed_started_);
+    } else {
+        s.motion = tracker_.status();
+    }
     s.controller = arbiter_.holder();
     s.recording = recording_;
     return s;

@@ -109,7 +109,10 @@ Line motion_line(const daemon::MotionEvent& event) {
         params["speed"] = axes_json(event.speed);
         params["duration_ms"] = event.duration.count();
     } else if (event.mode == daemon::MotionMode::kAngle) {
-        params["angle"] = axes_json(event.angle);
+        params["angle"] = axes_json(event.angle);  // as before tracking: kept for old clients
+        params["target"] = axes_json(event.angle);
+    } else if (event.mode == daemon::MotionMode::kCenter) {
+        params["target"] = axes_json(event.angle);  // 0/0/0
     }
     if (event.reason) {
         params["reason"] = daemon::to_string(*event.reason);

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <chrono>
+#include <memory>
 #include <utility>
 
 #include "gport/ipc/event_json.hpp"
@@ -52,6 +53,33 @@ daemon::Api::SettingsCallback settings_answer(Respond respond) {
     };
 }
 
+// The `attitude` method's result: the sample and its age now.
+json attitude_result(const daemon::AttitudeSample& sample) {
+    json result = attitude_json(sample);
+    const auto age = std::chrono::steady_clock::now() - sample.received;
+    result["age_ms"] = std::chrono::duration_cast<std::chrono::milliseconds>(age).count();
+    return result;
+}
+
+// With `wait`, the reply (`sent`) waits for the tracked motion's end and adds
+// `ended`. The core calls back later, from the loop, only if the command
+// succeeded; `sent` is filled in before that.
+struct Waiter {
+    json sent;
+    Respond respond;
+};
+
+daemon::MotionEndCallback answer_on_end(const std::shared_ptr<Waiter>& waiter) {
+    return [waiter](const daemon::MotionEnd& end) {
+        json result = std::move(waiter->sent);
+        result["ended"] = {
+            {"reason", daemon::to_string(end.reason)},
+            {"attitude", end.attitude ? attitude_result(*end.attitude) : json(nullptr)},
+            {"elapsed_ms", end.elapsed.count()}};
+        waiter->respond(std::move(result));
+    };
+}
+
 // ---- queries ----------------------------------------------------------------
 
 void status(MethodContext& c, const json& params, Respond respond) {
@@ -66,10 +94,7 @@ void attitude(MethodContext& c, const json& params, Respond respond) {
         respond(RpcError{rpc_error::kLinkDown, "no attitude received from the gimbal yet"});
         return;
     }
-    json result = attitude_json(*sample);
-    const auto age = std::chrono::steady_clock::now() - sample->received;
-    result["age_ms"] = std::chrono::duration_cast<std::chrono::milliseconds>(age).count();
-    respond(std::move(result));
+    respond(attitude_result(*sample));
 }
 
 const std::initializer_list<std::string_view> kTopics = {"attitude", "link", "motion"};
@@ -146,21 +171,41 @@ void stop(MethodContext& c, const json& params, Respond respond) {
 
 void angle(MethodContext& c, const json& params, Respond respond) {
     const Params p(params);
-    p.only({"roll", "pitch", "yaw", "clamp"});
+    p.only({"roll", "pitch", "yaw", "clamp", "wait"});
     const auto axes = p.axes();
     const bool clamp = p.boolean("clamp").value_or(false);
-    auto outcome = c.api.angle(c.client.info, axes, clamp);
+    const bool wait = p.boolean("wait").value_or(false);
+    auto waiter = wait ? std::make_shared<Waiter>(Waiter{json(), respond}) : nullptr;
+    auto outcome = c.api.angle(c.client.info, axes, clamp,
+                               waiter ? answer_on_end(waiter) : daemon::MotionEndCallback{});
     if (!outcome) {
         respond(error_of(outcome.error()));
         return;
     }
-    respond(
-        json{{"sent", true}, {"angle", axes_json(outcome->angle)}, {"clamped", outcome->clamped}});
+    json sent{{"sent", true}, {"angle", axes_json(outcome->angle)}, {"clamped", outcome->clamped}};
+    if (waiter) {
+        waiter->sent = std::move(sent);
+        return;
+    }
+    respond(std::move(sent));
 }
 
 void center(MethodContext& c, const json& params, Respond respond) {
-    Params(params).only({});
-    answer_sent(c.api.center(c.client.info), respond);
+    const Params p(params);
+    p.only({"wait"});
+    const bool wait = p.boolean("wait").value_or(false);
+    auto waiter = wait ? std::make_shared<Waiter>(Waiter{json(), respond}) : nullptr;
+    auto outcome =
+        c.api.center(c.client.info, waiter ? answer_on_end(waiter) : daemon::MotionEndCallback{});
+    if (!outcome) {
+        respond(error_of(outcome.error()));
+        return;
+    }
+    if (waiter) {
+        waiter->sent = json{{"sent", true}};
+        return;
+    }
+    respond(json{{"sent", true}});
 }
 
 void lock(MethodContext& c, const json& params, Respond respond) {

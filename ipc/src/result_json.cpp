@@ -38,10 +38,16 @@ json motion_json(const std::optional<daemon::MotionStatus>& motion) {
     if (!motion) {
         return nullptr;
     }
-    return {{"mode", daemon::to_string(motion->mode)},
-            {"owner", motion->owner ? client_json(*motion->owner) : json(nullptr)},
-            {"speed", axes_json(motion->speed)},
-            {"time_left_ms", motion->time_left.count()}};
+    json out = {{"mode", daemon::to_string(motion->mode)},
+                {"owner", motion->owner ? client_json(*motion->owner) : json(nullptr)}};
+    if (motion->mode == daemon::MotionMode::kSpeed) {
+        out["speed"] = axes_json(motion->speed);
+        out["time_left_ms"] = motion->time_left.count();
+    } else {  // a tracked angle or centre motion
+        out["target"] = axes_json(motion->target);
+    }
+    out["elapsed_ms"] = motion->elapsed.count();
+    return out;
 }
 
 json optional_client(const std::optional<daemon::ClientInfo>& client) {

@@ -69,6 +69,24 @@ TEST(Options, SpeedAndAngleTakeDegrees) {
     EXPECT_THAT(refusal({"speed", "--yaw"}), HasSubstr("--yaw needs a value"));
 }
 
+TEST(Options, WaitClampAndLease) {
+    auto angle = parse({"angle", "--pitch", "-90", "--clamp", "--wait"});
+    EXPECT_EQ(angle.params, json({{"pitch", -90.0}, {"clamp", true}, {"wait", true}}));
+    EXPECT_TRUE(angle.wait);
+    EXPECT_FALSE(parse({"angle", "--pitch", "10"}).wait);
+    auto centre = parse({"center", "--wait"});
+    EXPECT_EQ(centre.params, json({{"wait", true}}));
+    EXPECT_TRUE(centre.wait);
+    EXPECT_EQ(parse({"speed", "--yaw", "5", "--lease", "250", "--clamp"}).params,
+              json({{"yaw", 5.0}, {"lease_ms", 250}, {"clamp", true}}));
+    EXPECT_EQ(parse({"speed", "--lease=2s"}).params, json({{"lease_ms", 2000}}));
+    EXPECT_THAT(refusal({"speed", "--lease", "soon"}), HasSubstr("--lease soon: expected"));
+    EXPECT_THAT(refusal({"speed", "--lease", "0"}), HasSubstr("--lease 0"));
+    EXPECT_THAT(refusal({"speed", "--wait"}), HasSubstr("speed: unknown option --wait"));
+    EXPECT_THAT(refusal({"center", "--clamp"}), HasSubstr("center: unknown option --clamp"));
+    EXPECT_THAT(refusal({"lock", "--wait"}), HasSubstr("lock: unknown option --wait"));
+}
+
 TEST(Options, RecordTogglesOrTakesOnOffAndForce) {
     EXPECT_EQ(parse({"record"}).params, json::object());
     EXPECT_EQ(parse({"record", "on"}).params, json({{"on", true}}));

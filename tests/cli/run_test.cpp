@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <future>
 #include <sstream>
 
 #include "server_harness.hpp"
@@ -67,6 +68,48 @@ TEST_F(RunTest, CommandsReachTheCore) {
     EXPECT_EQ(run({"record"}).out, "record: sent; recording unknown (assumed)\n");
     EXPECT_EQ(run({"angle", "--pitch", "-45.5"}).status, kExitOk);
     EXPECT_THAT(calls().back(), HasSubstr("angle 0 -4550 0"));
+}
+
+// --wait: gportctl blocks until the (fake) core ends the motion.
+TEST_F(RunTest, WaitPrintsHowTheMotionEndedAndExitsByIt) {
+    const auto wait_for = [&](std::vector<std::string> args, daemon::MotionEnd end) {
+        auto ran = std::async(std::launch::async, [&, args] { return run(args); });
+        EXPECT_TRUE(h_.eventually([&] { return h_.api.waiters.size() == 1; }));
+        h_.on_io([&] {
+            h_.api.end_waiter(end);
+            return 0;
+        });
+        return ran.get();
+    };
+    daemon::AttitudeSample at;
+    at.attitude.hall = {0, -4550, 0};
+    at.received = std::chrono::steady_clock::now();
+    auto reached = wait_for({"angle", "--pitch", "-45.5", "--wait"},
+                            {daemon::EndReason::kReached, at, daemon::Millis(800)});
+    EXPECT_EQ(reached.status, kExitOk) << reached.err;
+    EXPECT_THAT(reached.out, HasSubstr("ended: reached after 800 ms; hall roll 0.00 pitch -45.50"));
+    EXPECT_THAT(calls().back(), HasSubstr("angle 0 -4550 0 wait"));
+    auto timeout = wait_for({"center", "--wait"},
+                            {daemon::EndReason::kTimeout, std::nullopt, daemon::Millis(10000)});
+    EXPECT_EQ(timeout.status, kExitNotReached);
+    EXPECT_THAT(timeout.out, HasSubstr("ended: timeout after 10000 ms; no attitude received"));
+    auto replaced = wait_for({"--json", "angle", "--yaw", "3", "--wait"},
+                             {daemon::EndReason::kReplaced, std::nullopt, daemon::Millis(5)});
+    EXPECT_EQ(replaced.status, kExitNotReached);
+    EXPECT_EQ(json::parse(replaced.out)["ended"]["reason"], "replaced");
+}
+
+TEST_F(RunTest, StatusShowsATrackedMotionsTarget) {
+    h_.on_io([&] {
+        daemon::MotionStatus motion;
+        motion.mode = daemon::MotionMode::kAngle;
+        motion.target = {0, -3000, 4500};
+        motion.elapsed = daemon::Millis(420);
+        h_.api.status_value.motion = motion;
+    });
+    EXPECT_THAT(
+        run({"status"}).out,
+        HasSubstr("motion:    angle to roll 0.00 pitch -30.00 yaw 45.00 deg, 420 ms so far"));
 }
 
 TEST_F(RunTest, RecordOnOffAndTheAssumedState) {

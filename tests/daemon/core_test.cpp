@@ -99,7 +99,8 @@ TEST_F(CoreFixture, NewSpeedReplacesAndAngleEndsTheKeepalive) {
     const auto before = speed_frames().size();
     run_for(400ms);
     EXPECT_EQ(speed_frames().size(), before);
-    EXPECT_FALSE(core->status().motion.has_value());
+    const auto motion = core->status().motion;  // no speed motion; the angle's, tracked
+    EXPECT_TRUE(!motion || motion->mode == daemon::MotionMode::kAngle);
     ASSERT_TRUE(core->center(alice).ok());
     ASSERT_TRUE(core->lock(alice).ok());
     ASSERT_TRUE(core->photo(alice).ok());

@@ -18,11 +18,15 @@ class SimDaemonTest : public ::testing::Test {
     void SetUp() override {
         sim_ = std::make_unique<SimProcess>(dir_);
         daemon_ = std::make_unique<DaemonProcess>(
-            dir_, std::vector<std::string>{"--device", sim_->link()});
+            dir_, std::vector<std::string>{"--device", sim_->link()}, std::vector<std::string>{},
+            config_extra());
         client_ = std::make_unique<Client>(daemon_->socket());
         ASSERT_TRUE(client_->connected());
         ASSERT_TRUE(link_up(*client_));
     }
+
+    // More config sections for gportd, as write_test_config takes them.
+    virtual std::string config_extra() const { return {}; }
 
     TempDir dir_;
     std::unique_ptr<SimProcess> sim_;

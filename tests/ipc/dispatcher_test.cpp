@@ -212,7 +212,7 @@ TEST_F(DispatcherTest, ParamsAreValidatedNamingFieldAndRange) {
                 HasSubstr("duration_ms must be an integer from 1"));
     EXPECT_THAT(message(call("speed", {{"duration_ms", 1.5}})), HasSubstr("duration_ms"));
     EXPECT_THAT(message(call("angle", {{"zoom", 1}})),
-                HasSubstr("unknown parameter \"zoom\"; allowed: roll, pitch, yaw and clamp"));
+                HasSubstr("unknown parameter \"zoom\"; allowed: roll, pitch, yaw, clamp and wait"));
     EXPECT_THAT(message(call("stop", {{"now", 1}})), HasSubstr("takes no parameters"));
     EXPECT_THAT(message(call("stop", json::array({1}))), HasSubstr("params must be an object"));
     EXPECT_EQ(call("stop", json::array())["result"]["sent"], true);

@@ -106,6 +106,15 @@ TEST(EventJson, LinkAndMotion) {
     EXPECT_EQ(a["angle"]["pitch"], -90.0);
     EXPECT_FALSE(a.contains("reason"));
     EXPECT_TRUE(a["owner"].is_null());
+    EXPECT_EQ(a["target"], a["angle"]) << "tracked motions name their target";
+
+    daemon::MotionEvent centre;
+    centre.change = daemon::MotionChange::kEnded;
+    centre.mode = daemon::MotionMode::kCenter;
+    centre.reason = daemon::EndReason::kReached;
+    auto c = json::parse(*motion_line(centre))["params"];
+    EXPECT_EQ(c["target"], json({{"roll", 0.0}, {"pitch", 0.0}, {"yaw", 0.0}}));
+    EXPECT_EQ(c["reason"], "reached");
 }
 
 }  // namespace

@@ -31,6 +31,8 @@ class FakeApi final : public daemon::Api {
     std::vector<daemon::ClientInfo> closed;
     // Settings answers wait here until the test (or run_settings) runs them.
     std::vector<std::function<void()>> pending_settings;
+    // The end callbacks of angle and center calls with `wait`, oldest first.
+    std::vector<daemon::MotionEndCallback> waiters;
     // When set, settings answers are handed to it instead (e.g. asio::post).
     std::function<void(std::function<void()>)> defer;
 
@@ -87,16 +89,32 @@ class FakeApi final : public daemon::Api {
         return command("stop", c);
     }
     daemon::Outcome<daemon::AngleSent> angle(const daemon::ClientInfo& c, protocol::Axes a,
-                                             bool clamp = false) override {
-        auto done = command(
-            fmt::format("angle {} {} {}{}", a.roll, a.pitch, a.yaw, clamp ? " clamp" : ""), c);
+                                             bool clamp = false,
+                                             daemon::MotionEndCallback on_end = {}) override {
+        auto done = command(fmt::format("angle {} {} {}{}{}", a.roll, a.pitch, a.yaw,
+                                        clamp ? " clamp" : "", on_end ? " wait" : ""),
+                            c);
         if (!done) {
             return done.error();
         }
+        if (on_end) {
+            waiters.push_back(std::move(on_end));
+        }
         return daemon::AngleSent{a, clamped};
     }
-    daemon::Outcome<daemon::Done> center(const daemon::ClientInfo& c) override {
-        return command("center", c);
+    daemon::Outcome<daemon::Done> center(const daemon::ClientInfo& c,
+                                         daemon::MotionEndCallback on_end = {}) override {
+        auto done = command(on_end ? "center wait" : "center", c);
+        if (done && on_end) {
+            waiters.push_back(std::move(on_end));
+        }
+        return done;
+    }
+    // Ends the oldest waiting motion with `end` (as the core would, later).
+    void end_waiter(const daemon::MotionEnd& end) {
+        auto on_end = std::move(waiters.front());
+        waiters.erase(waiters.begin());
+        on_end(end);
     }
     daemon::Outcome<daemon::Done> lock(const daemon::ClientInfo& c) override {
         return command("lock", c);

@@ -8,6 +8,9 @@ namespace gport {
 inline constexpr int kExitOk = 0;
 // A failure with no sysexits code (gportctl: the daemon answered an error).
 inline constexpr int kExitFailure = 1;
+// gportctl angle/center --wait: the motion ended without reaching its target
+// (timeout, replaced, stop, ...).
+inline constexpr int kExitNotReached = 2;
 inline constexpr int kExitUsage = 64;         // EX_USAGE: bad command line
 inline constexpr int kExitNoInput = 66;       // EX_NOINPUT: an input file cannot be read
 inline constexpr int kExitUnavailable = 69;   // EX_UNAVAILABLE: no daemon to talk to

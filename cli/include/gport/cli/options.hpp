@@ -18,6 +18,7 @@ namespace gport::cli {
 using gport::kExitOk;
 inline constexpr int kExitError = gport::kExitFailure;  // the daemon answered with an error
 using gport::kExitInterrupted;
+using gport::kExitNotReached;
 using gport::kExitUnavailable;
 using gport::kExitUsage;
 
@@ -33,6 +34,7 @@ struct Invocation {
     std::vector<std::string> topics;  // watch
     std::optional<double> rate_hz;    // watch --rate
     std::optional<std::chrono::milliseconds> duration;  // speed --for
+    bool wait = false;                                  // angle, center --wait
 };
 
 struct UsageError {

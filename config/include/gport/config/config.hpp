@@ -107,6 +107,12 @@ struct FailsafeConfig {                        // "failsafe"
     Failsafe on_link_lost = Failsafe::kStop;   // "on_link_lost": "stop" or "center", never "hold"
 };
 
+// Tracked angle and centre motions (docs/configuration.md, "motion").
+struct MotionConfig {            // "motion"
+    double tolerance_deg = 0.5;  // "tolerance_deg": reached within this of the target
+    Millis timeout{10000};       // "timeout_ms": not reached by then -> ends "timeout"
+};
+
 struct Config {
     SerialConfig serial;
     SocketConfig socket;
@@ -117,6 +123,7 @@ struct Config {
     LogConfig log;
     LimitsConfig limits;
     FailsafeConfig failsafe;
+    MotionConfig motion;
     bool simulate = false;  // command line only: --simulate
 };
 

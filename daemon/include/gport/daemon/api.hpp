@@ -101,8 +101,21 @@ struct MotionStatus {
     MotionMode mode = MotionMode::kSpeed;
     std::optional<ClientInfo> owner;
     protocol::Axes speed;
-    Millis time_left{0};  // speed motions only
+    Millis time_left{0};      // speed motions only
+    protocol::Axes target{};  // angle and centre motions only (0.01°; centre: 0)
+    Millis elapsed{0};        // since the motion started
 };
+
+// How a tracked angle or centre motion ended: the answer to a `wait`.
+struct MotionEnd {
+    EndReason reason = EndReason::kReached;
+    std::optional<AttitudeSample> attitude;  // the latest sample when it ended, if any
+    Millis elapsed{0};                       // from the command to the end
+};
+
+// Told once how a tracked motion ended; runs later on the loop, never from
+// inside the call that ended the motion.
+using MotionEndCallback = std::function<void(const MotionEnd&)>;
 
 struct Status {
     LinkState link = LinkState::kDown;
@@ -112,7 +125,7 @@ struct Status {
     Millis uptime{0};
     std::optional<Millis> attitude_age;
     Counters counters;
-    std::optional<MotionStatus> motion;                   // a speed motion under keepalive
+    std::optional<MotionStatus> motion;                   // a speed or tracked motion
     std::optional<ClientInfo> controller;                 // holder of acquire(), if any
     RecordingState recording = RecordingState::kUnknown;  // assumed, see RecordingState
 };
@@ -143,9 +156,15 @@ class Api {
     virtual Outcome<Done> stop(const ClientInfo& client) = 0;
     // Angle in 0.01°. A target outside the soft limits (limits.roll/pitch/yaw)
     // is refused (kInvalidParams) or, with `clamp`, clamped into them.
+    // angle and center start a tracked motion (MotionTracker): it ends when
+    // the hall angles reach the target, at motion.timeout_ms, or when
+    // something else ends it. `on_end`, when given, makes the caller a
+    // waiting owner: it is called exactly once when the motion ends (only if
+    // the command succeeded), and the owner's departure ends the motion
+    // (kOwnerGone, with the failsafe). Without it the motion outlives its owner.
     virtual Outcome<AngleSent> angle(const ClientInfo& client, protocol::Axes angle,
-                                     bool clamp = false) = 0;
-    virtual Outcome<Done> center(const ClientInfo& client) = 0;
+                                     bool clamp = false, MotionEndCallback on_end = {}) = 0;
+    virtual Outcome<Done> center(const ClientInfo& client, MotionEndCallback on_end = {}) = 0;
     virtual Outcome<Done> lock(const ClientInfo& client) = 0;
     virtual Outcome<Done> photo(const ClientInfo& client) = 0;
     virtual Outcome<RecordResult> record(const ClientInfo& client, RecordRequest request) = 0;
@@ -160,8 +179,9 @@ class Api {
     virtual void set_settings(const ClientInfo& client, SettingsChange change,
                               SettingsCallback done) = 0;
 
-    // The client hung up (EOF) or its connection closed: the deadman. Stops
-    // its motion and releases its control at once. Its settings requests
+    // The client hung up (EOF) or its connection closed: the deadman. Ends
+    // its speed motion, or the tracked motion it waits for (kOwnerGone, with
+    // failsafe.on_owner_gone), and releases its control at once. Its settings requests
     // still complete (a half-closed client still reads its replies).
     virtual void client_gone(const ClientInfo& client) = 0;
     // The connection is closed for good: nothing more is delivered to it.

@@ -21,6 +21,7 @@
 #include "gport/daemon/core/arbiter.hpp"
 #include "gport/daemon/core/keepalive.hpp"
 #include "gport/daemon/core/link_monitor.hpp"
+#include "gport/daemon/core/motion_tracker.hpp"
 #include "gport/daemon/core/serial_port.hpp"
 #include "gport/daemon/core/settings_exchange.hpp"
 #include "gport/protocol/decoder.hpp"
@@ -43,8 +44,9 @@ class Core final : public Api {
     void shutdown(std::function<void()> done);
     // SIGHUP: applies the keys that may change at run time — who may command
     // (a fresh access policy, so no cached decision survives) and the default
-    // and longest speed durations, the soft limits and the failsafe policies
-    // (which apply to a running motion when it ends). A running motion is
+    // and longest speed durations, the soft limits, the failsafe policies
+    // (which apply to a running motion when it ends) and the motion tolerance
+    // and timeout (for motions started afterwards). A running motion is
     // otherwise left as it is.
     void reload(const config::Config& config);
     // Also told of every link change (e.g. for the service manager's status).
@@ -59,9 +61,9 @@ class Core final : public Api {
                                 std::optional<Millis> duration, bool clamp = false,
                                 std::optional<Millis> lease = std::nullopt) override;
     Outcome<Done> stop(const ClientInfo& client) override;
-    Outcome<AngleSent> angle(const ClientInfo& client, protocol::Axes angle,
-                             bool clamp = false) override;
-    Outcome<Done> center(const ClientInfo& client) override;
+    Outcome<AngleSent> angle(const ClientInfo& client, protocol::Axes angle, bool clamp = false,
+                             MotionEndCallback on_end = {}) override;
+    Outcome<Done> center(const ClientInfo& client, MotionEndCallback on_end = {}) override;
     Outcome<Done> lock(const ClientInfo& client) override;
     Outcome<Done> photo(const ClientInfo& client) override;
     Outcome<RecordResult> record(const ClientInfo& client, RecordRequest request) override;
@@ -82,16 +84,21 @@ class Core final : public Api {
     // The one kLinkDown error: names the device and why nothing goes to it,
     // then what follows for this request (may be empty).
     CommandError link_down(std::string_view consequence = {}) const;
-    Outcome<Done> position(const ClientInfo& client, const protocol::Control& control);
+    Outcome<Done> position(const ClientInfo& client, const protocol::Control& control,
+                           MotionEndCallback on_end = {});
     Outcome<Done> camera(const ClientInfo& client, protocol::CameraAction action);
     void settings(const ClientInfo& client, std::optional<SettingsChange> change,
                   SettingsCallback done);
     bool send(const protocol::Frame& frame);
     bool send_control(const protocol::Control& control);
-    // Ends the speed motion, if any, for `reason` under the failsafe `policy`:
-    // zero speed first (if `send_zero`), then the hold angle or the centre
-    // frame; logs the action once at warning level.
+    // Ends the motion (speed or tracked), if any, for `reason` under the
+    // failsafe `policy`: zero speed first (if `send_zero`), then the hold
+    // angle or the centre frame; logs the action once at warning level.
     void failsafe_end(EndReason reason, config::Failsafe policy, bool send_zero);
+    // The owner of the running motion, speed or tracked (at most one runs).
+    std::optional<ClientInfo> motion_owner() const;
+    // Ends whichever motion runs; zero speed first if `send_zero`.
+    void end_motion(EndReason reason, bool send_zero);
 
     // ---- the read path and events (core.cpp) ----
     void on_bytes(std::span<const std::uint8_t> bytes);
@@ -114,6 +121,7 @@ class Core final : public Api {
     SerialPort port_;
     LinkMonitor monitor_;
     Keepalive keepalive_;
+    MotionTracker tracker_;  // angle and centre motions
     SettingsExchange settings_;
     boost::asio::steady_timer quality_timer_;
     boost::asio::steady_timer shutdown_timer_;
@@ -122,6 +130,7 @@ class Core final : public Api {
     std::uint64_t bad_messages_ = 0;
     bool stopping_ = false;
     RecordingState recording_ = RecordingState::kUnknown;  // assumed; unknown on each open
+    SteadyTime speed_started_{};  // when the running speed motion started (status elapsed_ms)
 };
 
 }  // namespace gport::daemon

@@ -55,7 +55,10 @@ using protocol::to_string;
 // speed winning.
 enum class MotionChange { kStarted, kReplaced, kEnded, kUpdated };
 
-// Why a speed motion ended.
+// Why a motion ended. Speed motions end with the first eight; tracked angle
+// and centre motions (MotionTracker) with kReached, kTimeout, kReplaced (a
+// newer angle or centre), kStop, kOwnerGone (only a waiting owner),
+// kSuperseded (a speed or lock), kPreempted, kLinkDown or kShutdown.
 enum class EndReason {
     kDuration,
     kStop,
@@ -65,6 +68,9 @@ enum class EndReason {
     kLinkDown,
     kPreempted,     // another client acquired control
     kLeaseExpired,  // no update from its owner within the lease
+    kReached,       // every axis within motion.tolerance_deg of its target, twice running
+    kTimeout,       // not reached within motion.timeout_ms
+    kReplaced,      // a newer angle or centre command
 };
 
 struct MotionEvent {
@@ -72,7 +78,7 @@ struct MotionEvent {
     MotionMode mode = MotionMode::kSpeed;
     std::optional<ClientInfo> owner;  // who commanded it
     protocol::Axes speed;             // 0.01°/s, for speed motions
-    protocol::Axes angle;             // 0.01°, for angle motions
+    protocol::Axes angle;             // 0.01°, the target of angle (and centre: 0) motions
     Millis duration{0};               // asked duration of a speed motion
     std::optional<EndReason> reason;  // set when change == kEnded
 };
@@ -131,6 +137,12 @@ constexpr std::string_view to_string(EndReason reason) {
             return "preempted";
         case EndReason::kLeaseExpired:
             return "lease_expired";
+        case EndReason::kReached:
+            return "reached";
+        case EndReason::kTimeout:
+            return "timeout";
+        case EndReason::kReplaced:
+            return "replaced";
     }
     return "unknown";
 }

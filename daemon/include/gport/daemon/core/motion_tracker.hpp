@@ -1,0 +1,100 @@
+// Tracked angle and centre motions: they know when they are done. The
+// gimbal turns to an angle (or the centre) on its own; the tracker watches
+// the attitude and ends the motion with kReached once every axis's hall
+// (joint) angle is within the tolerance of its target for two consecutive
+// samples, or with kTimeout when that has not happened within the timeout
+// (nothing is sent then). Anything else that ends it (a newer command, stop,
+// preemption, the waiting owner's departure, the link, shutdown) calls end().
+//
+// Hall angles, not IMU angles: the angle command is relative to the aircraft
+// like the hall angles are, so a target is compared with what it commands.
+//
+// A motion started with an end callback has a waiting owner: the callback is
+// posted to the loop exactly once when the motion ends, so that it never runs
+// inside the call that ended the motion. The ended event is emitted at once.
+#pragma once
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <cstdint>
+#include <functional>
+#include <optional>
+
+#include "gport/daemon/api.hpp"
+
+namespace gport::daemon {
+
+// Pure: whether the gimbal has arrived, from the hall angles of successive
+// samples. Arrived = two consecutive samples with every axis within the
+// tolerance of the target; a sample outside starts the count again.
+class Arrival {
+  public:
+    Arrival(protocol::Axes target, double tolerance_deg);
+
+    // Offers the next sample's hall angles; true once arrived (and after).
+    bool observe(const protocol::Axes& hall);
+    bool arrived() const { return consecutive_ >= kSamplesNeeded; }
+
+    // Every axis of `hall` within `tolerance` (0.01°) of `target`.
+    static bool within(const protocol::Axes& hall, const protocol::Axes& target,
+                       std::int32_t tolerance);
+
+    static constexpr unsigned kSamplesNeeded = 2;
+
+  private:
+    protocol::Axes target_;
+    std::int32_t tolerance_;  // 0.01°
+    unsigned consecutive_ = 0;
+};
+
+class MotionTracker {
+  public:
+    using Emit = std::function<void(const MotionEvent&)>;
+
+    struct Options {
+        double tolerance_deg = 0.5;
+        Millis timeout{10000};
+    };
+
+    MotionTracker(boost::asio::io_context& io, Options options, Emit emit);
+
+    // For motions started from now on; a running motion keeps its own.
+    void set_options(Options options) { options_ = options; }
+
+    // Starts tracking `target` (0.01°; centre: 0) for `owner`; a running
+    // motion first ends with kReplaced. `on_end` empty: nobody waits.
+    void start(const ClientInfo& owner, MotionMode mode, protocol::Axes target,
+               MotionEndCallback on_end = {});
+    // Offers every attitude sample (also between motions: the latest one is
+    // what a waiter is told); may end the motion with kReached.
+    void on_attitude(const AttitudeSample& sample);
+    // Ends the motion, if any, with `reason`. Emits last.
+    void end(EndReason reason);
+
+    bool active() const { return motion_.has_value(); }
+    bool waiting() const { return motion_ && static_cast<bool>(motion_->on_end); }
+    std::optional<ClientInfo> owner() const;
+    std::optional<MotionStatus> status() const;
+
+  private:
+    struct Motion {
+        ClientInfo owner;
+        MotionMode mode;
+        protocol::Axes target;
+        SteadyTime started;
+        Arrival arrival;
+        MotionEndCallback on_end;
+    };
+
+    MotionEvent event(MotionChange change, std::optional<EndReason> reason) const;
+    void arm();
+
+    boost::asio::io_context& io_;
+    boost::asio::steady_timer timer_;
+    Options options_;
+    Emit emit_;
+    std::optional<Motion> motion_;
+    std::optional<AttitudeSample> latest_;  // the sample the last on_attitude saw
+};
+
+}  // namespace gport::daemon

@@ -1,0 +1,190 @@
+// MotionTracker on its own: samples fed by hand, no gimbal. Arrival is the
+// pure rule (two consecutive samples within the tolerance); the tracker adds
+// the timeout, the end reasons, the events and the waiter's callback.
+#include "gport/daemon/core/motion_tracker.hpp"
+
+#include <gtest/gtest.h>
+
+#include <boost/asio/io_context.hpp>
+#include <vector>
+
+namespace gport::daemon {
+namespace {
+
+using namespace std::chrono_literals;
+using protocol::Axes;
+
+TEST(Arrival, OneSampleWithinIsNotEnough) {
+    Arrival a({0, 1000, 0}, 0.5);
+    EXPECT_FALSE(a.observe({0, 1000, 0}));
+    EXPECT_FALSE(a.arrived());
+}
+
+TEST(Arrival, OneSampleWithinThenOneOutStartsAgain) {
+    Arrival a({0, 1000, 0}, 0.5);
+    EXPECT_FALSE(a.observe({0, 1040, 0}));
+    EXPECT_FALSE(a.observe({0, 1060, 0})) << "0.6° off: outside 0.5°";
+    EXPECT_FALSE(a.observe({0, 1000, 0})) << "the count started again";
+    EXPECT_TRUE(a.observe({0, 1000, 0}));
+}
+
+TEST(Arrival, TwoConsecutiveSamplesWithinOnEveryAxis) {
+    Arrival a({-500, 1000, 17000}, 0.5);
+    EXPECT_FALSE(a.observe({-450, 1050, 16950}));
+    EXPECT_TRUE(a.observe({-550, 950, 17050}));
+    EXPECT_TRUE(a.observe({0, 0, 0})) << "arrived stays arrived";
+}
+
+TEST(Arrival, EveryAxisCounts) {
+    EXPECT_FALSE(Arrival::within({100, 0, 0}, {0, 0, 0}, 50));
+    EXPECT_FALSE(Arrival::within({0, -100, 0}, {0, 0, 0}, 50));
+    EXPECT_FALSE(Arrival::within({0, 0, 100}, {0, 0, 0}, 50));
+    EXPECT_TRUE(Arrival::within({50, -50, 50}, {0, 0, 0}, 50));
+    // The widest gap the protocol allows does not overflow.
+    EXPECT_FALSE(Arrival::within({32767, 0, 0}, {-32768, 0, 0}, 50));
+}
+
+class TrackerTest : public ::testing::Test {
+  protected:
+    AttitudeSample sample(Axes hall) {
+        AttitudeSample s;
+        s.seq = ++seq_;
+        s.received = std::chrono::steady_clock::now();
+        s.attitude.hall = hall;
+        return s;
+    }
+
+    MotionEndCallback waiter() {
+        return [this](const MotionEnd& end) { ends.push_back(end); };
+    }
+
+    void feed(Axes hall, int times = 1) {
+        for (int i = 0; i < times; ++i) {
+            tracker.on_attitude(sample(hall));
+        }
+    }
+
+    std::optional<EndReason> last_end_reason() const {
+        if (events.empty() || events.back().change != MotionChange::kEnded) {
+            return std::nullopt;
+        }
+        return events.back().reason;
+    }
+
+    boost::asio::io_context io;
+    std::vector<MotionEvent> events;
+    std::vector<MotionEnd> ends;
+    MotionTracker tracker{io, {0.5, 200ms}, [this](const MotionEvent& e) { events.push_back(e); }};
+    ClientInfo alice{1, 1001, 1001, 1001, {}};
+    ClientInfo bob{2, 1002, 1002, 1002, {}};
+    std::uint64_t seq_ = 0;
+};
+
+TEST_F(TrackerTest, TimeoutEndsTheMotionAndTellsTheWaiter) {
+    tracker.start(alice, MotionMode::kAngle, {0, 9000, 0}, waiter());
+    feed({0, 0, 0}, 3);  // never gets there
+    io.run_for(500ms);
+    EXPECT_FALSE(tracker.active());
+    EXPECT_EQ(last_end_reason(), EndReason::kTimeout);
+    ASSERT_EQ(ends.size(), 1u);
+    EXPECT_EQ(ends[0].reason, EndReason::kTimeout);
+    ASSERT_TRUE(ends[0].attitude);
+    EXPECT_EQ(ends[0].attitude->seq, 3u) << "the latest sample";
+    EXPECT_GE(ends[0].elapsed, 200ms);
+}
+
+TEST_F(TrackerTest, OneSampleWithinThenOutDoesNotEndIt) {
+    tracker.start(alice, MotionMode::kAngle, {0, 1000, 0}, waiter());
+    feed({0, 1000, 0});
+    feed({0, 2000, 0});
+    feed({0, 1000, 0});
+    EXPECT_TRUE(tracker.active());
+    EXPECT_EQ(events.size(), 1u) << "only started";
+}
+
+TEST_F(TrackerTest, TwoSamplesWithinEndItReachedWithTheWaiterCalledLater) {
+    tracker.start(alice, MotionMode::kAngle, {0, 1000, 0}, waiter());
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].change, MotionChange::kStarted);
+    EXPECT_EQ(events[0].mode, MotionMode::kAngle);
+    EXPECT_EQ(events[0].angle, (Axes{0, 1000, 0}));
+    feed({0, 990, 0}, 2);
+    EXPECT_FALSE(tracker.active());
+    EXPECT_EQ(last_end_reason(), EndReason::kReached);
+    EXPECT_TRUE(ends.empty()) << "never from inside the call that ended it";
+    io.poll();
+    ASSERT_EQ(ends.size(), 1u);
+    EXPECT_EQ(ends[0].reason, EndReason::kReached);
+    EXPECT_EQ(ends[0].attitude->attitude.hall, (Axes{0, 990, 0}));
+}
+
+TEST_F(TrackerTest, CentreTargetsZero) {
+    tracker.start(alice, MotionMode::kCenter, {}, waiter());
+    feed({0, 0, 40}, 2);
+    io.poll();
+    ASSERT_EQ(ends.size(), 1u);
+    EXPECT_EQ(ends[0].reason, EndReason::kReached);
+    EXPECT_EQ(events.back().mode, MotionMode::kCenter);
+}
+
+TEST_F(TrackerTest, ANewerMotionReplacesTheRunningOne) {
+    tracker.start(alice, MotionMode::kAngle, {0, 1000, 0}, waiter());
+    tracker.start(bob, MotionMode::kCenter, {});
+    ASSERT_EQ(events.size(), 3u);
+    EXPECT_EQ(events[1].change, MotionChange::kEnded);
+    EXPECT_EQ(events[1].reason, EndReason::kReplaced);
+    EXPECT_EQ(events[1].owner->id, alice.id);
+    EXPECT_EQ(events[2].change, MotionChange::kStarted);
+    EXPECT_EQ(tracker.owner()->id, bob.id);
+    EXPECT_FALSE(tracker.waiting()) << "bob does not wait";
+    io.poll();
+    ASSERT_EQ(ends.size(), 1u);
+    EXPECT_EQ(ends[0].reason, EndReason::kReplaced);
+}
+
+TEST_F(TrackerTest, EachReasonFromOutsideEndsItOnce) {
+    for (auto reason : {EndReason::kStop, EndReason::kOwnerGone, EndReason::kSuperseded,
+                        EndReason::kPreempted, EndReason::kLinkDown, EndReason::kShutdown}) {
+        tracker.start(alice, MotionMode::kAngle, {0, 1000, 0}, waiter());
+        tracker.end(reason);
+        tracker.end(EndReason::kStop);  // nothing left to end
+        EXPECT_EQ(last_end_reason(), reason);
+    }
+    io.poll();
+    ASSERT_EQ(ends.size(), 6u);
+    EXPECT_EQ(ends.back().reason, EndReason::kShutdown);
+    EXPECT_FALSE(ends.back().attitude) << "no sample yet";
+}
+
+TEST_F(TrackerTest, TheTimeoutOfAnEndedMotionDoesNothing) {
+    tracker.start(alice, MotionMode::kAngle, {0, 9000, 0}, waiter());
+    tracker.end(EndReason::kStop);
+    tracker.start(alice, MotionMode::kAngle, {0, 9000, 0});
+    io.run_for(100ms);
+    EXPECT_TRUE(tracker.active()) << "the second motion has its own timeout";
+    io.run_for(300ms);
+    EXPECT_FALSE(tracker.active());
+    EXPECT_EQ(ends.size(), 1u);
+}
+
+TEST_F(TrackerTest, StatusShowsModeTargetOwnerAndElapsed) {
+    EXPECT_FALSE(tracker.status());
+    tracker.start(alice, MotionMode::kAngle, {100, 200, 300});
+    io.run_for(20ms);
+    auto s = tracker.status();
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->mode, MotionMode::kAngle);
+    EXPECT_EQ(s->target, (Axes{100, 200, 300}));
+    EXPECT_EQ(s->owner->id, alice.id);
+    EXPECT_GE(s->elapsed, 20ms);
+}
+
+TEST_F(TrackerTest, OptionsApplyToTheNextMotion) {
+    tracker.set_options({2.0, 200ms});
+    tracker.start(alice, MotionMode::kAngle, {0, 1000, 0});
+    feed({0, 1150, 0}, 2);  // 1.5° off: within 2°
+    EXPECT_EQ(last_end_reason(), EndReason::kReached);
+}
+
+}  // namespace
+}  // namespace gport::daemon
