@@ -41,7 +41,8 @@ json motion_json(const std::optional<daemon::MotionStatus>& motion) {
     return {{"mode", daemon::to_string(motion->mode)},
             {"owner", motion->owner ? client_json(*motion->owner) : json(nullptr)},
             {"speed", axes_json(motion->speed)},
-            {"time_left_ms", motion->time_left.count()}};
+            {"time_left_ms", motion->time_left.count()},
+            {"elapsed_ms", motion->elapsed.count()}};
 }
 
 json optional_client(const std::optional<daemon::ClientInfo>& client) {

@@ -69,6 +69,7 @@ struct SpeedStarted {
     WallTime ends_at{};
     protocol::Axes speed{};              // as sent, after limits.max_speed
     std::vector<std::string> clamped{};  // axes clamped ("roll", "pitch", "yaw")
+    std::vector<std::string> braked{};   // axes zeroed: at or near their soft limit
 };
 
 struct AngleSent {
@@ -101,7 +102,8 @@ struct MotionStatus {
     MotionMode mode = MotionMode::kSpeed;
     std::optional<ClientInfo> owner;
     protocol::Axes speed;
-    Millis time_left{0};  // speed motions only
+    Millis time_left{0};  // speed motions only: to the earlier of its end and its lease's
+    Millis elapsed{0};    // since the motion started
 };
 
 struct Status {

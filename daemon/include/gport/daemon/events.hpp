@@ -65,6 +65,8 @@ enum class EndReason {
     kLinkDown,
     kPreempted,     // another client acquired control
     kLeaseExpired,  // no update from its owner within the lease
+    kLimit,         // every moving axis was braked at its soft limit
+    kNoAttitude,    // no fresh attitude to brake by while a soft limit applies
 };
 
 struct MotionEvent {
@@ -74,7 +76,8 @@ struct MotionEvent {
     protocol::Axes speed;             // 0.01°/s, for speed motions
     protocol::Axes angle;             // 0.01°, for angle motions
     Millis duration{0};               // asked duration of a speed motion
-    std::optional<EndReason> reason;  // set when change == kEnded
+    std::optional<EndReason> reason;  // set when change == kEnded; kLimit on a braking kUpdated
+    std::vector<std::string> braked;  // reason kLimit: the axes held at zero by the soft limits
 };
 
 // Implemented by whoever listens to the core. Called on the event loop.
@@ -131,6 +134,10 @@ constexpr std::string_view to_string(EndReason reason) {
             return "preempted";
         case EndReason::kLeaseExpired:
             return "lease_expired";
+        case EndReason::kLimit:
+            return "limit";
+        case EndReason::kNoAttitude:
+            return "no_attitude";
     }
     return "unknown";
 }
