@@ -134,12 +134,10 @@ void Core::on_attitude(const gp::Attitude& attitude, SteadyTime now, WallTime wa
 void Core::on_link(const LinkEvent& event) {
     log_->info("link {}: {}", to_string(event.state), event.reason);
     if (event.state == LinkState::kDown) {
-        // "stop" sends nothing (as before: the link takes no data, or the
-        // device is closed and owes nothing); "center" recentres a device
-        // that is still open but silent. Never "hold": no recent attitude.
-        const auto policy = config_.failsafe.on_link_lost;
-        const bool center = policy == config::Failsafe::kCenter && port_.is_open();
-        failsafe_end(EndReason::kLinkDown, center ? policy : config::Failsafe::kStop, center);
+        // The device is closed: nothing can be sent, so neither the zero
+        // speed (as before) nor "center" (failsafe_end says so); a stale
+        // attitude is kNoAttitude (watch_motion). Never "hold".
+        failsafe_end(EndReason::kLinkDown, config_.failsafe.on_link_lost, false);
     } else if (event.state == LinkState::kStale && keepalive_.active()) {
         watch_motion();  // a motion that brakes by the attitude ends (no_attitude)
     }

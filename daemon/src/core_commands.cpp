@@ -87,7 +87,8 @@ void Core::failsafe_end(EndReason reason, config::Failsafe policy, bool send_zer
         then = gp::Control::center();
     }
     if (then && !port_.is_open()) {
-        note += fmt::format("; device closed, so only the owed zero speed ({} not sent)",
+        note += fmt::format("; device closed, so {} ({} not sent)",
+                            send_zero ? "only the owed zero speed" : "nothing is sent",
                             config::to_string(action));
         then.reset();
     }

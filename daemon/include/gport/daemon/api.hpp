@@ -137,8 +137,13 @@ class Api {
     // (kInvalidParams) or, with `clamp`, clamped to it. A speed from the
     // client that owns the current speed motion updates it (kUpdated, rate
     // limited) instead of replacing it. `lease` (empty: the duration, else 1
-    // to the maximum duration) ends the motion with kLeaseExpired when no
-    // further speed from its owner arrives within it.
+    // to the maximum duration) ends the motion with kLeaseExpired (under
+    // failsafe.on_owner_gone) when no further speed from its owner arrives
+    // within it. An axis at, beyond or within the braking distance of a
+    // soft limit it moves towards is sent as 0 (SpeedStarted::braked); an
+    // axis moving towards a narrowed limit needs a fresh attitude
+    // (kLinkDown otherwise). The running motion is braked the same way on
+    // every attitude sample (docs/api.md, "Braking at the soft limits").
     virtual Outcome<SpeedStarted> speed(const ClientInfo& client, protocol::Axes speed,
                                         std::optional<Millis> duration, bool clamp = false,
                                         std::optional<Millis> lease = std::nullopt) = 0;
