@@ -191,6 +191,32 @@ TEST_F(Brake, AnUpdateCannotUnbrakeAnAxisAtItsLimit) {
     EXPECT_LE(hall().pitch, 10.0);
 }
 
+// A joystick streaming towards the limit: its own updates are braked as
+// they arrive, published once at once (reason limit), never past the limit.
+TEST_F(Brake, AStreamingOwnersUpdatesAreBrakedAsTheyArrive) {
+    start_limited(-60, 8);
+    std::size_t braked_replies = 0;
+    for (int i = 0; i < 40; ++i) {  // 20 Hz for 2 s at 10 °/s: 20° wanted
+        const auto r = core->speed(alice, {0, 1000, 500}, 30000ms, false, 300ms);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        braked_replies += r->braked.empty() ? 0 : 1;
+        run_for(50ms);
+    }
+    EXPECT_GT(braked_replies, 0U);
+    EXPECT_LE(hall().pitch, 8.0);
+    EXPECT_GE(hall().pitch, 8.0 - distance(10));
+    EXPECT_GT(hall().yaw, 5.0) << "yaw went on";
+    const auto limit_events = std::ranges::count_if(
+        recorder.motions, [](const MotionEvent& e) { return e.reason == EndReason::kLimit; });
+    EXPECT_EQ(limit_events, 1);
+    EXPECT_EQ(std::ranges::count_if(
+                  recorder.motions,
+                  [](const MotionEvent& e) { return e.change == MotionChange::kStarted; }),
+              1);
+    ASSERT_TRUE(core->status().motion.has_value());
+    EXPECT_EQ(core->status().motion->speed, (protocol::Axes{0, 0, 500}));
+}
+
 // A reload that narrows a limit brakes the motion already running.
 TEST_F(Brake, AReloadNarrowingALimitBrakesTheRunningMotion) {
     start_limited(-60, 60);
