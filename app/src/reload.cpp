@@ -50,6 +50,7 @@ const std::vector<Key>& keys() {
         key<&Config::limits, &LimitsConfig::pitch>("limits.pitch", true),
         key<&Config::limits, &LimitsConfig::yaw>("limits.yaw", true),
         key<&Config::limits, &LimitsConfig::max_speed>("limits.max_speed", true),
+        key<&Config::limits, &LimitsConfig::braking_margin_deg>("limits.braking_margin_deg", true),
         key<&Config::failsafe, &FailsafeConfig::on_owner_gone>("failsafe.on_owner_gone", true),
         key<&Config::failsafe, &FailsafeConfig::on_shutdown>("failsafe.on_shutdown", true),
         key<&Config::failsafe, &FailsafeConfig::on_link_lost>("failsafe.on_link_lost", true),

@@ -376,6 +376,12 @@ const std::vector<Section>& sections() {
                if (auto n = r.number(v, p, 0.01, kMaxDegrees)) {
                    c.limits.max_speed = *n;
                }
+           }},
+          {"braking_margin_deg",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               if (auto n = r.number(v, p, 0, kMaxBrakingMargin)) {
+                   c.limits.braking_margin_deg = *n;
+               }
            }}}},
         {"failsafe",
          {{"on_owner_gone",

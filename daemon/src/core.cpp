@@ -56,7 +56,11 @@ Core::Core(asio::io_context& io, const config::Config& config, std::shared_ptr<s
       keepalive_(
           io, keepalive_period(config.keepalive.rate_hz),
           [this](const gp::Control& c) { return send_control(c); },
-          [this](const MotionEvent& e) { on_motion(e); }),
+          [this](const MotionEvent& e) { on_motion(e); }, [this] { watch_motion(); },
+          [this] {
+              // A hung controller is an owner gone as far as the gimbal cares.
+              failsafe_end(EndReason::kLeaseExpired, config_.failsafe.on_owner_gone, true);
+          }),
       tracker_(io, tracker_options(config.motion), [this](const MotionEvent& e) { on_motion(e); }),
       settings_(io, config.requests,
                 [this](const gp::Frame& f) -> std::optional<CommandError> {
@@ -124,6 +128,9 @@ void Core::on_frame(const gp::FrameView& frame, SteadyTime now, WallTime wall) {
 void Core::on_attitude(const gp::Attitude& attitude, SteadyTime now, WallTime wall) {
     latest_ = AttitudeSample{++seq_, wall, now, attitude};
     monitor_.attitude_received(now);
+    if (keepalive_.active()) {
+        watch_motion();  // braking reacts to every sample, not only to ticks
+    }
     if (observer_ != nullptr) {
         observer_->on_attitude(*latest_);
     }
@@ -135,12 +142,12 @@ void Core::on_attitude(const gp::Attitude& attitude, SteadyTime now, WallTime wa
 void Core::on_link(const LinkEvent& event) {
     log_->info("link {}: {}", to_string(event.state), event.reason);
     if (event.state == LinkState::kDown) {
-        // "stop" sends nothing (as before: the link takes no data, or the
-        // device is closed and owes nothing); "center" recentres a device
-        // that is still open but silent. Never "hold": no recent attitude.
-        const auto policy = config_.failsafe.on_link_lost;
-        const bool center = policy == config::Failsafe::kCenter && port_.is_open();
-        failsafe_end(EndReason::kLinkDown, center ? policy : config::Failsafe::kStop, center);
+        // The device is closed: nothing can be sent, so neither the zero
+        // speed (as before) nor "center" (failsafe_end says so); a stale
+        // attitude is kNoAttitude (watch_motion). Never "hold".
+        failsafe_end(EndReason::kLinkDown, config_.failsafe.on_link_lost, false);
+    } else if (event.state == LinkState::kStale && keepalive_.active()) {
+        watch_motion();  // a motion that brakes by the attitude ends (no_attitude)
     }
     for (auto& listener : link_listeners_) {
         listener(event);

@@ -87,7 +87,8 @@ void Core::failsafe_end(EndReason reason, config::Failsafe policy, bool send_zer
         then = gp::Control::center();
     }
     if (then && !port_.is_open()) {
-        note += fmt::format("; device closed, so only the owed zero speed ({} not sent)",
+        note += fmt::format("; device closed, so {} ({} not sent)",
+                            send_zero ? "only the owed zero speed" : "nothing is sent",
                             config::to_string(action));
         then.reset();
     }
@@ -145,14 +146,22 @@ Outcome<SpeedStarted> Core::speed(const ClientInfo& client, gp::Axes speed,
     if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
         return std::move(*refused);
     }
-    if (!send_control(gp::Control::speed_of(limited->axes))) {
+    auto braked = brake_command(limited->axes);  // never towards or past a limit
+    if (!braked) {
+        return braked.error();
+    }
+    if (!send_control(gp::Control::speed_of(braked->speed))) {
         return link_down();
     }
     tracker_.end(EndReason::kSuperseded);  // a speed ends an angle or centre motion
     const auto length = duration.value_or(config_.keepalive.default_duration);
-    auto started = keepalive_.start(client, limited->axes, length, lease.value_or(length));
-    started.speed = limited->axes;
+    auto started = moves(limited->axes) && !moves(braked->speed)
+                       ? stopped_at_limit(client, *braked)
+                       : keepalive_.start(client, braked->speed, length, lease.value_or(length),
+                                          braked->braked);
+    started.speed = braked->speed;
     started.clamped = std::move(limited->clamped);
+    started.braked = std::move(braked->braked);
     return started;
 }
 

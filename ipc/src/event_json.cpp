@@ -117,6 +117,9 @@ Line motion_line(const daemon::MotionEvent& event) {
     if (event.reason) {
         params["reason"] = daemon::to_string(*event.reason);
     }
+    if (event.reason == daemon::EndReason::kLimit) {
+        params["braked"] = event.braked;
+    }
     return notification("motion", std::move(params));
 }
 

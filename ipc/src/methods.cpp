@@ -161,7 +161,8 @@ void speed(MethodContext& c, const json& params, Respond respond) {
     respond(json{{"duration_ms", outcome->duration.count()},
                  {"ends_at", detail::epoch_seconds(outcome->ends_at)},
                  {"speed", axes_json(outcome->speed)},
-                 {"clamped", outcome->clamped}});
+                 {"clamped", outcome->clamped},
+                 {"braked", outcome->braked}});
 }
 
 void stop(MethodContext& c, const json& params, Respond respond) {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <functional>
@@ -42,6 +43,33 @@ std::optional<Error> millis(std::string_view name, std::string_view text, Durati
     return std::nullopt;
 }
 
+// "ROLL,PITCH,YAW": three numbers in (0, 180], the mechanical range ± degrees.
+std::optional<Error> limits(std::string_view name, std::string_view text, Vec3& out) {
+    const auto bad = [&] {
+        return Error{fmt::format(
+            "{} needs three mechanical limits ROLL,PITCH,YAW in degrees, each above 0 and at "
+            "most 180 (the range is ± that much), e.g. 45,90,170; got '{}'",
+            name, text)};
+    };
+    std::array<double, 3> v{};
+    std::string_view rest = text;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        const auto comma = rest.find(',');
+        const bool last = i + 1 == v.size();
+        if (last != (comma == std::string_view::npos)) {
+            return bad();
+        }
+        const auto n = to_number(rest.substr(0, comma));
+        if (!n || *n <= 0 || *n > 180.0) {
+            return bad();
+        }
+        v[i] = *n;
+        rest = last ? std::string_view{} : rest.substr(comma + 1);
+    }
+    out = Vec3{v[0], v[1], v[2]};
+    return std::nullopt;
+}
+
 using ValueHandler = std::function<std::optional<Error>(std::string_view name,
                                                         std::string_view value, CommandLine& cl)>;
 using FlagHandler = std::function<void(CommandLine& cl)>;
@@ -74,6 +102,8 @@ const std::map<std::string_view, ValueHandler>& value_options() {
          [](auto n, auto v, CommandLine& cl) {
              return number(n, v, 0.01, 327.67, "degrees per second", cl.options.model.slew_deg_s);
          }},
+        {"--limits",
+         [](auto n, auto v, CommandLine& cl) { return limits(n, v, cl.options.model.limits); }},
         {"--noise",
          [](auto n, auto v, CommandLine& cl) {
              return number(n, v, 0, 1e6, "bytes per second", cl.options.faults.noise_bytes_per_s);

@@ -26,6 +26,10 @@ Model:
                          IMU rates (default 12)
   --slew DEG_PER_S       speed of angle and centre moves, 0.01 to 327.67
                          (default 90)
+  --limits R,P,Y         mechanical range of roll, pitch and yaw: +-R, +-P,
+                         +-Y degrees, each above 0 and at most 180; speed
+                         motion stops there, angle targets are clamped to it
+                         (default 45,90,170)
 
 Fault injection (default: none):
   --noise BYTES_PER_S    random bytes inserted between frames, 0 to 1000000

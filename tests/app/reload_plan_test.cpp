@@ -57,6 +57,16 @@ TEST(PlanReload, MotionToleranceAndTimeoutApplyAtOnce) {
     EXPECT_EQ(plan.in_effect.motion.timeout, config::Millis(3000));
 }
 
+TEST(PlanReload, TheBrakingMarginAppliesAtOnce) {
+    config::Config running;
+    config::Config next;
+    next.limits.braking_margin_deg = 3;
+    const auto plan = app::plan_reload(running, next);
+    EXPECT_EQ(plan.applied, (std::vector<std::string>{"limits.braking_margin_deg"}));
+    EXPECT_TRUE(plan.need_restart.empty());
+    EXPECT_EQ(plan.in_effect.limits.braking_margin_deg, 3.0);
+}
+
 TEST(PlanReload, NothingChangedMeansNothingToDo) {
     const auto plan = app::plan_reload(config::Config{}, config::Config{});
     EXPECT_TRUE(plan.applied.empty());

@@ -17,6 +17,20 @@ TEST(ConfigLimits, DefaultsAreTheWholeRange) {
         EXPECT_EQ(range->max, 327.67);
     }
     EXPECT_EQ(c->limits.max_speed, 327.67);
+    EXPECT_EQ(c->limits.braking_margin_deg, 1.0);
+}
+
+TEST(ConfigLimits, TheBrakingMarginIsReadAndChecked) {
+    auto c = load(R"({"limits": {"braking_margin_deg": 2.5}})");
+    ASSERT_TRUE(c.ok()) << c.error().text();
+    EXPECT_EQ(c->limits.braking_margin_deg, 2.5);
+    EXPECT_EQ(load(R"({"limits": {"braking_margin_deg": 0}})")->limits.braking_margin_deg, 0.0);
+    EXPECT_THAT(errors_of(R"({"limits": {"braking_margin_deg": -1}})"),
+                ElementsAre(ErrorWith("limits.braking_margin_deg", "from 0 to 90", "got -1")));
+    EXPECT_THAT(errors_of(R"({"limits": {"braking_margin_deg": 91}})"),
+                ElementsAre(ErrorWith("limits.braking_margin_deg", "got 91")));
+    EXPECT_THAT(errors_of(R"({"limits": {"braking_margin_deg": "1"}})"),
+                ElementsAre(ErrorWith("limits.braking_margin_deg", "got \"1\"")));
 }
 
 TEST(ConfigLimits, ValidLimitsAreRead) {
@@ -54,7 +68,8 @@ TEST(ConfigLimits, OutOfRangeValuesNameTheKeyPathAndRange) {
 
 TEST(ConfigLimits, UnknownKeysAreRefused) {
     EXPECT_THAT(errors_of(R"({"limits": {"tilt": {}}})"),
-                ElementsAre(ErrorWith("\"limits.tilt\"", "roll, pitch, yaw, max_speed")));
+                ElementsAre(ErrorWith("\"limits.tilt\"",
+                                      "roll, pitch, yaw, max_speed, braking_margin_deg")));
     EXPECT_THAT(errors_of(R"({"limits": {"pitch": {"low": -90}}})"),
                 ElementsAre(ErrorWith("\"limits.pitch.low\"", "limits.pitch: min, max")));
 }

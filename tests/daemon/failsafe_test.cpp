@@ -157,6 +157,58 @@ TEST_F(FailsafeTest, ReloadAppliesTheNewPolicy) {
     expect_ended(EndReason::kOwnerGone);
 }
 
+// A lease that runs out is an owner gone as far as the gimbal cares: the
+// on_owner_gone policy applies, and the motion ends lease_expired.
+TEST_F(FailsafeTest, LeaseExpiryAppliesTheOwnerGonePolicy) {
+    start({}, [](config::Config& c) { c.failsafe.on_owner_gone = Failsafe::kCenter; });
+    ASSERT_TRUE(run_until([&] { return link_up(); }));
+    ASSERT_TRUE(core->speed(alice, {0, 0, 800}, 30000ms, false, 300ms).ok());
+    ASSERT_TRUE(run_until([&] { return first_control("center").has_value(); }, 5s));
+    expect_ended(EndReason::kLeaseExpired);
+    const auto zero = first_zero_speed();
+    ASSERT_TRUE(zero);
+    EXPECT_LT(*zero, *first_control("center"));
+}
+
+// on_link_lost "center" when the attitude goes stale while a soft limit
+// needs it (no_attitude): the device is open, so zero speed then centre.
+TEST_F(FailsafeTest, LinkLostCenterOnAStaleAttitudeSendsZeroSpeedThenCentre) {
+    sim::SimOptions options;
+    options.faults.silence_every = 1500ms;
+    options.faults.silence_for = 3000ms;
+    start(options, [](config::Config& c) {
+        c.failsafe.on_link_lost = Failsafe::kCenter;
+        c.limits.pitch = {-80, 80};
+    });
+    ASSERT_TRUE(run_until([&] { return link_up(); }));
+    ASSERT_TRUE(run_until([&] { return core->speed(alice, {0, 300, 0}, 30000ms).ok(); }));
+    ASSERT_TRUE(run_until([&] { return first_control("center").has_value(); }, 5s));
+    expect_ended(EndReason::kNoAttitude);
+    const auto zero = first_zero_speed();
+    ASSERT_TRUE(zero);
+    EXPECT_LT(*zero, *first_control("center"));
+}
+
+// on_link_lost "center" when the device itself goes away (link_down): there
+// is nothing to send the centre frame to, and a position command is never
+// replayed on reopen; only the owed zero speed goes out when it comes back.
+TEST_F(FailsafeTest, LinkLostCenterOnAClosedDeviceSendsOnlyTheOwedZeroSpeed) {
+    sim::SimOptions options;
+    options.link_path =
+        ::testing::TempDir() + "gport-failsafe-vanish-" + std::to_string(::getpid());
+    options.faults.vanish_every = 800ms;
+    options.faults.vanish_for = 300ms;
+    start(options, [](config::Config& c) { c.failsafe.on_link_lost = Failsafe::kCenter; });
+    ASSERT_TRUE(run_until([&] { return link_up(); }));
+    ASSERT_TRUE(run_until([&] { return core->speed(alice, {0, 0, 500}, 30000ms).ok(); }));
+    ASSERT_TRUE(run_until([&] { return core->status().link == daemon::LinkState::kDown; }));
+    expect_ended(EndReason::kLinkDown);
+    const auto opens = core->status().counters.device_opens;
+    ASSERT_TRUE(run_until([&] { return core->status().counters.device_opens > opens; }));
+    run_for(300ms);
+    EXPECT_FALSE(first_control("center")) << "no device to centre";
+}
+
 TEST_F(FailsafeTest, NoMotionNoFailsafe) {
     start({}, [](config::Config& c) { c.failsafe.on_owner_gone = Failsafe::kCenter; });
     ASSERT_TRUE(run_until([&] { return link_up(); }));

@@ -129,6 +129,7 @@ TEST_F(DispatcherTest, StatusAddsServerFiguresAndThisClient) {
     api_.status_value.counters.crc_errors = 4;
     api_.status_value.motion = daemon::MotionStatus{
         daemon::MotionMode::kSpeed, client_.info, {1000, 0, -250}, daemon::Millis(300)};
+    api_.status_value.motion->elapsed = daemon::Millis(1200);
     client_.dropped = 2;
     auto result = call("status")["result"];
     EXPECT_EQ(result["link"]["state"], "up");
@@ -145,6 +146,7 @@ TEST_F(DispatcherTest, StatusAddsServerFiguresAndThisClient) {
     EXPECT_EQ(result["motion"]["speed"]["roll"], 10.0);
     EXPECT_EQ(result["motion"]["speed"]["yaw"], -2.5);
     EXPECT_EQ(result["motion"]["time_left_ms"], 300);
+    EXPECT_EQ(result["motion"]["elapsed_ms"], 1200);
     EXPECT_TRUE(result["controller"].is_null());
     EXPECT_TRUE(result.contains("api_version"));
     EXPECT_TRUE(result.contains("daemon_version"));
@@ -193,7 +195,10 @@ TEST_F(DispatcherTest, ClampIsPassedToTheCoreAndTheReplySaysWhatWasSent) {
     EXPECT_EQ(api_.calls.back(), "speed 0 0 2000 -1 clamp by 7");
     EXPECT_EQ(speed["speed"], json({{"roll", 0.0}, {"pitch", 0.0}, {"yaw", 20.0}}));
     EXPECT_EQ(speed["clamped"], json({"pitch"}));
+    EXPECT_EQ(speed["braked"], json::array());
     EXPECT_TRUE(speed.contains("duration_ms"));
+    api_.braked = {"roll", "yaw"};
+    EXPECT_EQ(call("speed", {{"yaw", 20}})["result"]["braked"], json({"roll", "yaw"}));
 
     const auto calls = api_.calls.size();
     EXPECT_THAT(message(call("angle", {{"clamp", 1}})), HasSubstr("clamp must be true or false"));

@@ -98,6 +98,20 @@ TEST(EventJson, LinkAndMotion) {
     EXPECT_EQ(motion["owner"]["pid"], 100);
     EXPECT_EQ(motion["speed"]["yaw"], 15.0);
     EXPECT_EQ(motion["duration_ms"], 2000);
+    EXPECT_FALSE(motion.contains("braked")) << "only braking events carry braked";
+
+    daemon::MotionEvent braked;
+    braked.change = daemon::MotionChange::kUpdated;
+    braked.speed = {0, 0, 1500};
+    braked.reason = daemon::EndReason::kLimit;
+    braked.braked = {"pitch"};
+    auto b = json::parse(*motion_line(braked))["params"];
+    EXPECT_EQ(b["change"], "updated");
+    EXPECT_EQ(b["reason"], "limit");
+    EXPECT_EQ(b["braked"], json::array({"pitch"}));
+    braked.change = daemon::MotionChange::kEnded;
+    braked.reason = daemon::EndReason::kNoAttitude;
+    EXPECT_EQ(json::parse(*motion_line(braked))["params"]["reason"], "no_attitude");
 
     daemon::MotionEvent angle;
     angle.mode = daemon::MotionMode::kAngle;

@@ -1,6 +1,7 @@
 // The recording format and the command line.
 #include "gport/sim/recording.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -84,6 +85,25 @@ TEST(CommandLine, ParsesEveryOption) {
     EXPECT_EQ(o.record_path, "/tmp/r");
 }
 
+TEST(CommandLine, LimitsSetTheMechanicalRange) {
+    const auto cl = parse({"--limits", "30,40.5,170"});
+    ASSERT_TRUE(cl.ok()) << cl.error().message;
+    EXPECT_EQ(cl->options.model.limits, (Vec3{30, 40.5, 170}));
+    EXPECT_EQ(parse({})->options.model.limits, (Vec3{45, 90, 170})) << "the documented default";
+    for (auto bad : {"30,40", "30,40,50,60", "0,40,50", "30,-1,50", "30,40,181", "30,,50", "a,b,c",
+                     "30,40,50,", ""}) {
+        const auto refused = parse({"--limits", bad});
+        ASSERT_FALSE(refused.ok()) << bad;
+        EXPECT_NE(refused.error().message.find(
+                      "--limits needs three mechanical limits ROLL,PITCH,YAW in degrees, each "
+                      "above 0 and at most 180"),
+                  std::string::npos)
+            << refused.error().message;
+        EXPECT_NE(refused.error().message.find(fmt::format("got '{}'", bad)), std::string::npos)
+            << refused.error().message;
+    }
+}
+
 TEST(CommandLine, DefaultsAreTheDocumentedOnes) {
     const auto cl = parse({});
     ASSERT_TRUE(cl.ok());
@@ -116,9 +136,10 @@ TEST(CommandLine, ErrorsNameTheOptionAndWhatIsAllowed) {
 TEST(CommandLine, HelpMentionsEveryOption) {
     const auto help = help_text();
     for (const char* option :
-         {"--link", "--pace", "--rate", "--form", "--slew", "--noise", "--corrupt-crc", "--split",
-          "--merge", "--silence-every", "--silence-for", "--vanish-every", "--vanish-for", "--seed",
-          "--trace", "--record", "--replay", "--help", "Examples"}) {
+         {"--link",          "--pace",        "--rate",         "--form",       "--slew",
+          "--limits",        "--noise",       "--corrupt-crc",  "--split",      "--merge",
+          "--silence-every", "--silence-for", "--vanish-every", "--vanish-for", "--seed",
+          "--trace",         "--record",      "--replay",       "--help",       "Examples"}) {
         EXPECT_NE(help.find(option), std::string::npos) << option;
     }
 }

@@ -25,6 +25,7 @@ class FakeApi final : public daemon::Api {
     std::optional<daemon::ClientInfo> holder;
     daemon::Settings settings{10, 20, false};
     std::vector<std::string> clamped;  // what angle() and speed() report as clamped
+    std::vector<std::string> braked;   // what speed() reports as braked
     bool emit_motion = false;          // speed() publishes a motion "started" event
     std::vector<std::string> calls;
     std::vector<daemon::ClientInfo> gone;
@@ -83,7 +84,7 @@ class FakeApi final : public daemon::Api {
             observer->on_motion(event);
         }
         return daemon::SpeedStarted{duration, std::chrono::system_clock::now() + duration, s,
-                                    clamped};
+                                    clamped, braked};
     }
     daemon::Outcome<daemon::Done> stop(const daemon::ClientInfo& c) override {
         return command("stop", c);

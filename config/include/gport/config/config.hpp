@@ -68,6 +68,7 @@ struct LogConfig {               // "log"
 // Soft limits on motion, in degrees; the core refuses (or, on request, clamps)
 // commands beyond them. The defaults are the protocol's whole range: no limit.
 constexpr double kMaxDegrees = 327.67;
+constexpr double kMaxBrakingMargin = 90.0;  // limits.braking_margin_deg: 0 to this
 
 struct AxisRange {              // "roll", "pitch", "yaw"
     double min = -kMaxDegrees;  // "min"
@@ -80,6 +81,10 @@ struct LimitsConfig {                // "limits"
     AxisRange pitch;                 // "pitch"
     AxisRange yaw;                   // "yaw"
     double max_speed = kMaxDegrees;  // "max_speed": °/s, every axis, speed commands
+    // "braking_margin_deg": how far before a limit a speed motion's axis is
+    // stopped, beyond the distance it covers until the next check
+    // (docs/configuration.md says how the whole braking distance is made).
+    double braking_margin_deg = 1.0;
 };
 
 // What the daemon sends when a speed motion ends without its owner's stop

@@ -69,6 +69,7 @@ struct SpeedStarted {
     WallTime ends_at{};
     protocol::Axes speed{};              // as sent, after limits.max_speed
     std::vector<std::string> clamped{};  // axes clamped ("roll", "pitch", "yaw")
+    std::vector<std::string> braked{};   // axes zeroed: at or near their soft limit
 };
 
 struct AngleSent {
@@ -101,7 +102,7 @@ struct MotionStatus {
     MotionMode mode = MotionMode::kSpeed;
     std::optional<ClientInfo> owner;
     protocol::Axes speed;
-    Millis time_left{0};      // speed motions only
+    Millis time_left{0};      // speed motions only: to the earlier of its end and its lease's
     protocol::Axes target{};  // angle and centre motions only (0.01°; centre: 0)
     Millis elapsed{0};        // since the motion started
 };
@@ -148,8 +149,13 @@ class Api {
     // (kInvalidParams) or, with `clamp`, clamped to it. A speed from the
     // client that owns the current speed motion updates it (kUpdated, rate
     // limited) instead of replacing it. `lease` (empty: the duration, else 1
-    // to the maximum duration) ends the motion with kLeaseExpired when no
-    // further speed from its owner arrives within it.
+    // to the maximum duration) ends the motion with kLeaseExpired (under
+    // failsafe.on_owner_gone) when no further speed from its owner arrives
+    // within it. An axis at, beyond or within the braking distance of a
+    // soft limit it moves towards is sent as 0 (SpeedStarted::braked); an
+    // axis moving towards a narrowed limit needs a fresh attitude
+    // (kLinkDown otherwise). The running motion is braked the same way on
+    // every attitude sample (docs/api.md, "Braking at the soft limits").
     virtual Outcome<SpeedStarted> speed(const ClientInfo& client, protocol::Axes speed,
                                         std::optional<Millis> duration, bool clamp = false,
                                         std::optional<Millis> lease = std::nullopt) = 0;

@@ -24,6 +24,7 @@
 #include "gport/daemon/core/motion_tracker.hpp"
 #include "gport/daemon/core/serial_port.hpp"
 #include "gport/daemon/core/settings_exchange.hpp"
+#include "gport/daemon/core/soft_brake.hpp"
 #include "gport/protocol/decoder.hpp"
 
 namespace gport::daemon {
@@ -99,6 +100,20 @@ class Core final : public Api {
     std::optional<ClientInfo> motion_owner() const;
     // Ends whichever motion runs; zero speed first if `send_zero`.
     void end_motion(EndReason reason, bool send_zero);
+
+    // ---- braking at the soft limits (core_brake.cpp) ----
+    SoftBrake soft_brake() const;
+    // The age of the latest sample when it is younger than link.stale_ms.
+    std::optional<Millis> fresh_attitude_age(SteadyTime now) const;
+    // A speed command after braking; kLinkDown when an axis it moves needs
+    // a fresh attitude and there is none.
+    Outcome<Braked> brake_command(protocol::Axes speed) const;
+    // A speed command whose every moving axis was braked: nothing moves.
+    SpeedStarted stopped_at_limit(const ClientInfo& client, const Braked& braked);
+    // On every attitude sample and keepalive tick: brakes the running speed
+    // motion's axes near their limits, or ends it (kNoAttitude) when it
+    // needs an attitude that is not fresh.
+    void watch_motion();
 
     // ---- the read path and events (core.cpp) ----
     void on_bytes(std::span<const std::uint8_t> bytes);

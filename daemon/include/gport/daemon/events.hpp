@@ -71,6 +71,8 @@ enum class EndReason {
     kReached,       // every axis within motion.tolerance_deg of its target, twice running
     kTimeout,       // not reached within motion.timeout_ms
     kReplaced,      // a newer angle or centre command
+    kLimit,         // every moving axis was braked at its soft limit
+    kNoAttitude,    // no fresh attitude to brake by while a soft limit applies
 };
 
 struct MotionEvent {
@@ -80,7 +82,8 @@ struct MotionEvent {
     protocol::Axes speed;             // 0.01°/s, for speed motions
     protocol::Axes angle;             // 0.01°, the target of angle (and centre: 0) motions
     Millis duration{0};               // asked duration of a speed motion
-    std::optional<EndReason> reason;  // set when change == kEnded
+    std::optional<EndReason> reason;  // set when change == kEnded; kLimit on a braking kUpdated
+    std::vector<std::string> braked;  // reason kLimit: the axes held at zero by the soft limits
 };
 
 // Implemented by whoever listens to the core. Called on the event loop.
@@ -143,6 +146,10 @@ constexpr std::string_view to_string(EndReason reason) {
             return "timeout";
         case EndReason::kReplaced:
             return "replaced";
+        case EndReason::kLimit:
+            return "limit";
+        case EndReason::kNoAttitude:
+            return "no_attitude";
     }
     return "unknown";
 }
