@@ -92,7 +92,7 @@ Result<Message> read_by_id(std::uint32_t id, std::span<const std::uint8_t> full,
                            std::variant<M...>*) {
     Result<Message> out =
         Error{fmt::format("MAVLink message id {} is not one this codec decodes", id)};
-    ((id == M::kId ? (out = read_as<M>(full), true) : false) || ...);
+    ((id == M::kId ? void(out = read_as<M>(full)) : void()), ...);
     return out;
 }
 
