@@ -25,6 +25,7 @@
 #include <variant>
 #include <vector>
 
+#include "gport/mavlink/attitude.hpp"
 #include "gport/mavlink/fields.hpp"
 #include "gport/mavlink/frame.hpp"
 #include "gport/mavlink/result.hpp"
@@ -32,7 +33,6 @@
 namespace gport::mavlink {
 
 using F = FieldType;
-using Quaternion4 = std::array<float, 4>;  // w, x, y, z
 template <std::size_t N>
 using Chars = std::array<char, N>;  // NUL-padded, not necessarily NUL-terminated
 
@@ -182,7 +182,7 @@ struct GimbalDeviceSetAttitude {
         {F::kU8, "target_system"},
         {F::kU8, "target_component"},
     }};
-    Quaternion4 q{};
+    Quaternion q{};  // w, x, y, z
     float angular_velocity_x = 0;
     float angular_velocity_y = 0;
     float angular_velocity_z = 0;
@@ -216,7 +216,7 @@ struct GimbalDeviceAttitudeStatus {
         {F::kU8, "gimbal_device_id", 0, true},
     }};
     std::uint32_t time_boot_ms = 0;
-    Quaternion4 q{};
+    Quaternion q{};  // w, x, y, z
     float angular_velocity_x = 0;
     float angular_velocity_y = 0;
     float angular_velocity_z = 0;
@@ -256,7 +256,7 @@ struct AutopilotStateForGimbalDevice {
         {F::kF32, "angular_velocity_z", 0, true},
     }};
     std::uint64_t time_boot_us = 0;
-    Quaternion4 q{};
+    Quaternion q{};  // w, x, y, z
     std::uint32_t q_estimated_delay_us = 0;
     float vx = 0, vy = 0, vz = 0;
     std::uint32_t v_estimated_delay_us = 0;
