@@ -2,7 +2,11 @@
 # Fails when a folder includes a folder above it in the layering order
 # (docs/architecture.md, "Layout"):
 #
-#   base  protocol  config  daemon  sim  ipc  systemd  app  client  cli  examples
+#   base  protocol  config  daemon  sim  ipc  systemd  app  client  cli  examples  mavlink
+#
+# mavlink/ is last: its codec needs only base/, and the gport-mavlink program
+# that will join it is a client of gportd built on the client library, so it
+# sits above every part of the daemon and above client/.
 #
 # Each folder may include its own headers and those of the folders before
 # it, never those after it. Checked: quoted or angled "gport/<part>/..."
@@ -14,7 +18,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-order=(base protocol config daemon sim ipc systemd app client cli examples)
+order=(base protocol config daemon sim ipc systemd app client cli examples mavlink)
 
 rank() {  # the folder's place in the order, or nothing
   local i

@@ -15,12 +15,22 @@ GPORT_PACKAGES=(
   file procps
   # The Python client's tests: pytest and mypy --strict (client/python).
   python3 python3-pytest mypy
+  # Node.js and npm for the MAVLink cross-check against node-mavlink
+  # (tests/mavlink/peer; Debian 12: nodejs 18, npm 9).
+  nodejs npm
 )
+
+# Packages that count as present when their command is, whoever installed it
+# (e.g. a NodeSource nodejs, which bundles npm and conflicts with Debian's).
+declare -gA GPORT_PACKAGE_COMMANDS=([nodejs]=node [npm]=npm)
 
 gport_install_deps() {
   local missing=()
   local p
   for p in "${GPORT_PACKAGES[@]}"; do
+    if [[ -n ${GPORT_PACKAGE_COMMANDS[$p]:-} ]] && command -v "${GPORT_PACKAGE_COMMANDS[$p]}" >/dev/null; then
+      continue
+    fi
     if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
       missing+=("$p")
     fi

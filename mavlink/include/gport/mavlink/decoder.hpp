@@ -1,0 +1,158 @@
+// Streaming MAVLink 2 decoder: a pure, byte-fed state machine.
+//
+// Feed it bytes in any chunking; it calls the sink once per valid MAVLink 2
+// frame of a message this codec knows (messages.hpp), in order. It owns no
+// I/O, logs nothing and allocates nothing: its state is a fixed buffer of at
+// most one partial frame.
+//
+// A candidate starts at 0xFD (MAVLink 2) or 0xFE (MAVLink 1). It is rejected,
+// in this order, when: an incompat flag other than "signed" is set (header
+// error; the spec says such frames must be dropped); its message id is not
+// one this codec knows (unknown id: without the CRC_EXTRA its checksum
+// cannot be checked); its length exceeds the message's full length (length
+// error; a MAVLink 1 frame's must equal the base length); its checksum is
+// wrong (CRC error). A rejected candidate is re-scanned from its SECOND byte,
+// so no valid frame is lost because of what came before it: a false start
+// byte whose claimed length swallows a real frame only delays that frame
+// until the claim is disproved.
+//
+// Decisions (docs/mavlink.md):
+//   - MAVLink 1 frames are recognised (valid checksum, known id, exact
+//     length), skipped whole and counted in v1_frames; never delivered.
+//   - A signed MAVLink 2 frame is delivered with is_signed set; its 13-byte
+//     signature is skipped, not verified.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <span>
+
+#include "gport/mavlink/frame.hpp"
+
+namespace gport::mavlink {
+
+struct DecoderStats {
+    std::uint64_t bytes = 0;          // bytes fed
+    std::uint64_t frames = 0;         // MAVLink 2 frames delivered
+    std::uint64_t signed_frames = 0;  // of those, signed (signature skipped)
+    std::uint64_t v1_frames = 0;      // valid MAVLink 1 frames skipped
+    std::uint64_t v1_bytes = 0;       // their bytes
+    std::uint64_t garbage_bytes = 0;  // bytes discarded (not part of any valid frame)
+    std::uint64_t header_errors = 0;  // candidates with unknown incompat flags
+    std::uint64_t unknown_ids = 0;    // candidates with an id this codec does not know
+    std::uint64_t length_errors = 0;  // candidates longer than their message allows
+    std::uint64_t crc_errors = 0;     // candidates with a wrong checksum
+    std::uint64_t resyncs = 0;        // frames (v1 or v2) that ended a run of garbage
+};
+
+class Decoder {
+  public:
+    // Feeds bytes; calls sink(const FrameView&) for every valid MAVLink 2 frame.
+    template <typename Sink>
+    void feed(std::span<const std::uint8_t> input, Sink&& sink);
+
+    const DecoderStats& stats() const { return stats_; }
+    // Bytes held back as the start of a possible frame (< kMaxFrameSize).
+    std::size_t pending() const { return held_; }
+    // Forgets any partial frame (e.g. after the link was reopened); keeps stats.
+    void reset();
+
+  private:
+    enum class Verdict { kFrame, kV1Frame, kNeedMore, kHeader, kUnknownId, kLength, kCrc };
+    // Judges the candidate at p[0] (0xFD or 0xFE) with n bytes available;
+    // sets size (whole frame) and, for kFrame, view.
+    static Verdict check(const std::uint8_t* p, std::size_t n, std::size_t& size, FrameView& view);
+    static Verdict check_v1(const std::uint8_t* p, std::size_t n, std::size_t& size);
+
+    template <typename Sink>
+    std::size_t scan(const std::uint8_t* p, std::size_t n, Sink& sink);
+    void discard(std::size_t count);
+    void reject(Verdict why);
+    void accepted();
+
+    static constexpr std::size_t kBufferSize = 2 * kMaxFrameSize;
+    std::array<std::uint8_t, kBufferSize> buffer_{};
+    std::size_t held_ = 0;
+    bool in_garbage_ = false;
+    DecoderStats stats_{};
+};
+
+// ---- implementation --------------------------------------------------------
+
+constexpr bool is_magic(std::uint8_t b) {
+    return b == kMagicV2 || b == kMagicV1;
+}
+
+// Scans p[0..n): delivers frames, discards garbage, and returns how many bytes
+// were consumed; the rest (an undecided candidate) must be offered again with
+// more bytes after it.
+template <typename Sink>
+std::size_t Decoder::scan(const std::uint8_t* p, std::size_t n, Sink& sink) {
+    std::size_t i = 0;
+    while (i < n) {
+        if (!is_magic(p[i])) {
+            const auto* next = std::find_if(p + i, p + n, is_magic);
+            const auto skipped = static_cast<std::size_t>(next - (p + i));
+            discard(skipped);
+            i += skipped;
+            continue;
+        }
+        std::size_t size = 0;
+        FrameView view;
+        const Verdict verdict = check(p + i, n - i, size, view);
+        switch (verdict) {
+            case Verdict::kNeedMore:
+                return i;
+            case Verdict::kFrame:
+                ++stats_.frames;
+                stats_.signed_frames += view.is_signed ? 1 : 0;
+                accepted();
+                sink(static_cast<const FrameView&>(view));
+                i += size;
+                break;
+            case Verdict::kV1Frame:
+                ++stats_.v1_frames;
+                stats_.v1_bytes += size;
+                accepted();
+                i += size;
+                break;
+            default:
+                reject(verdict);
+                discard(1);  // re-scan from the candidate's second byte
+                ++i;
+                break;
+        }
+    }
+    return i;
+}
+
+template <typename Sink>
+void Decoder::feed(std::span<const std::uint8_t> input, Sink&& sink) {
+    stats_.bytes += input.size();
+    const std::uint8_t* in = input.data();
+    std::size_t left = input.size();
+    // A held partial frame is completed in the buffer; once the buffer is
+    // empty, the input is scanned in place and only its tail is copied. A
+    // held tail is always shorter than a frame, so every pass consumes bytes.
+    while (left > 0) {
+        if (held_ == 0) {
+            const std::size_t used = scan(in, left, sink);
+            held_ = left - used;
+            std::memcpy(buffer_.data(), in + used, held_);
+            return;
+        }
+        const std::size_t take = std::min(left, kBufferSize - held_);
+        std::memcpy(buffer_.data() + held_, in, take);
+        in += take;
+        left -= take;
+        const std::size_t total = held_ + take;
+        const std::size_t used = scan(buffer_.data(), total, sink);
+        held_ = total - used;
+        std::memmove(buffer_.data(), buffer_.data() + used, held_);
+    }
+}
+
+}  // namespace gport::mavlink
