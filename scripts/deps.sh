@@ -13,6 +13,9 @@ GPORT_PACKAGES=(
   # lacks: `file` (CPackDeb, in the systemd_deb_package test) and procps
   # (/bin/kill, the units' ExecReload, which systemd_units verifies).
   file procps
+  # The systemd end-to-end stage (scripts/systemd-e2e.sh): a Debian root made
+  # with debootstrap, booted with systemd-nspawn (package systemd-container).
+  debootstrap systemd-container
 )
 
 gport_install_deps() {

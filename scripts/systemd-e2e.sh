@@ -1,0 +1,155 @@
+#!/usr/bin/env bash
+# The systemd end-to-end test: boots a real systemd (a minimal Debian 12 root
+# in a systemd-nspawn container) and runs the life of the service there with
+# the .deb packed from BUILD_DIR: install, socket activation, the sandbox, a
+# simulated gimbal, watchdog, journal fields, reload, stop, two instances,
+# upgrade, remove and purge. The steps are tests/systemd/e2e_steps.sh; each
+# prints PASS or FAIL with what it checked (docs/operations.md, "End-to-end
+# test on a real systemd").
+#
+#   scripts/systemd-e2e.sh [BUILD_DIR]      # default build/release, built
+#
+# Needs root (debootstrap, nspawn) and the network to Debian's mirror (the
+# container's apt resolves the package's dependencies). The Debian root is
+# made once with debootstrap in build/systemd-e2e/root and kept (rebuilt when
+# older than 7 days, or with GPORT_E2E_NEW_ROOT=1); each run boots a fresh
+# copy of it, so the package always meets a root with nothing of ours.
+#
+# Exit status: 0 every step passed; 1 a step failed (the journal is printed);
+# 2 the test could not be set up; 77 skipped because this machine cannot run
+# it (the reason is printed; GPORT_SYSTEMD_E2E=require turns that into a
+# failure, GPORT_SYSTEMD_E2E=skip skips on purpose).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+project=$(pwd)
+build=${1:-build/release}
+work=$project/build/systemd-e2e
+root=$work/root        # pristine debootstrap root, reused between runs
+run=$work/run          # the copy one run boots (kept after a failure)
+stage=$work/mnt        # bound read-only at /mnt in the container: the .deb, the steps
+archives=$work/apt-archives  # apt's download cache, shared by the runs
+# What the root holds beyond debootstrap's minbase; a change rebuilds it.
+root_packages=systemd,dbus,procps
+root_recipe="bookworm minbase $root_packages v1"
+boot_timeout=${GPORT_E2E_TIMEOUT:-600}
+start=$(date +%s)
+
+say() { echo "e2e: $*"; }
+skip() {
+    say "SKIPPED: $*"
+    if [ "${GPORT_SYSTEMD_E2E:-}" = require ]; then
+        say "GPORT_SYSTEMD_E2E=require: a skip is a failure"
+        exit 1
+    fi
+    exit 77
+}
+die() {
+    say "error: $*" >&2
+    exit 2
+}
+
+[ "${GPORT_SYSTEMD_E2E:-}" = skip ] && skip "GPORT_SYSTEMD_E2E=skip"
+[ "$(uname -s)" = Linux ] || skip "needs Linux (systemd-nspawn)"
+[ "$(id -u)" -eq 0 ] || skip "needs root: debootstrap and systemd-nspawn (run it with sudo)"
+[ -d /sys/fs/cgroup ] || skip "no /sys/fs/cgroup: systemd cannot boot in a container here"
+
+# debootstrap and systemd-nspawn (systemd-container) are in deps.sh's list.
+source scripts/deps.sh
+gport_install_deps
+
+[ -f "$build/CPackConfig.cmake" ] || die "$build is not a configured build (no CPackConfig.cmake)"
+[ -x "$build/app/gportd" ] || die "$build has no gportd: build it first (scripts/test.sh does)"
+
+# ---- the package -------------------------------------------------------------
+rm -rf "$stage"
+mkdir -p "$stage" "$archives"
+say "packing the .deb from $build (cpack -G DEB)"
+rm -rf "$work/cpack"
+cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work/cpack" >"$work/cpack.log" 2>&1 ||
+    { cat "$work/cpack.log"; die "cpack -G DEB failed"; }
+deb=$(find "$work/cpack" -maxdepth 1 -name 'gportd_*.deb' | head -n 1)
+[ -n "$deb" ] || die "cpack made no gportd_*.deb (see $work/cpack.log)"
+cp "$deb" "$stage/"
+cp tests/systemd/e2e_steps.sh "$stage/"
+say "package: $(basename "$deb")"
+
+# ---- the Debian root (cached) ------------------------------------------------
+mirror() {
+    local m
+    m=$(awk '/^URIs:/ { print $2; exit }' /etc/apt/sources.list.d/debian.sources 2>/dev/null || true)
+    [ -n "$m" ] || m=$(awk '/^deb / { print $2; exit }' /etc/apt/sources.list 2>/dev/null || true)
+    echo "${m:-http://deb.debian.org/debian}"
+}
+
+root_is_fresh() {
+    [ "${GPORT_E2E_NEW_ROOT:-0}" != 1 ] && [ -x "$root/lib/systemd/systemd" ] &&
+        [ "$(cat "$root/.gport-e2e-recipe" 2>/dev/null)" = "$root_recipe" ] &&
+        [ -z "$(find "$root/.gport-e2e-recipe" -mtime +7)" ]
+}
+
+if ! root_is_fresh; then
+    say "building the Debian 12 root in $root (debootstrap, once; about a minute)"
+    rm -rf "$root" "$root.tmp"
+    debootstrap --variant=minbase --include="$root_packages" bookworm "$root.tmp" "$(mirror)" \
+        >"$work/debootstrap.log" 2>&1 ||
+        { tail -n 20 "$work/debootstrap.log"; die "debootstrap failed (log: $work/debootstrap.log)"; }
+    echo "$root_recipe" >"$root.tmp/.gport-e2e-recipe"
+    mv "$root.tmp" "$root"
+fi
+
+# A fresh copy for this run: nothing of ours, nothing left by an earlier run.
+rm -rf "$run"
+cp -a "$root" "$run"
+echo "gport-e2e" >"$run/etc/hostname"
+# The steps run as a unit of the container's systemd once it is up, with their
+# output on the console (nspawn's stdout), then `systemctl exit` hands their
+# status to nspawn.
+cat >"$run/etc/systemd/system/gport-e2e.service" <<'EOF'
+[Unit]
+Description=gportd end-to-end steps
+After=multi-user.target
+
+[Service]
+Type=simple
+ExecStart=/bin/bash /mnt/e2e_steps.sh
+StandardInput=null
+StandardOutput=tty
+StandardError=tty
+TTYPath=/dev/console
+EOF
+mkdir -p "$run/etc/systemd/system/multi-user.target.wants"
+ln -sf /etc/systemd/system/gport-e2e.service "$run/etc/systemd/system/multi-user.target.wants/"
+
+# Can nspawn run here at all? (Not, for instance, without cgroups or without
+# the right to create namespaces.) If not, skip and say why.
+if ! probe=$(systemd-nspawn --quiet --register=no --keep-unit --console=pipe -D "$run" \
+    /bin/true 2>&1 </dev/null); then
+    skip "systemd-nspawn cannot start a container on this machine: $probe"
+fi
+
+# ---- boot and run ------------------------------------------------------------
+# --register=no: no systemd-machined on the host (often no systemd at all);
+# --keep-unit: stay in the caller's cgroup instead of asking the host's
+# systemd for a scope; --console=passive: the container's console (where the
+# steps write) goes to our stdout without needing a terminal (with =pipe,
+# services could not open /dev/console). The arguments after --boot go to
+# the container's systemd: no boot status, only its critical messages.
+say "booting systemd in the container ($(($(date +%s) - start)) s so far)"
+# The console is a pty: its lines end in CR LF.
+set +e
+timeout --kill-after=20 "$boot_timeout" systemd-nspawn --quiet --register=no --keep-unit \
+    --console=passive -D "$run" --bind-ro="$stage:/mnt" --bind="$archives:/var/cache/apt/archives" \
+    --resolv-conf=copy-host --boot -- systemd.show_status=false systemd.log_level=crit \
+    systemd.log_color=false </dev/null | tr -d '\r'
+rc=${PIPESTATUS[0]}
+set -e
+took=$(($(date +%s) - start))
+case $rc in
+    0) say "all steps passed in $took s"
+       rm -rf "$run" ;;
+    124) say "FAIL: the container did not finish within $boot_timeout s; root kept in $run"
+         rc=1 ;;
+    *) say "FAIL: exit status $rc after $took s; root kept in $run (journal: journalctl -D $run/var/log/journal)"
+       rc=1 ;;
+esac
+exit $rc
