@@ -117,13 +117,18 @@ StandardOutput=tty
 StandardError=tty
 TTYPath=/dev/console
 EOF
+# No login prompt on that console: its getty would hang the steps up.
+ln -sf /dev/null "$run/etc/systemd/system/console-getty.service"
+ln -sf /dev/null "$run/etc/systemd/system/getty@.service"
 mkdir -p "$run/etc/systemd/system/multi-user.target.wants"
 ln -sf /etc/systemd/system/gport-e2e.service "$run/etc/systemd/system/multi-user.target.wants/"
 
 # Can nspawn run here at all? (Not, for instance, without cgroups or without
 # the right to create namespaces.) If not, skip and say why.
-if ! probe=$(systemd-nspawn --quiet --register=no --keep-unit --console=pipe -D "$run" \
-    /bin/true 2>&1 </dev/null); then
+# See "boot and run" for the flags.
+export SYSTEMD_NSPAWN_UNIFIED_HIERARCHY=1
+nspawn=(systemd-nspawn --quiet --register=no --keep-unit --system-call-filter=bpf -D "$run")
+if ! probe=$("${nspawn[@]}" --console=pipe /bin/true 2>&1 </dev/null); then
     skip "systemd-nspawn cannot start a container on this machine: $probe"
 fi
 
@@ -132,15 +137,22 @@ fi
 # --keep-unit: stay in the caller's cgroup instead of asking the host's
 # systemd for a scope; --console=passive: the container's console (where the
 # steps write) goes to our stdout without needing a terminal (with =pipe,
-# services could not open /dev/console). The arguments after --boot go to
-# the container's systemd: no boot status, only its critical messages.
+# services could not open /dev/console).
+# SYSTEMD_NSPAWN_UNIFIED_HIERARCHY=1 and --system-call-filter=bpf: the
+# container's systemd gets cgroup v2 and may load BPF programs, which is how
+# it enforces DevicePolicy=/DeviceAllow=. On a host with the hybrid cgroup
+# layout (these CI machines) nspawn would otherwise hand the container the v1
+# devices controller read-only and filter out bpf(): the units' device list
+# would silently not apply, and step 3 would (rightly) fail.
+# The arguments after --boot go to the container's systemd: no boot status,
+# its own messages to the journal only.
 say "booting systemd in the container ($(($(date +%s) - start)) s so far)"
 # The console is a pty: its lines end in CR LF.
 set +e
-timeout --kill-after=20 "$boot_timeout" systemd-nspawn --quiet --register=no --keep-unit \
-    --console=passive -D "$run" --bind-ro="$stage:/mnt" --bind="$archives:/var/cache/apt/archives" \
-    --resolv-conf=copy-host --boot -- systemd.show_status=false systemd.log_level=crit \
-    systemd.log_color=false </dev/null | tr -d '\r'
+timeout --kill-after=20 "$boot_timeout" "${nspawn[@]}" --console=passive \
+    --bind-ro="$stage:/mnt" --bind="$archives:/var/cache/apt/archives" --resolv-conf=copy-host \
+    --boot -- systemd.show_status=false systemd.log_target=journal systemd.log_color=false \
+    </dev/null | tr -d '\r'
 rc=${PIPESTATUS[0]}
 set -e
 took=$(($(date +%s) - start))
