@@ -8,6 +8,7 @@
 # test on a real systemd").
 #
 #   scripts/systemd-e2e.sh [BUILD_DIR]      # default build/release, built
+#   GPORT_E2E_DEB=path/gportd_X_amd64.deb scripts/systemd-e2e.sh   # a given .deb
 #
 # Needs root (debootstrap, nspawn) and the network to Debian's mirror (the
 # container's apt resolves the package's dependencies). The Debian root is
@@ -53,22 +54,55 @@ die() {
 [ "$(id -u)" -eq 0 ] || skip "needs root: debootstrap and systemd-nspawn (run it with sudo)"
 [ -d /sys/fs/cgroup ] || skip "no /sys/fs/cgroup: systemd cannot boot in a container here"
 
-# debootstrap and systemd-nspawn (systemd-container) are in deps.sh's list.
-source scripts/deps.sh
-gport_install_deps
+# nspawn first turns "/" into a slave mount (mount MS_REC|MS_SLAVE on "/"),
+# which fails with EINVAL when "/" is not a mount point: in a plain chroot,
+# such as the fresh-machine CI root. There, run again from a private mount
+# namespace, chrooted into a recursive bind of "/" (which is a mount point);
+# the bind goes away with the namespace.
+if ! mountpoint -q / && [ -z "${GPORT_E2E_REBOUND:-}" ]; then
+    say "/ is not a mount point (a chroot?), which systemd-nspawn needs: running again" \
+        "in a private mount namespace, chrooted into a bind of /"
+    mkdir -p "$work/rebound"
+    exec unshare --mount --propagation unchanged -- env GPORT_E2E_REBOUND=1 bash -c '
+        view=$1 project=$2
+        shift 2
+        mount --rbind / "$view" || exit 2
+        if grep -q " $view .*shared:" /proc/self/mountinfo; then
+            # The bind would show on the host too: undo it and give up.
+            umount -l "$view"
+            echo "e2e: SKIPPED: / is not a mount point and its mount is shared: cannot bind it privately"
+            exit 77
+        fi
+        exec chroot "$view" /bin/bash -c "cd \"\$0\" && exec bash scripts/systemd-e2e.sh \"\$@\"" "$project" "$@"
+    ' _ "$work/rebound" "$project" "$@"
+fi
 
-[ -f "$build/CPackConfig.cmake" ] || die "$build is not a configured build (no CPackConfig.cmake)"
-[ -x "$build/app/gportd" ] || die "$build has no gportd: build it first (scripts/test.sh does)"
+# What this script needs; scripts/deps.sh (gport_install_deps) lists them too.
+need() {
+    command -v "$1" >/dev/null && return 0
+    say "installing $2"
+    { apt-get update -qq && apt-get install -y -qq --no-install-recommends "$2" >/dev/null; } ||
+        die "cannot install $2"
+}
+need debootstrap debootstrap
+need systemd-nspawn systemd-container
 
 # ---- the package -------------------------------------------------------------
 rm -rf "$stage"
 mkdir -p "$stage" "$archives"
-say "packing the .deb from $build (cpack -G DEB)"
-rm -rf "$work/cpack"
-cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work/cpack" >"$work/cpack.log" 2>&1 ||
-    { cat "$work/cpack.log"; die "cpack -G DEB failed"; }
-deb=$(find "$work/cpack" -maxdepth 1 -name 'gportd_*.deb' | head -n 1)
-[ -n "$deb" ] || die "cpack made no gportd_*.deb (see $work/cpack.log)"
+if [ -n "${GPORT_E2E_DEB:-}" ]; then
+    deb=$GPORT_E2E_DEB  # a package built elsewhere
+    [ -f "$deb" ] || die "GPORT_E2E_DEB=$deb: no such file"
+else
+    [ -f "$build/CPackConfig.cmake" ] || die "$build is not a configured build (no CPackConfig.cmake)"
+    [ -x "$build/app/gportd" ] || die "$build has no gportd: build it first (scripts/test.sh does)"
+    say "packing the .deb from $build (cpack -G DEB)"
+    rm -rf "$work/cpack"
+    cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work/cpack" >"$work/cpack.log" 2>&1 ||
+        { cat "$work/cpack.log"; die "cpack -G DEB failed"; }
+    deb=$(find "$work/cpack" -maxdepth 1 -name 'gportd_*.deb' | head -n 1)
+    [ -n "$deb" ] || die "cpack made no gportd_*.deb (see $work/cpack.log)"
+fi
 cp "$deb" "$stage/"
 cp tests/systemd/e2e_steps.sh "$stage/"
 say "package: $(basename "$deb")"

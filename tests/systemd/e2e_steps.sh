@@ -154,7 +154,7 @@ check "the daemon (pid $pid) runs as $(ps -o user= -p "$pid"):$(ps -o group= -p 
     sh -c "[ \"\$(ps -o user= -p $pid)\" = gportd ] && grep -q '^CapEff:[[:space:]]*0*$' /proc/$pid/status"
 check "in its mount namespace even root cannot write /etc, /usr, /var, /run (read-only file system)" \
     sh -c "for d in /etc /usr /var /run; do
-               if nsenter -t $pid -m -- sh -c \": >\$d/.e2e-probe\" 2>/dev/null; then echo \"wrote \$d\"; exit 1; fi
+               if nsenter -t $pid -m -r -w -- sh -c \": >\$d/.e2e-probe\" 2>/dev/null; then echo \"wrote \$d\"; exit 1; fi
            done"
 # The same properties as the unit, read from the installed unit file, on a
 # transient service: what the daemon could write or open.
