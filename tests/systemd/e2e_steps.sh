@@ -141,7 +141,7 @@ ready_order() {
         head -n 2 | tr '\n' '|' | grep -q '^serving clients.*|Started gportd.service'
 }
 check "READY only once it serves: 'serving clients' logged before systemd's 'Started' (Type=notify)" \
-    ready_order
+    eventually 5 ready_order
 check "the link comes up with gport-sim" eventually 15 link_up
 status_text() { systemctl show -p StatusText --value gportd.service | grep -q 'link up'; }
 eventually 10 status_text
@@ -218,7 +218,8 @@ check "WatchdogSec is $(systemctl show -p WatchdogUSec --value gportd.service) a
 restarted_from() { local p; p=$(main_pid); [ "$p" != 0 ] && [ "$p" != "$1" ] && active gportd.service; }
 old=$(main_pid)
 kill -STOP "$old"
-if eventually 40 restarted_from "$old"; then
+watchdog_fired() { journalctl -q -o cat -u gportd.service | grep -q 'Watchdog timeout'; }
+if eventually 40 restarted_from "$old" && eventually 5 watchdog_fired; then
     pass "frozen (SIGSTOP) pid $old: systemd's watchdog killed it and restarted it as pid $(main_pid) \
 ($(journalctl -q -o cat -u gportd.service | grep -m1 -o 'Watchdog timeout[^!]*'))"
 else
@@ -277,6 +278,7 @@ check "systemctl stop: the last speed the gimbal got is zero ($(last_speed gimba
 check "the daemon exited cleanly (Result=$(systemctl show -p Result --value gportd.service)); gportd.socket and $socket stay" \
     sh -c "[ \"\$(systemctl show -p Result --value gportd.service)\" = success ] \
            && systemctl is-active gportd.socket && [ -S $socket ]"
+kill "$mover" 2>/dev/null
 wait "$mover" 2>/dev/null
 
 start_sim gimbal0-sim /dev/gimbal0
@@ -313,10 +315,11 @@ if out=$(apt-get install -y -q --reinstall "$deb" 2>&1); then
 else
     fail "apt-get install --reinstall $(basename "$deb")" "$out"
 fi
+restarted_cleanly() {
+    restarted_from "$old" && journalctl -q -o cat -u gportd.service _PID="$old" | grep -q 'gportd stopped'
+}
 check "postinst restarted the daemon (pid $old -> $(main_pid)); the old one stopped cleanly" \
-    sh -c "[ \"\$(systemctl show -p MainPID --value gportd.service)\" != $old ] \
-           && systemctl is-active gportd.service \
-           && journalctl -q -o cat -u gportd.service _PID=$old | grep -q 'gportd stopped'"
+    eventually 5 restarted_cleanly
 check "the connected client was let go (the old daemon closed it)" eventually 5 gone "$watcher"
 check "the new daemon serves the same socket and the link is up" eventually 15 link_up
 check "the instances were restarted too and serve again" \
