@@ -18,6 +18,9 @@ GPORT_PACKAGES=(
   # Node.js and npm for the MAVLink cross-check against node-mavlink
   # (tests/mavlink/peer; Debian 12: nodejs 18, npm 9).
   nodejs npm
+  # The systemd end-to-end stage (scripts/systemd-e2e.sh): a Debian root made
+  # with debootstrap, booted with systemd-nspawn (package systemd-container).
+  debootstrap systemd-container
 )
 
 # Packages that count as present when their command is, whoever installed it

@@ -2,6 +2,10 @@
 # Checks the layering, installs what is missing, then builds and runs every test:
 #   0. scripts/check-layering.sh: no folder includes one above it (seconds);
 #   1. Release build (warnings are errors), all tests;
+#      then the systemd end-to-end test on its .deb: a real systemd booted in
+#      a container (scripts/systemd-e2e.sh; about a minute, two the first
+#      time; GPORT_SYSTEMD_E2E=skip leaves it out, =require fails if this
+#      machine cannot run it);
 #   2. ASan+UBSan build, all tests;
 #   3. clang libFuzzer build, each fuzzer for $GPORT_FUZZ_SECONDS (60) on its corpus.
 # Used word for word by .ci/run. The builds are unity builds (each target's
@@ -27,6 +31,16 @@ cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DGPORT_WERROR=O
 cmake --build build/release -j "$jobs"
 stage "Release tests"
 ctest --test-dir build/release --output-on-failure -j "$jobs"
+
+stage "systemd end-to-end (the Release build's .deb on a real systemd, in a container)"
+e2e_status=0
+scripts/systemd-e2e.sh build/release || e2e_status=$?
+if [ "$e2e_status" -eq 77 ]; then
+  echo "systemd end-to-end: SKIPPED (the reason is above)"
+elif [ "$e2e_status" -ne 0 ]; then
+  echo "systemd end-to-end: FAILED" >&2
+  exit "$e2e_status"
+fi
 
 stage "ASan+UBSan build"
 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGPORT_SANITIZE=ON \

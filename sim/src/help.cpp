@@ -47,7 +47,8 @@ Fault injection (default: none):
 
 Observation:
   --trace                print one JSON line per frame received, bad frame and
-                         event (peer_open, peer_closed, silence_start,
+                         event (peer_open, peer_closed, exclusive_cleared,
+                         pty_replaced, exclusive_stuck, silence_start,
                          silence_end, vanish, reappear, replay_end), after the
                          first line; format in docs/simulator.md
   --record FILE          record both directions to FILE, one line per read or
@@ -57,6 +58,11 @@ Observation:
                          fault options with --replay)
 
   -h, --help             this text
+
+A client's exclusive mode (TIOCEXCL, as gportd sets it) would outlive the
+client on a pty. When the client goes, gport-sim clears it (TIOCNXCL; needs
+CAP_SYS_ADMIN, e.g. root) or else moves the link to a fresh pty, so that a
+restarted gportd (even after kill -9) can open the link again.
 
 Signals: SIGUSR1 stops reading what the client writes (a stalled gimbal:
 the client's writes fill the pty buffer, then block); SIGUSR2 resumes.

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <termios.h>
 #include <unistd.h>
@@ -81,6 +82,28 @@ bool peer_present(int master_fd) {
         return false;
     }
     return (p.revents & POLLHUP) == 0;
+}
+
+Exclusivity release_exclusive(const std::string& slave_path) {
+    const int slave = ::open(slave_path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+    if (slave < 0) {
+        if (errno == EBUSY) {
+            return Exclusivity::kStuck;
+        }
+        fail("open " + slave_path);
+    }
+    int exclusive = 0;
+    int rc = ::ioctl(slave, TIOCGEXCL, &exclusive);
+    if (rc == 0 && exclusive != 0) {
+        rc = ::ioctl(slave, TIOCNXCL);
+    }
+    const int saved = errno;
+    ::close(slave);
+    if (rc != 0) {
+        errno = saved;
+        fail("clear exclusive mode (TIOCNXCL) on " + slave_path);
+    }
+    return exclusive != 0 ? Exclusivity::kCleared : Exclusivity::kNone;
 }
 
 void SlaveLink::point_to(const std::string& target) {

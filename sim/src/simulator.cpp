@@ -253,6 +253,46 @@ void PtySimulator::Impl::peer_gone() {
     queue_.clear();
     queued_bytes_ = 0;
     event("peer_closed", slave_path_);
+    release_exclusive_mode();
+}
+
+// A client that set TIOCEXCL and died (kill -9) or closed without clearing
+// it would keep every later open refused with EBUSY, since the mode lives as
+// long as our master. A real adapter drops it on the last close; so do we:
+// clear it if we may, else move to a fresh pty under the same link.
+void PtySimulator::Impl::release_exclusive_mode() {
+    Exclusivity found = Exclusivity::kNone;
+    try {
+        found = release_exclusive(slave_path_);
+    } catch (const std::system_error& e) {
+        event("exclusive_stuck", slave_path_, e.what());
+        return;
+    }
+    if (found == Exclusivity::kCleared) {
+        event("exclusive_cleared", slave_path_);
+    } else if (found == Exclusivity::kStuck) {
+        if (link_.path().empty()) {
+            event("exclusive_stuck", slave_path_,
+                  "the slave stays exclusive (TIOCEXCL): clearing it needs CAP_SYS_ADMIN, and "
+                  "without --link the pty cannot be replaced");
+            return;
+        }
+        replace_pty();
+    }
+}
+
+// The old master closes (its slave, and the stuck mode, go with it) and the
+// link moves to a new pty in one rename, so a client reopening the link
+// never finds it missing.
+void PtySimulator::Impl::replace_pty() {
+    boost::system::error_code ignored;
+    device_.close(ignored);
+    reading_ = false;
+    open_device();
+    if (device_.is_open()) {
+        ++stats_.pty_replacements;
+        event("pty_replaced", slave_path_);
+    }
 }
 
 // Reads are only awaited while a client is there: with no slave open the

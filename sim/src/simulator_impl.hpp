@@ -57,6 +57,8 @@ class PtySimulator::Impl : public std::enable_shared_from_this<PtySimulator::Imp
     void on_readable();
     void handle_input(std::span<const std::uint8_t> bytes);
     void peer_gone();
+    void release_exclusive_mode();
+    void replace_pty();
 
     // --- output (simulator_output.cpp)
     bool can_send() const;

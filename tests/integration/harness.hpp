@@ -14,11 +14,16 @@
 namespace gport::testing {
 
 // gport-sim with --trace under a symlink; its trace lines are kept.
+// `wrapper` runs it under another command, e.g. {"/usr/bin/setpriv", ...} (an absolute path).
 class SimProcess {
   public:
-    SimProcess(const TempDir& dir, std::vector<std::string> extra = {})
+    SimProcess(const TempDir& dir, std::vector<std::string> extra = {},
+               std::vector<std::string> wrapper = {})
         : link_(dir.file("gimbal")) {
-        std::vector<std::string> argv{GPORT_SIM_PATH, "--link", link_, "--trace"};
+        std::vector<std::string> argv = std::move(wrapper);
+        for (std::string arg : {GPORT_SIM_PATH, "--link", link_.c_str(), "--trace"}) {
+            argv.push_back(std::move(arg));
+        }
         argv.insert(argv.end(), extra.begin(), extra.end());
         process_ = std::make_unique<Process>(argv);
         process_->next_line();  // the slave path
@@ -63,12 +68,17 @@ inline std::string write_test_config(const TempDir& dir, const std::string& extr
 class DaemonProcess {
   public:
     // `config_extra`: more sections for the config file, as write_test_config.
+    // `wrapper` runs it under another command, as for SimProcess.
     DaemonProcess(const TempDir& dir, std::vector<std::string> args,
-                  std::vector<std::string> env = {}, const std::string& config_extra = "")
+                  std::vector<std::string> env = {}, const std::string& config_extra = "",
+                  std::vector<std::string> wrapper = {})
         : socket_(dir.file("gportd.sock")) {
-        std::vector<std::string> argv{GPORTD_PATH, "--config", write_test_config(dir, config_extra),
-                                      "--socket",  socket_,    "--log-level",
-                                      "warn"};
+        std::vector<std::string> argv = std::move(wrapper);
+        for (std::string arg : {std::string(GPORTD_PATH), std::string("--config"),
+                                write_test_config(dir, config_extra), std::string("--socket"),
+                                socket_, std::string("--log-level"), std::string("warn")}) {
+            argv.push_back(std::move(arg));
+        }
         argv.insert(argv.end(), args.begin(), args.end());
         process_ = std::make_unique<Process>(argv, env);
     }

@@ -104,6 +104,7 @@ class Client {
     Client& operator=(const Client&) = delete;
 
     bool ok() const { return fd_ >= 0; }
+    int fd() const { return fd_; }
     void close() {
         if (fd_ >= 0) {
             ::close(fd_);

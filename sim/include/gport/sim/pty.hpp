@@ -22,6 +22,23 @@ PtyMaster open_pty();
 // True while some process has the slave open (the master has no POLLHUP).
 bool peer_present(int master_fd);
 
+// What release_exclusive() found on the slave.
+enum class Exclusivity {
+    kNone,     // not in exclusive mode: anyone may open it
+    kCleared,  // it was (TIOCEXCL); cleared with TIOCNXCL
+    kStuck,    // it is, and the open to clear it was refused (EBUSY: no CAP_SYS_ADMIN)
+};
+
+// Clears the exclusive mode a client left on the slave once it has gone. On
+// a pty the mode belongs to the slave's tty, which lives as long as the
+// master is open, so it outlives the client (a killed gportd's TIOCEXCL
+// would refuse every later open with EBUSY); a real serial port drops it on
+// the last close. Opens the slave itself (non-blocking, briefly), so call it
+// only while no client has it open. Only a process with CAP_SYS_ADMIN may
+// open an exclusive tty: without it, the answer is kStuck and the pty must be
+// replaced. Throws std::system_error for any other failure.
+Exclusivity release_exclusive(const std::string& slave_path);
+
 // A symlink at a fixed path to the current slave, as udev keeps
 // /dev/serial/by-id/... for a USB adapter.
 class SlaveLink {

@@ -51,6 +51,8 @@ struct SimStats {
     std::uint64_t writes = 0;         // write() calls that wrote something
     std::uint64_t peer_opens = 0;     // times a client opened the slave
     std::uint64_t vanishes = 0;
+    std::uint64_t pty_replacements =
+        0;  // a client left the slave exclusive; see release_exclusive()
     std::uint64_t replayed_entries = 0;
 };
 

@@ -1,0 +1,108 @@
+// A client's exclusive mode (TIOCEXCL) must not outlive it: on a pty it
+// would, because the slave's tty lives as long as the simulator's master, so
+// the simulator releases it when the client goes (docs/simulator.md).
+#include <gtest/gtest.h>
+#include <sys/ioctl.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "gport/sim/pty.hpp"
+#include "pty_helpers.hpp"
+
+namespace gport::sim {
+namespace {
+
+using namespace gport::sim::testing;
+
+// Opening an exclusive tty is refused (EBUSY) unless the opener has
+// CAP_SYS_ADMIN (bit 21 of the effective set).
+bool may_open_exclusive_ttys() {
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    while (std::getline(status, line)) {
+        if (line.rfind("CapEff:", 0) == 0) {
+            return ((std::stoull(line.substr(7), nullptr, 16) >> 21) & 1U) != 0;
+        }
+    }
+    return false;
+}
+
+bool exclusive(int fd) {
+    int value = 0;
+    EXPECT_EQ(::ioctl(fd, TIOCGEXCL, &value), 0);
+    return value != 0;
+}
+
+TEST(ReleaseExclusive, AFreshSlaveIsNotExclusive) {
+    const PtyMaster pty = open_pty();
+    EXPECT_EQ(release_exclusive(pty.slave_path), Exclusivity::kNone);
+    ::close(pty.fd);
+}
+
+TEST(ReleaseExclusive, TheModeOutlivesItsClientUntilReleased) {
+    const PtyMaster pty = open_pty();
+    {
+        Client client(pty.slave_path);
+        ASSERT_TRUE(client.ok());
+        ASSERT_EQ(::ioctl(client.fd(), TIOCEXCL), 0);
+    }
+    if (may_open_exclusive_ttys()) {
+        EXPECT_EQ(release_exclusive(pty.slave_path), Exclusivity::kCleared);
+        EXPECT_EQ(release_exclusive(pty.slave_path), Exclusivity::kNone);
+    } else {
+        EXPECT_EQ(release_exclusive(pty.slave_path), Exclusivity::kStuck);
+    }
+    ::close(pty.fd);
+}
+
+TEST(ReleaseExclusive, AMissingSlaveIsAnErrorNamingIt) {
+    try {
+        release_exclusive("/dev/pts/no-such-slave");
+        FAIL() << "expected std::system_error";
+    } catch (const std::system_error& e) {
+        EXPECT_NE(std::string(e.what()).find("/dev/pts/no-such-slave"), std::string::npos);
+    }
+}
+
+TEST(PtySimulator, AGoneClientsExclusiveModeIsReleased) {
+    const auto link =
+        (std::filesystem::temp_directory_path() / ("gport-sim-excl." + std::to_string(::getpid())))
+            .string();
+    SimOptions o;
+    o.link_path = link;
+    SimThread sim(o);
+    {
+        Client client(link);
+        ASSERT_TRUE(client.ok());
+        ASSERT_EQ(::ioctl(client.fd(), TIOCEXCL), 0);
+        ASSERT_TRUE(eventually([&] { return sim.stats().peer_opens == 1; }));
+    }
+    // Privileged, the simulator clears the mode; otherwise it moves the link
+    // to a fresh pty. Either way the next client opens the link and is free.
+    ASSERT_TRUE(eventually([&] {
+        return sim.traced("\"event\":\"exclusive_cleared\"") ||
+               sim.traced("\"event\":\"pty_replaced\"");
+    }));
+    Client again(link);
+    ASSERT_TRUE(again.ok());
+    EXPECT_FALSE(exclusive(again.fd()));
+    EXPECT_FALSE(decode_all(again.read_for(300ms)).attitudes().empty());
+}
+
+TEST(PtySimulator, AClientThatNeverSetTheModeLeavesTheSameSlave) {
+    SimThread sim(SimOptions{});
+    const std::string slave = sim.on_io([](PtySimulator& s) { return s.slave_path(); });
+    {
+        Client client(sim.path());
+        ASSERT_TRUE(eventually([&] { return sim.stats().peer_opens == 1; }));
+    }
+    ASSERT_TRUE(eventually([&] { return sim.traced("\"event\":\"peer_closed\""); }));
+    EXPECT_EQ(sim.on_io([](PtySimulator& s) { return s.slave_path(); }), slave);
+    EXPECT_EQ(sim.stats().pty_replacements, 0U);
+    EXPECT_FALSE(sim.traced("exclusive"));
+}
+
+}  // namespace
+}  // namespace gport::sim

@@ -1,0 +1,353 @@
+#!/bin/bash
+# The steps of the systemd end-to-end test. scripts/systemd-e2e.sh boots a
+# fresh Debian 12 root with systemd-nspawn and runs this there as a unit of
+# the container's systemd, as root, with the package and this script in
+# /mnt. Each check prints PASS or FAIL and what it checked; a failure also
+# prints the journal of gportd and of the simulated gimbals. At the end,
+# `systemctl exit` hands the result to nspawn (0: every check passed).
+set -u
+export DEBIAN_FRONTEND=noninteractive LC_ALL=C.UTF-8 PATH=/usr/sbin:/usr/bin:/sbin:/bin
+export SYSTEMD_COLORS=0 SYSTEMD_PAGER=
+cd /mnt || exit 2
+deb=$(ls /mnt/gportd_*.deb | head -n 1)
+socket=/run/gportd.sock
+t0=$(date +%s)
+passes=0
+failures=0
+
+finish() {
+    local rc=0
+    [ "$failures" -eq 0 ] || rc=1
+    if [ "$failures" -gt 0 ]; then
+        echo "---- journal of gportd*, gimbal* and systemd about them (last 80 entries)"
+        journalctl --no-pager -q -n 80 -o short-monotonic -u 'gportd*' -u 'gimbal*' | sed 's/^/      | /'
+    fi
+    echo "== $passes checks passed, $failures failed, in $(($(date +%s) - t0)) s inside the container"
+    systemctl exit "$rc"
+}
+trap finish EXIT
+
+step() { echo "---- $*"; }
+pass() {
+    echo "PASS  $*"
+    passes=$((passes + 1))
+}
+# fail WHAT [DETAIL]: the journal follows at the end.
+fail() {
+    echo "FAIL  $1"
+    [ -n "${2:-}" ] && printf '%s\n' "$2" | tail -n 20 | sed 's/^/      | /'
+    failures=$((failures + 1))
+}
+# check WHAT COMMAND...: PASS when COMMAND succeeds, else FAIL with its output.
+check() {
+    local what=$1 out
+    shift
+    if out=$("$@" 2>&1); then
+        pass "$what"
+    else
+        fail "$what" "$out"
+    fi
+}
+# eventually SECONDS COMMAND...: polls COMMAND every 0.2 s until it succeeds.
+eventually() {
+    local tries=$(($1 * 5))
+    shift
+    for _ in $(seq "$tries"); do
+        "$@" >/dev/null 2>&1 && return 0
+        sleep 0.2
+    done
+    "$@"
+}
+# A background child that exited but was not reaped yet still answers kill -0.
+gone() { [ ! -e "/proc/$1" ] || [ "$(cut -d' ' -f3 "/proc/$1/stat")" = Z ]; }
+# The journal's current end, for --after-cursor.
+journal_mark() { journalctl -q -n 1 --show-cursor -o cat | sed -n 's/^-- cursor: //p'; }
+main_pid() { systemctl show -p MainPID --value "${1:-gportd.service}"; }
+active() { [ "$(systemctl is-active "$1")" = active ]; }
+inactive() { [ "$(systemctl is-active "$1")" != active ]; }
+as_user() {
+    local user=$1
+    shift
+    setpriv --reuid="$user" --regid="$user" --init-groups -- "$@"
+}
+link_up() { gportctl --socket "${1:-$socket}" status | grep -q '^link: *up'; }
+# Trace lines of a simulated gimbal (a transient unit; its stdout is the journal).
+sim_trace() { journalctl --no-pager -q -o cat -u "$1"; }
+sim_traced() { sim_trace "$1" | grep -q -- "$2"; }
+last_speed() { sim_trace "$1" | grep '"mode":"speed"' | tail -n 1; }
+
+# start_sim UNIT LINK: gport-sim on a pty linked at LINK, the pty root:dialout
+# 0660 as udev makes a real adapter.
+start_sim() {
+    systemd-run --quiet --unit="$1" /usr/bin/gport-sim --link "$2" --trace ||
+        { fail "gport-sim $1 on $2 did not start"; return 1; }
+    eventually 10 test -L "$2" || { fail "gport-sim $1 made no link $2"; return 1; }
+    local slave
+    slave=$(readlink -f "$2")
+    chown root:dialout "$slave" && chmod 0660 "$slave"
+}
+
+# This machine's /dev/null is 0644 and nspawn copies its mode; make it 0666
+# as on any Debian system, or the daemon's sandbox probes would fail on it.
+chmod 0666 /dev/null
+
+# ---- 0 -----------------------------------------------------------------------
+step "0. a root with nothing of ours"
+check "no gportd user, no gport group, no /etc/gportd, no gportd units, no /run/gportd.sock" \
+    sh -c "! getent passwd gportd && ! getent group gport && [ ! -e /etc/gportd ] \
+           && ! systemctl cat gportd.service >/dev/null 2>&1 && [ ! -e $socket ]"
+check "systemd $(systemctl --version | head -n 1 | cut -d' ' -f2) is PID 1 and the system is up" \
+    sh -c '[ "$(ps -o comm= -p 1)" = systemd ] && systemctl is-system-running --wait | grep -Eq "running|degraded"'
+
+# ---- 1 -----------------------------------------------------------------------
+step "1. apt-get install ./$(basename "$deb")"
+before=$(dpkg-query -W -f '${Package}\n' | sort)
+if out=$(apt-get install -y -q --no-install-recommends "$deb" 2>&1); then
+    added=$(comm -13 <(echo "$before") <(dpkg-query -W -f '${Package}\n' | sort) | grep -vx gportd | tr '\n' ' ')
+    pass "apt-get installed gportd and resolved its dependencies from Debian: ${added:-none needed}"
+else
+    fail "apt-get install $deb" "$out"
+fi
+check "gportd is configured, so its Depends are met ($(dpkg-deb -f "$deb" Depends)); apt-get check is clean" \
+    sh -c "[ \"\$(dpkg-query -W -f '\${Status}' gportd)\" = 'install ok installed' ] && apt-get check -q"
+check "user gportd (groups: $(id -nG gportd 2>/dev/null)) is in dialout; group gport exists" \
+    sh -c 'id -nG gportd | grep -qw dialout && getent group gport'
+check "gportd.socket and gportd.service are enabled, the socket is listening" \
+    sh -c 'systemctl is-enabled gportd.socket gportd.service && systemctl is-active gportd.socket'
+check "/etc/gportd/gportd.json is a conffile: $(dpkg-query -W -f '${Conffiles}' gportd | xargs)" \
+    sh -c "dpkg-query -W -f '\${Conffiles}' gportd | grep -q '/etc/gportd/gportd.json' && test -f /etc/gportd/gportd.json"
+
+# ---- 4 (the gimbal first, so that the daemon has one to serve) ----------------
+step "4. a simulated gimbal on /dev/gimbal"
+start_sim gimbal-sim /dev/gimbal
+check "gport-sim on /dev/gimbal -> $(readlink /dev/gimbal), root:dialout 0660 as udev makes an adapter" \
+    sh -c '[ "$(stat -L -c "%U:%G %a" /dev/gimbal)" = "root:dialout 660" ]'
+
+# ---- 2 -----------------------------------------------------------------------
+step "2. socket activation"
+systemctl stop gportd.service 2>/dev/null  # postinst started it; the socket stays
+check "gportd.service stopped, gportd.socket listening on $socket ($(stat -c '%U:%G %a' $socket 2>/dev/null))" \
+    sh -c "! systemctl is-active gportd.service && systemctl is-active gportd.socket \
+           && [ \"\$(stat -c '%U:%G %a' $socket)\" = 'root:gport 660' ]"
+mark=$(journal_mark)
+check "the first client (gportctl status) started the daemon and was answered" \
+    sh -c "gportctl status >/dev/null && systemctl is-active gportd.service"
+pid=$(main_pid)
+# READY=1 only once it serves: the daemon's "serving clients" entry comes
+# before systemd's "Started" one, and the service was "activating" till then.
+ready_order() {
+    journalctl --no-pager -q -o cat --after-cursor="$mark" -u gportd.service |
+        grep -E 'serving clients on the socket passed by systemd|Started gportd.service' |
+        head -n 2 | tr '\n' '|' | grep -q '^serving clients.*|Started gportd.service'
+}
+check "READY only once it serves: 'serving clients' logged before systemd's 'Started' (Type=notify)" \
+    eventually 5 ready_order
+check "the link comes up with gport-sim" eventually 15 link_up
+status_text() { systemctl show -p StatusText --value gportd.service | grep -q 'link up'; }
+eventually 10 status_text
+check "systemctl status shows the STATUS text: $(systemctl status gportd.service | grep -m1 'Status:' | xargs)" \
+    sh -c "systemctl status gportd.service | grep -q 'Status: \"/dev/gimbal: link up'"
+
+# ---- 3 -----------------------------------------------------------------------
+step "3. the sandbox is in force"
+check "the daemon (pid $pid) runs as $(ps -o user= -p "$pid"):$(ps -o group= -p "$pid") with no capabilities" \
+    sh -c "[ \"\$(ps -o user= -p $pid)\" = gportd ] && grep -q '^CapEff:[[:space:]]*0*$' /proc/$pid/status"
+check "in its mount namespace even root cannot write /etc, /usr, /var, /run (read-only file system)" \
+    sh -c "for d in /etc /usr /var /run; do
+               if nsenter -t $pid -m -r -w -- sh -c \": >\$d/.e2e-probe\" 2>/dev/null; then echo \"wrote \$d\"; exit 1; fi
+           done"
+# The same properties as the unit, read from the installed unit file, on a
+# transient service: what the daemon could write or open.
+mapfile -t properties < <(systemctl cat gportd.service | sed -n '/^User=/,/^\[Install\]/p' | grep -E '^[A-Za-z]+=')
+sandbox_args=()
+for p in "${properties[@]}"; do sandbox_args+=(-p "$p"); done
+in_sandbox() { systemd-run --quiet --wait --pipe --collect "${sandbox_args[@]}" -- "$@"; }
+writable=$(in_sandbox sh -c 'find / \( -path /proc -o -path /sys \) -prune -o -type d -writable -print 2>/dev/null' 2>&1 |
+    grep -Evx '/tmp|/var/tmp')
+if [ -z "$writable" ]; then
+    pass "as gportd with the unit's ${#properties[@]} sandbox properties (systemd-run), no directory is writable but the private /tmp and /var/tmp"
+else
+    fail "as gportd with the unit's sandbox properties, directories beyond the private /tmp and /var/tmp are writable" "$writable"
+fi
+other_device=
+for d in /dev/net/tun /dev/fuse; do [ -c "$d" ] && other_device=$d && break; done
+if [ -n "$other_device" ]; then
+    chmod 0666 "$other_device"  # so that only the sandbox, not the file mode, can refuse it
+    check "gportd outside the sandbox opens $other_device (the control)" \
+        as_user gportd sh -c "exec 3<>$other_device"
+    opened=$(in_sandbox sh -c "exec 3<>$other_device && echo opened" 2>&1)
+    if [ "$opened" != opened ] && printf '%s' "$opened" | grep -q 'Operation not permitted'; then
+        pass "inside the sandbox, $other_device (not a serial device) is refused: $(printf '%s' "$opened" | tail -n 1)"
+    else
+        fail "inside the sandbox, $other_device must be refused (DevicePolicy=closed)" "$opened"
+    fi
+else
+    fail "no non-serial device to try (/dev/net/tun, /dev/fuse) in this container"
+fi
+check "inside the sandbox, /dev/null still opens (DevicePolicy=closed keeps the pseudo devices)" \
+    in_sandbox sh -c 'exec 3<>/dev/null'
+score=$(systemd-analyze security gportd.service 2>&1 | sed -n 's/.*Overall exposure level for gportd.service: *\([0-9.]*\).*/\1/p')
+if [ -n "$score" ] && awk -v s="$score" 'BEGIN { exit !(s <= 1.0) }'; then
+    pass "systemd-analyze security gportd.service (online): exposure $score <= 1.0"
+else
+    fail "systemd-analyze security gportd.service (online): exposure ${score:-unknown} > 1.0" \
+        "$(systemd-analyze security gportd.service 2>&1 | grep -v '^  ✓')"
+fi
+
+# ---- 4 -----------------------------------------------------------------------
+step "4. commands: a user in group gport moves the gimbal, others are refused"
+useradd --no-create-home --groups gport alice
+useradd --no-create-home bob
+check "alice (in gport): gportctl speed --yaw 12 --for 1s is accepted" \
+    as_user alice gportctl speed --yaw 12 --for 1s
+check "gport-sim received alice's speed (0x85, yaw 1200 = 12 deg/s)" \
+    eventually 5 sim_traced gimbal-sim '"mode":"speed","speed":\[0,0,1200\]'
+out=$(as_user bob gportctl status 2>&1)
+rc=$?
+if [ "$rc" -eq 69 ] && printf '%s' "$out" | grep -qi 'permission denied'; then
+    pass "bob (not in gport) is refused by the socket's mode: exit $rc, $(printf '%s' "$out" | head -n 1)"
+else
+    fail "bob (not in gport) must be refused by the socket's mode (got exit $rc)" "$out"
+fi
+
+# ---- 5 -----------------------------------------------------------------------
+step "5. watchdog and restarts"
+check "WatchdogSec is $(systemctl show -p WatchdogUSec --value gportd.service) and the daemon logged its pings" \
+    sh -c "[ \"\$(systemctl show -p WatchdogUSec --value gportd.service)\" = 10s ] \
+           && journalctl -q -o cat -u gportd.service _PID=$pid | grep -q 'watchdog enabled'"
+restarted_from() { local p; p=$(main_pid); [ "$p" != 0 ] && [ "$p" != "$1" ] && active gportd.service; }
+old=$(main_pid)
+kill -STOP "$old"
+watchdog_fired() { journalctl -q -o cat -u gportd.service | grep -q 'Watchdog timeout'; }
+if eventually 40 restarted_from "$old" && eventually 5 watchdog_fired; then
+    pass "frozen (SIGSTOP) pid $old: systemd's watchdog killed it and restarted it as pid $(main_pid) \
+($(journalctl -q -o cat -u gportd.service | grep -m1 -o 'Watchdog timeout[^!]*'))"
+else
+    fail "frozen (SIGSTOP) pid $old was not restarted by the watchdog within 40 s"
+fi
+check "the restarted daemon serves the same socket and gets the link back" eventually 15 link_up
+old=$(main_pid)
+kill -KILL "$old"
+if eventually 20 restarted_from "$old"; then
+    pass "killed (SIGKILL) pid $old: restarted as pid $(main_pid)"
+else
+    fail "killed (SIGKILL) pid $old was not restarted within 20 s"
+fi
+check "after kill -9 the new daemon reopens /dev/gimbal and the link is up (gport-sim: $(sim_trace gimbal-sim | grep -o '"event":"\(exclusive_cleared\|pty_replaced\)"' | sort | uniq -c | xargs))" \
+    eventually 15 link_up
+
+# ---- 6 -----------------------------------------------------------------------
+step "6. journald fields"
+journal_json() { journalctl --no-pager -q -o json -u gportd.service; }
+check "entries carry PRIORITY, GPORT_DEVICE=/dev/gimbal and GPORT_LINK" \
+    sh -c "journalctl --no-pager -q -o json -u gportd.service | grep '\"PRIORITY\":\"[0-9]\"' \
+           | grep '\"GPORT_DEVICE\":\"/dev/gimbal\"' | grep -q '\"GPORT_LINK\":\"[a-z]*\"'"
+alice=$(id -u alice)
+check "alice's motion is logged with GPORT_CLIENT_PID, GPORT_CLIENT_UID=$alice and GPORT_CLIENT_ID" \
+    sh -c "journalctl --no-pager -q -o json -u gportd.service | grep '\"MESSAGE\":\"motion ' \
+           | grep '\"GPORT_CLIENT_UID\":\"$alice\"' | grep '\"GPORT_CLIENT_PID\":\"[0-9]*\"' \
+           | grep -q '\"GPORT_CLIENT_ID\":\"[0-9]*\"'"
+
+# ---- 7 -----------------------------------------------------------------------
+step "7. reload, stop, two instances"
+as_user alice gportctl watch attitude --rate 5 >/tmp/watch.out 2>&1 &
+watcher=$!
+eventually 5 test -s /tmp/watch.out
+pid=$(main_pid)
+mark=$(journal_mark)
+check "systemctl reload (SIGHUP) reloads the configuration" systemctl reload gportd.service
+lines=$(wc -l </tmp/watch.out)
+grew() { [ "$(wc -l </tmp/watch.out)" -gt "$1" ]; }
+reloaded() {
+    [ "$(main_pid)" = "$pid" ] && ! gone "$watcher" &&
+        journalctl -q -o cat --after-cursor="$mark" -u gportd.service | grep -q 'reloaded configuration'
+}
+check "after the reload: same pid $pid, the watching client still connected, 'reloaded configuration' logged" \
+    eventually 5 reloaded
+check "the watching client still receives attitude after the reload" eventually 5 grew "$lines"
+kill "$watcher" 2>/dev/null
+wait "$watcher" 2>/dev/null
+
+as_user alice gportctl speed --yaw 15 --for 60s >/dev/null 2>&1 &
+mover=$!
+check "alice's 60 s motion reached the gimbal (yaw 1500)" \
+    eventually 5 sim_traced gimbal-sim '"speed":\[0,0,1500\]'
+systemctl stop gportd.service
+check "systemctl stop: the last speed the gimbal got is zero ($(last_speed gimbal-sim))" \
+    sh -c "journalctl -q -o cat -u gimbal-sim | grep '\"mode\":\"speed\"' | tail -n 1 | grep -q '\"speed\":\[0,0,0\]'"
+check "the daemon exited cleanly (Result=$(systemctl show -p Result --value gportd.service)); gportd.socket and $socket stay" \
+    sh -c "[ \"\$(systemctl show -p Result --value gportd.service)\" = success ] \
+           && systemctl is-active gportd.socket && [ -S $socket ]"
+kill "$mover" 2>/dev/null
+wait "$mover" 2>/dev/null
+
+start_sim gimbal0-sim /dev/gimbal0
+start_sim gimbal1-sim /dev/gimbal1
+systemctl start gportd@gimbal0.socket gportd@gimbal1.socket
+check "gportd@gimbal0 and gportd@gimbal1 both bring their link up, on /run/gportd-gimbal0.sock and -gimbal1.sock" \
+    sh -c "for i in 0 1; do
+               for _ in \$(seq 75); do
+                   gportctl --socket /run/gportd-gimbal\$i.sock status 2>/dev/null | grep -q '^link: *up' && break
+                   sleep 0.2
+               done
+               gportctl --socket /run/gportd-gimbal\$i.sock status | grep -q '^link: *up' || exit 1
+           done"
+check "two daemons (pids $(main_pid gportd@gimbal0.service) and $(main_pid gportd@gimbal1.service)), each on its own device" \
+    sh -c "[ \"\$(systemctl show -p MainPID --value gportd@gimbal0.service)\" != \
+             \"\$(systemctl show -p MainPID --value gportd@gimbal1.service)\" ] \
+           && journalctl -q -o json -u gportd@gimbal1.service | grep -q '\"GPORT_DEVICE\":\"/dev/gimbal1\"' \
+           && journalctl -q -o json -u gportd@gimbal0.service | grep -q '\"GPORT_DEVICE\":\"/dev/gimbal0\"'"
+check "alice moves gimbal1 through its own socket" \
+    sh -c "setpriv --reuid=alice --regid=alice --init-groups -- gportctl --socket /run/gportd-gimbal1.sock speed --pitch 5 --for 1s"
+check "only gimbal1's simulator got that speed" \
+    sh -c "journalctl -q -o cat -u gimbal1-sim | grep -q '\"speed\":\[0,500,0\]' \
+           && ! journalctl -q -o cat -u gimbal0-sim | grep -q '\"speed\":\[0,500,0\]'"
+
+# ---- 8 -----------------------------------------------------------------------
+step "8. upgrade with a client connected, remove, purge"
+check "the daemon is back by socket activation with the link up" eventually 15 link_up
+as_user alice gportctl watch link >/tmp/watch-upgrade.out 2>&1 &
+watcher=$!
+sleep 0.5
+old=$(main_pid)
+if out=$(apt-get install -y -q --reinstall "$deb" 2>&1); then
+    pass "apt-get install --reinstall $(basename "$deb") with a client connected"
+else
+    fail "apt-get install --reinstall $(basename "$deb")" "$out"
+fi
+restarted_cleanly() {
+    restarted_from "$old" && journalctl -q -o cat -u gportd.service _PID="$old" | grep -q 'gportd stopped'
+}
+check "postinst restarted the daemon (pid $old -> $(main_pid)); the old one stopped cleanly" \
+    eventually 5 restarted_cleanly
+check "the connected client was let go (the old daemon closed it)" eventually 5 gone "$watcher"
+check "the new daemon serves the same socket and the link is up" eventually 15 link_up
+check "the instances were restarted too and serve again" \
+    eventually 15 link_up /run/gportd-gimbal1.sock
+
+if out=$(apt-get remove -y -q gportd 2>&1); then
+    pass "apt-get remove gportd"
+else
+    fail "apt-get remove gportd" "$out"
+fi
+check "remove stopped every unit and daemon, the sockets are gone, the config stays" \
+    sh -c "for u in gportd.service gportd.socket gportd@gimbal0.service gportd@gimbal1.socket; do
+               ! systemctl is-active \$u || { echo \"\$u still active\"; exit 1; }
+           done
+           ! pgrep -x gportd && [ ! -e $socket ] && [ ! -e /run/gportd-gimbal1.sock ] \
+           && [ -f /etc/gportd/gportd.json ] && [ ! -e /usr/bin/gportd ]"
+if out=$(apt-get purge -y -q gportd 2>&1); then
+    pass "apt-get purge gportd"
+else
+    fail "apt-get purge gportd" "$out"
+fi
+check "purge removed /etc/gportd and the package's record; the gportd user stays (Debian policy)" \
+    sh -c "[ ! -e /etc/gportd ] && ! dpkg -s gportd >/dev/null 2>&1 && getent passwd gportd >/dev/null"
+
+# ---- 9 -----------------------------------------------------------------------
+step "9. gport-mavlink"
+if dpkg-deb -c "$deb" | grep -q 'gport-mavlink'; then
+    fail "the package has gport-mavlink, which this test does not cover yet"
+else
+    echo "SKIP  gport-mavlink is not in this package"
+fi
