@@ -7,17 +7,13 @@
 #include <cmath>
 #include <cstdint>
 
+#include "limit_axes.hpp"
+
 namespace gport::daemon {
 namespace {
 
-struct Axis {
-    const char* name;
-    std::int16_t protocol::Axes::*member;
-};
-
-constexpr std::array<Axis, 3> kAxes = {Axis{"roll", &protocol::Axes::roll},
-                                       Axis{"pitch", &protocol::Axes::pitch},
-                                       Axis{"yaw", &protocol::Axes::yaw}};
+using detail::degrees;
+using detail::kLimitAxes;
 
 // Degrees to 0.01 units, the unit of the commands.
 std::int16_t centi(double degrees) {
@@ -25,21 +21,12 @@ std::int16_t centi(double degrees) {
     return static_cast<std::int16_t>(std::clamp<long>(c, -32767, 32767));
 }
 
-double degrees(std::int16_t centi) {
-    return static_cast<double>(centi) / 100.0;
-}
-
-const config::AxisRange& range_of(const config::LimitsConfig& c, const Axis& axis) {
-    const std::string_view name = axis.name;
-    return name == "roll" ? c.roll : name == "pitch" ? c.pitch : c.yaw;
-}
-
 }  // namespace
 
 Outcome<Limited> MotionLimits::angle(protocol::Axes target, bool clamp) const {
     Limited out{target, {}};
-    for (const auto& axis : kAxes) {
-        const auto& range = range_of(config_, axis);
+    for (const auto& axis : kLimitAxes) {
+        const auto& range = config_.*axis.range;
         const auto low = centi(range.min);
         const auto high = centi(range.max);
         auto& value = out.axes.*axis.member;
@@ -62,7 +49,7 @@ Outcome<Limited> MotionLimits::angle(protocol::Axes target, bool clamp) const {
 Outcome<Limited> MotionLimits::speed(protocol::Axes speed, bool clamp) const {
     Limited out{speed, {}};
     const auto max = centi(config_.max_speed);
-    for (const auto& axis : kAxes) {
+    for (const auto& axis : kLimitAxes) {
         auto& value = out.axes.*axis.member;
         if (std::abs(value) <= max) {
             continue;

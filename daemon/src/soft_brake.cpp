@@ -7,23 +7,13 @@
 #include <cstdint>
 #include <optional>
 
+#include "limit_axes.hpp"
+
 namespace gport::daemon {
 namespace {
 
-struct Axis {
-    const char* name;
-    std::int16_t protocol::Axes::*member;
-    config::AxisRange config::LimitsConfig::*range;
-};
-
-constexpr std::array<Axis, 3> kAxes = {
-    Axis{"roll", &protocol::Axes::roll, &config::LimitsConfig::roll},
-    Axis{"pitch", &protocol::Axes::pitch, &config::LimitsConfig::pitch},
-    Axis{"yaw", &protocol::Axes::yaw, &config::LimitsConfig::yaw}};
-
-double degrees(std::int16_t centi) {
-    return static_cast<double>(centi) / 100.0;
-}
+using detail::degrees;
+using detail::kLimitAxes;
 
 // The side of `range` that a motion at `speed` approaches, if it is
 // narrowed (the defaults, ±327.67, are the protocol's end: no limit).
@@ -41,7 +31,7 @@ std::optional<double> approached_side(const config::AxisRange& range, std::int16
 
 std::vector<std::string> SoftBrake::needs_attitude(protocol::Axes speed) const {
     std::vector<std::string> out;
-    for (const auto& axis : kAxes) {
+    for (const auto& axis : kLimitAxes) {
         if (approached_side(limits_.*axis.range, speed.*axis.member)) {
             out.emplace_back(axis.name);
         }
@@ -56,7 +46,7 @@ double SoftBrake::distance(double speed_deg_s, Millis age) const {
 
 Braked SoftBrake::apply(protocol::Axes speed, const protocol::Axes& hall, Millis age) const {
     Braked out{speed, {}};
-    for (const auto& axis : kAxes) {
+    for (const auto& axis : kLimitAxes) {
         auto& value = out.speed.*axis.member;
         const auto side = approached_side(limits_.*axis.range, value);
         if (!side) {
@@ -79,7 +69,7 @@ bool moves(const protocol::Axes& speed) {
 std::vector<std::string> merged(const std::vector<std::string>& a,
                                 const std::vector<std::string>& b) {
     std::vector<std::string> out;
-    for (const auto& axis : kAxes) {
+    for (const auto& axis : kLimitAxes) {
         const auto in = [&](const std::vector<std::string>& v) {
             return std::find(v.begin(), v.end(), axis.name) != v.end();
         };
