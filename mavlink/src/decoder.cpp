@@ -18,8 +18,7 @@ bool checksum_ok(const std::uint8_t* p, std::size_t covered, std::uint8_t crc_ex
 }  // namespace
 
 void Decoder::reset() {
-    discard(held_);
-    held_ = 0;
+    discard(carry_.clear());
 }
 
 void Decoder::discard(std::size_t count) {

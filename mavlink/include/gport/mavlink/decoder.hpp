@@ -30,6 +30,7 @@
 #include <cstring>
 #include <span>
 
+#include "gport/base/carry_buffer.hpp"
 #include "gport/mavlink/frame.hpp"
 
 namespace gport::mavlink {
@@ -56,7 +57,7 @@ class Decoder {
 
     const DecoderStats& stats() const { return stats_; }
     // Bytes held back as the start of a possible frame (< kMaxFrameSize).
-    std::size_t pending() const { return held_; }
+    std::size_t pending() const { return carry_.held(); }
     // Forgets any partial frame (e.g. after the link was reopened); keeps stats.
     void reset();
 
@@ -74,8 +75,7 @@ class Decoder {
     void accepted();
 
     static constexpr std::size_t kBufferSize = 2 * kMaxFrameSize;
-    std::array<std::uint8_t, kBufferSize> buffer_{};
-    std::size_t held_ = 0;
+    base::CarryBuffer<kBufferSize> carry_;
     bool in_garbage_ = false;
     DecoderStats stats_{};
 };
@@ -132,27 +132,7 @@ std::size_t Decoder::scan(const std::uint8_t* p, std::size_t n, Sink& sink) {
 template <typename Sink>
 void Decoder::feed(std::span<const std::uint8_t> input, Sink&& sink) {
     stats_.bytes += input.size();
-    const std::uint8_t* in = input.data();
-    std::size_t left = input.size();
-    // A held partial frame is completed in the buffer; once the buffer is
-    // empty, the input is scanned in place and only its tail is copied. A
-    // held tail is always shorter than a frame, so every pass consumes bytes.
-    while (left > 0) {
-        if (held_ == 0) {
-            const std::size_t used = scan(in, left, sink);
-            held_ = left - used;
-            std::memcpy(buffer_.data(), in + used, held_);
-            return;
-        }
-        const std::size_t take = std::min(left, kBufferSize - held_);
-        std::memcpy(buffer_.data() + held_, in, take);
-        in += take;
-        left -= take;
-        const std::size_t total = held_ + take;
-        const std::size_t used = scan(buffer_.data(), total, sink);
-        held_ = total - used;
-        std::memmove(buffer_.data(), buffer_.data() + used, held_);
-    }
+    carry_.feed(input, [&](const std::uint8_t* p, std::size_t n) { return scan(p, n, sink); });
 }
 
 }  // namespace gport::mavlink

@@ -19,6 +19,7 @@
 #include <cstring>
 #include <span>
 
+#include "gport/base/carry_buffer.hpp"
 #include "gport/protocol/crc32.hpp"
 #include "gport/protocol/frame.hpp"
 
@@ -41,7 +42,7 @@ class Decoder {
 
     const DecoderStats& stats() const { return stats_; }
     // Bytes held back as the start of a possible frame (at most kMaxFrameSize - 1).
-    std::size_t pending() const { return held_; }
+    std::size_t pending() const { return carry_.held(); }
     // Forgets any partial frame (e.g. after the device was reopened); keeps stats.
     void reset();
 
@@ -55,8 +56,7 @@ class Decoder {
     std::size_t skip_garbage(const std::uint8_t* p, std::size_t i, std::size_t n);
 
     static constexpr std::size_t kBufferSize = 2 * kMaxFrameSize;
-    std::array<std::uint8_t, kBufferSize> buffer_{};
-    std::size_t held_ = 0;
+    base::CarryBuffer<kBufferSize> carry_;
     bool in_garbage_ = false;
     DecoderStats stats_{};
 };
@@ -64,8 +64,7 @@ class Decoder {
 // ---- implementation --------------------------------------------------------
 
 inline void Decoder::reset() {
-    discard(held_);
-    held_ = 0;
+    discard(carry_.clear());
 }
 
 inline void Decoder::discard(std::size_t count) {
@@ -199,27 +198,7 @@ std::size_t Decoder::scan(const std::uint8_t* p, std::size_t n, Sink& sink) {
 template <typename Sink>
 void Decoder::feed(std::span<const std::uint8_t> input, Sink&& sink) {
     stats_.bytes += input.size();
-    const std::uint8_t* in = input.data();
-    std::size_t left = input.size();
-    // A held partial frame is completed in the buffer; once the buffer is
-    // empty, the input is scanned in place and only its tail is copied. A
-    // held tail is always shorter than a frame, so every pass consumes bytes.
-    while (left > 0) {
-        if (held_ == 0) {
-            const std::size_t used = scan(in, left, sink);
-            held_ = left - used;
-            std::memcpy(buffer_.data(), in + used, held_);
-            return;
-        }
-        const std::size_t take = std::min(left, kBufferSize - held_);
-        std::memcpy(buffer_.data() + held_, in, take);
-        in += take;
-        left -= take;
-        const std::size_t total = held_ + take;
-        const std::size_t used = scan(buffer_.data(), total, sink);
-        held_ = total - used;
-        std::memmove(buffer_.data(), buffer_.data() + used, held_);
-    }
+    carry_.feed(input, [&](const std::uint8_t* p, std::size_t n) { return scan(p, n, sink); });
 }
 
 }  // namespace gport::protocol
