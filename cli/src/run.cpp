@@ -55,11 +55,38 @@ class Runner {
             return kExitUnavailable;
         }
         if (reply->contains("error")) {
-            err_ << "gportctl: " << format_error((*reply)["error"]) << "\n";
+            const auto& error = (*reply)["error"];
+            if (auto usage = option_refusal(error)) {
+                err_ << "gportctl: " << *usage << "\nTry 'gportctl " << inv_.command
+                     << " --help'.\n";
+                return kExitUsage;
+            }
+            err_ << "gportctl: " << format_error(error) << "\n";
             return kExitError;
         }
         result = reply->value("result", json());
         return kExitOk;
+    }
+
+    // gportd's keepalive.max_duration_ms is known only to the daemon: its
+    // refusal of a duration or lease is a usage error naming the option typed.
+    static std::optional<std::string> option_refusal(const json& error) {
+        const std::string message = error.value("message", "");
+        if (error.value("code", 0) != -32602) {
+            return std::nullopt;
+        }
+        for (const auto& [param, option] :
+             {std::pair{"duration_ms = ", "--for"}, std::pair{"lease_ms = ", "--lease"}}) {
+            const auto allowed = message.find("; allowed ");
+            if (message.starts_with(param) && allowed != std::string::npos) {
+                const auto value = message.substr(std::string_view(param).size());
+                return fmt::format(
+                    "{}: {} ms is longer than gportd allows: {} ms "
+                    "(its keepalive.max_duration_ms)",
+                    option, value.substr(0, value.find(' ')), message.substr(allowed + 10));
+            }
+        }
+        return std::nullopt;
     }
 
     void print(const json& result) {
@@ -219,7 +246,7 @@ int main_with(const std::vector<std::string>& args, const char* env_socket, std:
     }
     const auto& invocation = *parsed;
     if (invocation.help) {
-        out << usage(invocation.command);
+        out << invocation.text;
         return kExitOk;
     }
     return run(invocation, out, err, std::move(interrupted));

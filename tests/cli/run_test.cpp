@@ -139,6 +139,25 @@ TEST_F(RunTest, DaemonErrorsExitOneWithTheCode) {
     EXPECT_THAT(busy.err, HasSubstr("error -32003: another client holds control (pid 99)"));
 }
 
+TEST_F(RunTest, ADurationOverTheDaemonsLimitIsAUsageErrorNamingTheOption) {
+    // The daemon's keepalive.max_duration_ms is known only to it (the core's wording).
+    h_.on_io([&] {
+        h_.api.error = daemon::CommandError{daemon::ErrorCode::kInvalidParams,
+                                            "duration_ms = 120000 is out of range; allowed 1 "
+                                            "to 60000"};
+    });
+    auto ran = run({"speed", "--yaw", "5", "--for", "2m"});
+    EXPECT_EQ(ran.status, kExitUsage);
+    EXPECT_THAT(ran.err, HasSubstr("--for: 120000 ms is longer than gportd allows: 1 to 60000 ms "
+                                   "(its keepalive.max_duration_ms)"));
+    h_.on_io([&] {
+        h_.api.error = daemon::CommandError{daemon::ErrorCode::kInvalidParams,
+                                            "lease_ms = 90000 is out of range; allowed 1 to 60000"};
+    });
+    EXPECT_THAT(run({"speed", "--yaw", "5", "--lease", "90s", "--for", "1s"}).err,
+                HasSubstr("--lease: 90000 ms is longer than gportd allows"));
+}
+
 TEST_F(RunTest, SettingsGetAndSet) {
     auto got = run({"settings"});
     EXPECT_EQ(got.status, kExitOk);
