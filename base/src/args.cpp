@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <functional>
 #include <map>
 
 #include "gport/version.hpp"
@@ -45,6 +46,7 @@ void configure(CLI::App& app, std::string_view exit_statuses) {
     app.set_version_flag("--version", app.get_name() + " " + std::string(kVersion),
                          "print the version and exit");
     app.fallthrough();
+    app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     app.footer(std::string(exit_statuses) + "\n");
 }
 
@@ -129,6 +131,29 @@ CLI::Validator one_of(std::vector<std::string> names) {
             return {};
         },
         fmt::format("{}", fmt::join(names, "|")));
+}
+
+std::string leftover_problem(const CLI::App& app) {
+    const auto extras = app.remaining();
+    if (extras.empty()) {
+        return {};
+    }
+    const auto& first = extras.front();
+    if (!first.starts_with("-")) {
+        return fmt::format("unexpected argument \"{}\"; {} takes only options", first,
+                           app.get_name());
+    }
+    std::vector<std::string> names;
+    for (const auto* option : app.get_options()) {
+        names.push_back(option->get_name());
+    }
+    return fmt::format("unknown option {}; the options are {}", first.substr(0, first.find('=')),
+                       fmt::join(names, ", "));
+}
+
+CLI::Validator check_with(std::function<std::optional<std::string>(std::string_view)> check) {
+    return CLI::Validator(
+        [check](std::string& text) -> std::string { return check(text).value_or(""); }, "");
 }
 
 std::string message_of(const CLI::ParseError& error) {

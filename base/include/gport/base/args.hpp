@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -15,7 +16,8 @@ namespace gport::args {
 
 // Sets the conventions on `app`: --help/-h, --version printing
 // "<name> <version>", options after a subcommand reaching its parents,
-// and `exit_statuses` as the help footer.
+// the last of a repeated option winning, and `exit_statuses` as the help
+// footer.
 void configure(CLI::App& app, std::string_view exit_statuses);
 
 // "2s", "500ms", "1.5s", "2m", "1h" -> milliseconds (at least 1 ms); nullopt
@@ -34,6 +36,15 @@ CLI::Validator duration_in(std::chrono::milliseconds min, std::chrono::milliseco
 
 // One of `names`: "maybe: expected on or off" / "expected one of a, b, c".
 CLI::Validator one_of(std::vector<std::string> names);
+
+// What is wrong with the arguments CLI11 left over (the app allows extras
+// so that they are named here): "unknown option --x; the options are ..."
+// or "unexpected argument \"x\"; <program> takes only options". Empty when
+// nothing is left.
+std::string leftover_problem(const CLI::App& app);
+
+// A CLI11 check from a function that returns the problem with a value, if any.
+CLI::Validator check_with(std::function<std::optional<std::string>(std::string_view)> check);
 
 // One line for a usage error: what CLI11 found wrong, in our words where
 // CLI11's are unclear.
