@@ -23,7 +23,8 @@ std::optional<std::string> check_config_path(std::string_view path) {
 class Parser {
   public:
     Parser()
-        : app_("Serves a G-Port camera gimbal to local clients over a Unix socket.", "gportd") {
+        : app_("gportd serves a G-Port camera gimbal to local clients over a Unix socket.",
+               "gportd") {
         args::configure(app_, fmt::format("Options with a value also take the form "
                                           "--option=VALUE. Command-line values\n"
                                           "override the config file.\n\n"
