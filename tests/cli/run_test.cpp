@@ -26,11 +26,12 @@ struct Ran {
 class RunTest : public ::testing::Test {
   protected:
     Ran run(
-        std::vector<std::string> args, std::function<bool()> interrupted = [] { return false; }) {
+        std::vector<std::string> args, std::function<bool()> interrupted = [] { return false; },
+        bool tty = false) {
         args.insert(args.begin(), {"--socket", h_.path()});
         out_.str("");
         std::ostringstream err;
-        const int status = main_with(args, nullptr, out_, err, std::move(interrupted));
+        const int status = main_with(args, nullptr, out_, err, std::move(interrupted), tty);
         return {status, out_.str(), err.str()};
     }
 
@@ -222,6 +223,73 @@ TEST_F(RunTest, SpeedForADurationWaitsForTheMotionToEnd) {
     EXPECT_EQ(ran.status, kExitOk) << ran.err;
     EXPECT_THAT(ran.out, HasSubstr("moving for 3000 ms"));
     EXPECT_THAT(calls().back(), HasSubstr("speed 500 0 0 3000"));
+}
+
+// Publishes an attitude sample and ends the motion once gportctl has started it.
+class SpeedForProgress : public RunTest {
+  protected:
+    Ran speed_for(bool tty) {
+        bool ended = false;
+        return run(
+            {"speed", "--yaw", "5", "--for", "3s"},
+            [&] {
+                if (!ended && printed("moving for")) {
+                    ended = true;
+                    h_.on_io([&] {
+                        daemon::AttitudeSample sample;
+                        sample.attitude.hall = {0, 0, 1234};
+                        h_.api.observer->on_attitude(sample);
+                        daemon::MotionEvent event;
+                        event.change = daemon::MotionChange::kEnded;
+                        event.reason = daemon::EndReason::kDuration;
+                        h_.api.observer->on_motion(event);
+                    });
+                }
+                return false;
+            },
+            tty);
+    }
+};
+
+TEST_F(SpeedForProgress, PlainLinesThenTheEndReason) {
+    auto ran = speed_for(false);
+    EXPECT_EQ(ran.status, kExitOk) << ran.err;
+    EXPECT_THAT(ran.out, ::testing::StartsWith("moving for 3000 ms\nmoving "));
+    EXPECT_THAT(ran.out,
+                ::testing::EndsWith(
+                    "s of 3.0s  hall roll 0.00 pitch 0.00 yaw 12.34 deg\nended: duration\n"));
+    EXPECT_THAT(ran.out, ::testing::Not(HasSubstr("\r")));
+}
+
+TEST_F(SpeedForProgress, OneLineUpdatedInPlaceOnATerminal) {
+    auto ran = speed_for(true);
+    EXPECT_EQ(ran.status, kExitOk) << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("\rmoving "));
+    EXPECT_THAT(ran.out, HasSubstr("yaw 12.34 deg\x1b[K\nended: duration\n"));
+}
+
+TEST_F(RunTest, WatchEndsAfterCountEventsOrTheDuration) {
+    bool published = false;
+    auto counted = run({"watch", "link", "-n", "2"}, [&] {
+        if (!published && printed("watching")) {
+            published = true;
+            h_.on_io([&] {
+                for (int i = 0; i < 3; ++i) {
+                    h_.api.observer->on_link({daemon::LinkState::kStale, "no attitude"});
+                }
+            });
+        }
+        return false;
+    });
+    EXPECT_EQ(counted.status, kExitOk) << counted.err;
+    std::size_t lines = 0;
+    for (std::size_t at = 0; (at = counted.out.find("link      stale", at)) != std::string::npos;
+         ++at) {
+        ++lines;
+    }
+    EXPECT_EQ(lines, 2U) << counted.out;
+    auto timed = run({"watch", "link", "--for", "100ms"});
+    EXPECT_EQ(timed.status, kExitOk) << timed.err;
 }
 
 TEST_F(RunTest, SpeedForStopsWhenInterrupted) {
