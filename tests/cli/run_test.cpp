@@ -58,6 +58,16 @@ TEST_F(RunTest, StatusForPeopleAndForScripts) {
     auto script = run({"--json", "status"});
     ASSERT_EQ(script.status, kExitOk);
     EXPECT_EQ(json::parse(script.out)["clients"], 1);
+    EXPECT_TRUE(json::parse(script.out)["device_error"].is_null());
+}
+
+TEST_F(RunTest, StatusSaysWhyTheDeviceIsClosed) {
+    h_.on_io([&] {
+        h_.api.status_value.device = "/dev/gimbal";
+        h_.api.status_value.device_error = "No such file or directory";
+    });
+    EXPECT_THAT(run({"status"}).out,
+                HasSubstr("device:    /dev/gimbal (closed: No such file or directory)"));
 }
 
 TEST_F(RunTest, CommandsReachTheCore) {
