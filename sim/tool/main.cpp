@@ -68,8 +68,7 @@ int main(int argc, char** argv) {
     const std::vector<std::string_view> args(argv + 1, argv + argc);
     auto parsed = parse_command_line(args);
     if (!parsed) {
-        fmt::print(stderr, "gport-sim: {}\nTry 'gport-sim --help'.\n",
-                   parsed.error().message);
+        fmt::print(stderr, "gport-sim: {}\nTry 'gport-sim --help'.\n", parsed.error().message);
         return kExitUsage;
     }
     if (parsed->help) {
