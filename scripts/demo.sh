@@ -41,17 +41,16 @@ run status
 run settings
 run settings --dead-zone 20
 echo
-echo "\$ gportctl watch attitude motion --rate 4   (while: gportctl speed --yaw 30 --for 2s)"
-"$gportctl" watch attitude motion --rate 4 &
+echo "\$ gportctl watch attitude motion --rate 4 --for 3.5s   (while: gportctl speed --yaw +30 --for 2s)"
+"$gportctl" watch attitude motion --rate 4 --for 3.5s &
 watcher=$!
 sleep 0.6
-"$gportctl" speed --yaw 30 --for 2s
-sleep 2.6
-kill -INT "$watcher"; wait "$watcher" || true
-run angle --pitch -30 --yaw 45
-sleep 1
+"$gportctl" speed --yaw +30 --for 2s
+wait "$watcher"
+run angle --pitch -30 --yaw 45 --wait
 run attitude
-run center
+run center --wait
+run --version
 run photo
 run status
 echo

@@ -56,6 +56,9 @@ std::string config_source(const config::CommandLine& command_line) {
 }
 
 std::string status_text(const std::string& device, const LinkEvent& event) {
+    if (event.reason == daemon::LinkMonitor::kWaitingForFirstAttitude) {
+        return fmt::format("{}: {}", device, event.reason);
+    }
     return fmt::format("{}: link {} ({})", device, to_string(event.state), event.reason);
 }
 

@@ -1,295 +1,366 @@
-// Argument parsing: global options anywhere, one subcommand, its options.
-// Values are checked here (ranges, units) so a typo is a usage error (64)
-// before any connection is made.
+// gportctl's command line on CLI11: global options anywhere, one subcommand,
+// its options. Values are checked here against the protocol's own constants,
+// so that a typo is a usage error (64) before any connection is made.
 #include "gport/cli/options.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
-#include <cmath>
-#include <map>
+#include <limits>
+
+#include "gport/base/args.hpp"
+#include "gport/ipc/json_rpc.hpp"
+#include "gport/protocol/messages.hpp"
 
 namespace gport::cli {
 namespace {
 
 using nlohmann::json;
+using namespace std::chrono_literals;
 
-struct CommandSpec {
-    std::string_view name;
-    std::string_view method;
-    std::vector<std::string_view> options;  // options (and flags), without "--"
+// The longest --for and --lease the protocol accepts; gportd's own
+// keepalive.max_duration_ms is usually lower (run.cpp reports its refusal
+// as a usage error naming the option).
+constexpr std::chrono::milliseconds kMaxDuration{ipc::kMaxDurationMs};
+
+constexpr const char* kDescription =
+    "Talks to gportd, the G-Port gimbal daemon, over its Unix socket.\n\n"
+    "acquire and release are not commands: control held by a one-shot process\n"
+    "would be released the moment it exits. A program that needs exclusive\n"
+    "control keeps its own connection and calls \"acquire\" (see docs/api.md).";
+
+constexpr const char* kExitStatuses =
+    "Exit status: 0 success, 1 the daemon refused (message and code on stderr),\n"
+    "2 angle/center --wait ended without reaching the target, 64 usage error,\n"
+    "69 daemon unreachable, 130 interrupted (Ctrl-C, SIGTERM).";
+
+const std::vector<std::string> kTopics = {"attitude", "link", "motion"};
+
+// The values CLI11 fills; turned into an Invocation after parsing.
+struct Values {
+    std::string socket;
+    bool json = false;
+    double roll = 0, pitch = 0, yaw = 0;
+    std::string for_text, lease_text;
+    bool clamp = false, wait = false, force = false;
+    std::vector<std::string> topics;
+    double rate = 0;
+    long count = 0;
+    std::string state;  // record on|off
+    int dead_zone = 0, follow_speed = 0;
+    std::string inverted;
+    std::string help_topic;
 };
 
-const std::vector<CommandSpec>& commands() {
-    static const std::vector<CommandSpec> specs = {
-        {"status", "status", {}},
-        {"attitude", "attitude", {}},
-        {"watch", "subscribe", {"rate"}},
-        {"speed", "speed", {"roll", "pitch", "yaw", "for", "lease", "clamp"}},
-        {"stop", "stop", {}},
-        {"angle", "angle", {"roll", "pitch", "yaw", "clamp", "wait"}},
-        {"center", "center", {"wait"}},
-        {"lock", "lock", {}},
-        {"photo", "photo", {}},
-        {"record", "record", {"force"}},
-        {"settings", "get_settings", {"dead-zone", "follow-speed", "inverted"}},
-        {"help", "", {}},
-    };
-    return specs;
-}
+class Parser {
+  public:
+    Parser() : app_(kDescription, "gportctl") {
+        args::configure(app_, kExitStatuses);
+        app_.require_subcommand(0, 1);
+        app_.allow_extras();  // checked after parsing, to name the command
+        app_.add_option("--socket", v_.socket,
+                        fmt::format("daemon socket (default {}, or $GPORT_SOCKET)", kDefaultSocket))
+            ->type_name("PATH");
+        app_.add_flag("--json", v_.json, "print raw JSON result objects, one per line");
+        add_commands();
+    }
 
-struct Raw {
-    std::vector<std::pair<std::string, std::string>> options;  // in order given
-    std::vector<std::string> positional;
-};
-
-std::optional<double> parse_number(std::string_view text) {
-    double value = 0;
-    auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) {
-        return std::nullopt;
-    }
-    return value;
-}
-
-double degrees(const std::string& option, const std::string& text) {
-    auto value = parse_number(text);
-    if (!value || std::fabs(*value) > 327.67) {
-        throw UsageError{
-            fmt::format("--{} {}: expected a number from -327.67 to 327.67", option, text)};
-    }
-    return *value;
-}
-
-int byte_value(const std::string& option, const std::string& text) {
-    auto value = parse_number(text);
-    if (!value || *value < 0 || *value > 255 || std::floor(*value) != *value) {
-        throw UsageError{fmt::format("--{} {}: expected an integer from 0 to 255", option, text)};
-    }
-    return static_cast<int>(*value);
-}
-
-bool yes_no(const std::string& option, const std::string& text) {
-    if (text == "yes" || text == "true" || text == "on") {
-        return true;
-    }
-    if (text == "no" || text == "false" || text == "off") {
-        return false;
-    }
-    throw UsageError{fmt::format("--{} {}: expected yes or no", option, text)};
-}
-
-void build_watch(Invocation& inv, const Raw& raw) {
-    for (const auto& topic : raw.positional) {
-        if (topic != "attitude" && topic != "link" && topic != "motion") {
-            throw UsageError{
-                fmt::format("watch: unknown topic \"{}\"; topics: attitude, link, motion", topic)};
-        }
-        if (std::find(inv.topics.begin(), inv.topics.end(), topic) == inv.topics.end()) {
-            inv.topics.push_back(topic);
-        }
-    }
-    if (inv.topics.empty()) {
-        inv.topics = {"attitude", "link", "motion"};
-    }
-    inv.params["topics"] = inv.topics;
-    for (const auto& [option, value] : raw.options) {  // only --rate is allowed here
-        auto rate = parse_number(value);
-        if (!rate || !(*rate >= 0.01 && *rate <= 1000)) {  // the daemon's max_rate_hz range
-            throw UsageError{
-                fmt::format("--rate {}: expected a rate in Hz from 0.01 to 1000", value)};
-        }
-        inv.rate_hz = rate;
-        inv.params["max_rate_hz"] = *rate;
-    }
-}
-
-// --lease MS: milliseconds, or a duration with its unit (500ms, 2s).
-std::chrono::milliseconds lease_of(const std::string& text) {
-    const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
-    auto lease = parse_duration(digits ? text + "ms" : text);
-    if (!lease) {
-        throw UsageError{fmt::format(
-            "--lease {}: expected milliseconds from 1 to 86400000, or a duration such as "
-            "500ms or 2s",
-            text)};
-    }
-    return *lease;
-}
-
-// speed, angle and center: axes, --for, --lease and the flags --clamp, --wait.
-void build_axes(Invocation& inv, const Raw& raw) {
-    for (const auto& [option, value] : raw.options) {
-        if (option == "clamp" || option == "wait") {
-            inv.params[option] = true;
-            inv.wait = inv.wait || option == "wait";
-        } else if (option == "lease") {
-            inv.params["lease_ms"] = lease_of(value).count();
-        } else if (option == "for") {
-            inv.duration = parse_duration(value);
-            if (!inv.duration) {
-                throw UsageError{fmt::format(
-                    "--for {}: expected a duration such as 2s, 500ms, 1.5s or 1m", value)};
+    Invocation parse(const std::vector<std::string>& args, const char* env_socket) {
+        std::vector<std::string> reversed(args.rbegin(), args.rend());
+        try {
+            app_.parse(reversed);
+        } catch (const CLI::ParseError& error) {
+            if (!args::is_request(error)) {
+                throw UsageError{args::message_of(error)};
             }
-            inv.params["duration_ms"] = inv.duration->count();
-        } else {
-            inv.params[option] = degrees(option, value);
-        }
-    }
-}
-
-void build_settings(Invocation& inv, const Raw& raw) {
-    for (const auto& [option, value] : raw.options) {
-        if (option == "inverted") {
-            inv.params["inverted"] = yes_no(option, value);
-        } else {
-            inv.params[option == "dead-zone" ? "dead_zone" : "follow_speed"] =
-                byte_value(option, value);
-        }
-    }
-    if (!inv.params.empty()) {
-        inv.method = "set_settings";
-    }
-}
-
-// record [on|off [--force]]: without a state it toggles.
-void build_record(Invocation& inv, const Raw& raw) {
-    if (raw.positional.size() > 1) {
-        throw UsageError{fmt::format("record: unexpected argument \"{}\"", raw.positional[1])};
-    }
-    if (!raw.positional.empty()) {
-        const auto& state = raw.positional.front();
-        if (state != "on" && state != "off") {
-            throw UsageError{fmt::format("record: expected on or off, not \"{}\"", state)};
-        }
-        inv.params["on"] = state == "on";
-    }
-    if (!raw.options.empty()) {  // only --force is allowed here
-        if (raw.positional.empty()) {
-            throw UsageError{"record: --force needs on or off"};
-        }
-        inv.params["force"] = true;
-    }
-}
-
-// Splits argv into global options (applied to `inv`), command options and
-// positionals; the first positional is the command.
-Raw split(const std::vector<std::string>& args, Invocation& inv, const char* env_socket) {
-    Raw raw;
-    if (env_socket != nullptr && *env_socket != '\0') {
-        inv.socket = env_socket;
-    }
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& arg = args[i];
-        if (arg == "--help" || arg == "-h") {
+            Invocation inv;
             inv.help = true;
-        } else if (arg == "--json") {
-            inv.json = true;
-        } else if (arg == "--force" || arg == "--clamp" || arg == "--wait") {
-            raw.options.emplace_back(arg.substr(2), "");  // a flag: takes no value
-        } else if (arg.rfind("--", 0) == 0 && arg.size() > 2) {
-            std::string name = arg.substr(2);
-            std::string value;
-            if (auto eq = name.find('='); eq != std::string::npos) {
-                value = name.substr(eq + 1);
-                name.resize(eq);
-            } else if (i + 1 < args.size()) {
-                value = args[++i];
-            } else {
-                throw UsageError{fmt::format("--{} needs a value", name)};
-            }
-            if (name == "socket") {
-                inv.socket = value;
-            } else {
-                raw.options.emplace_back(name, value);
-            }
-        } else if (inv.command.empty()) {
-            inv.command = arg;
-        } else {
-            raw.positional.push_back(arg);
+            inv.text = dynamic_cast<const CLI::CallForVersion*>(&error) != nullptr
+                           ? std::string(error.what()) + "\n"
+                           : app_.help();
+            return inv;
         }
+        return build(env_socket);
     }
-    return raw;
-}
 
-void check_options(const CommandSpec& spec, const Raw& raw) {
-    for (const auto& [option, value] : raw.options) {
-        if (std::find(spec.options.begin(), spec.options.end(), option) == spec.options.end()) {
-            std::string allowed;
-            for (auto o : spec.options) {
-                allowed += fmt::format("{}--{}", allowed.empty() ? "" : ", ", o);
-            }
-            throw UsageError{
-                fmt::format("{}: unknown option --{}{}", spec.name, option,
-                            allowed.empty() ? "; it takes none" : "; options: " + allowed)};
-        }
+  private:
+    CLI::App* command(const char* name, const char* method, const char* description) {
+        auto* sub = app_.add_subcommand(name, description);
+        methods_[name] = method;
+        return sub;
     }
-    const bool takes_positionals =
-        spec.name == "watch" || spec.name == "help" || spec.name == "record";
-    if (!raw.positional.empty() && !takes_positionals) {
+
+    void add_axes(CLI::App* sub, std::string_view unit) {
+        const auto range =
+            args::number_in(-protocol::kMaxDegrees, protocol::kMaxDegrees, std::string(unit));
+        for (auto [name, value] : {std::pair{"roll", &v_.roll}, std::pair{"pitch", &v_.pitch},
+                                   std::pair{"yaw", &v_.yaw}}) {
+            sub->add_option(fmt::format("--{}", name), *value, fmt::format("{} ({})", name, unit))
+                ->type_name(unit == std::string_view("degrees") ? "DEG" : "DEG/S")
+                ->check(range);
+        }
+        sub->add_flag("--clamp", v_.clamp, "slow or clamp to gportd's limits instead of refusing");
+    }
+
+    void add_commands() {
+        command("status", "status", "link, device, counters, clients, current motion");
+        command("attitude", "attitude", "the latest attitude sample");
+        add_watch();
+        add_speed();
+        command("stop", "stop", "stop any motion now");
+        add_angle();
+        command("center", "center", "centre the gimbal")
+            ->add_flag("--wait", v_.wait, "wait until centred; exit 2 if it is not");
+        command("lock", "lock", "lock mode (control mode 4)");
+        command("photo", "photo", "take a photo");
+        add_record();
+        add_settings();
+        auto* help = command("help", "", "this text, or a command's");
+        help->add_option("command", v_.help_topic, "the command to describe");
+    }
+
+    void add_watch() {
+        auto* sub = command("watch", "subscribe", "stream attitude, link and motion events");
+        sub->add_option("topics", v_.topics, "attitude, link, motion (default: all three)")
+            ->check(args::one_of(kTopics));
+        sub->add_option("--rate", v_.rate, "at most HZ attitude samples a second (the newest)")
+            ->type_name("HZ")
+            ->check(args::number_in(ipc::kMinRateHz, ipc::kMaxRateHz, "a rate in Hz"));
+        sub->add_option("-n,--count", v_.count, "exit 0 after COUNT events")
+            ->type_name("COUNT")
+            ->check(args::integer_in(1, std::numeric_limits<int>::max()));
+        sub->add_option("--for", v_.for_text, "exit 0 after DURATION (2s, 500ms, 1m)")
+            ->type_name("DURATION")
+            ->check(args::duration_in(1ms, kMaxDuration));
+        sub->footer(
+            "Prints each event as it arrives until Ctrl-C (exit 0), COUNT events or\n"
+            "DURATION. --rate limits attitude, always delivering the newest sample.\n");
+    }
+
+    void add_speed() {
+        auto* sub = command("speed", "speed", "move at a speed (until Ctrl-C, or --for DURATION)");
+        add_axes(sub, "deg/s");
+        sub->add_option("--for", v_.for_text, "the daemon keeps the motion going this long")
+            ->type_name("DURATION")
+            ->check(args::duration_in(1ms, kMaxDuration));
+        sub->add_option("--lease", v_.lease_text,
+                        "the daemon ends the motion when no speed arrives within it")
+            ->type_name("MS")
+            ->check(args::duration_in(1ms, kMaxDuration, true));
+        sub->footer(
+            "Axes not given are 0. A speed above gportd's limits.max_speed is refused,\n"
+            "or with --clamp slowed to it. Without --for the motion lasts until Ctrl-C or\n"
+            "SIGTERM: gportctl re-sends the speed every 200 ms for 500 ms at a time (if\n"
+            "gportctl dies, the gimbal stops within half a second), then sends stop.\n"
+            "With --for the daemon keeps the motion going and gportctl shows its progress\n"
+            "until it ends; Ctrl-C stops it early. A --for or --lease longer than gportd's\n"
+            "keepalive.max_duration_ms is a usage error (64) naming the daemon's limit.\n");
+    }
+
+    void add_angle() {
+        auto* sub = command("angle", "angle", "go to an angle (--wait: until it is reached)");
+        add_axes(sub, "degrees");
+        sub->add_flag("--wait", v_.wait, "wait for the end; print it; exit 2 unless reached");
+        sub->footer(
+            "Angle control relative to the aircraft; axes not given are 0. A target\n"
+            "beyond gportd's soft limits is refused, or with --clamp clamped into them.\n"
+            "--wait prints how the motion ended (reached, timeout, replaced, stop, ...)\n"
+            "and the attitude reached. Ctrl-C while waiting exits 130 and the daemon\n"
+            "applies its failsafe. Without --wait the gimbal goes on after gportctl exits.\n");
+    }
+
+    void add_record() {
+        auto* sub = command("record", "record", "toggle recording, or switch it on or off");
+        sub->add_option("state", v_.state, "on or off (default: toggle)")
+            ->check(args::one_of({"on", "off"}));
+        sub->add_flag("--force", v_.force, "toggle even when the state is unknown");
+        sub->footer(
+            "The gimbal never reports whether it records: gportd assumes a state from\n"
+            "the toggles it sent, unknown at start and whenever the device reopens.\n"
+            "on and off toggle only when the assumed state differs; while it is unknown\n"
+            "they are refused unless --force.\n");
+    }
+
+    void add_settings() {
+        auto* sub = command("settings", "get_settings", "read the settings, or change some");
+        const auto byte = args::integer_in(0, std::numeric_limits<std::uint8_t>::max());
+        sub->add_option("--dead-zone", v_.dead_zone, "dead zone")->check(byte);
+        sub->add_option("--follow-speed", v_.follow_speed, "follow speed")->check(byte);
+        sub->add_option("--inverted", v_.inverted, "mounted upside down")
+            ->type_name("yes|no")
+            ->check(args::one_of({"yes", "no", "true", "false", "on", "off"}));
+    }
+
+    // Extras CLI11 left: an unknown option or command, or a stray argument.
+    void check_extras(const CLI::App* sub) const {
+        const auto extras = app_.remaining();
+        if (extras.empty()) {
+            return;
+        }
+        const auto& first = extras.front();
+        if (sub == nullptr) {
+            throw UsageError{first.starts_with("-") ? fmt::format("unknown option {}", first)
+                                                    : fmt::format("unknown command \"{}\"", first)};
+        }
+        if (!first.starts_with("-")) {
+            throw UsageError{fmt::format("{}: unexpected argument \"{}\"", sub->get_name(), first)};
+        }
+        std::vector<std::string> names;
+        for (const auto* option : sub->get_options()) {
+            if (option->get_name() != "--help" && !option->get_lnames().empty()) {
+                names.push_back(option->get_name());
+            }
+        }
         throw UsageError{
-            fmt::format("{}: unexpected argument \"{}\"", spec.name, raw.positional.front())};
+            fmt::format("{}: unknown option {}{}", sub->get_name(), first,
+                        names.empty() ? "; it takes none"
+                                      : "; options: " + fmt::format("{}", fmt::join(names, ", ")))};
     }
-}
 
-Invocation parse_or_throw(const std::vector<std::string>& args, const char* env_socket) {
-    Invocation inv;
-    const Raw raw = split(args, inv, env_socket);
-    if (inv.help) {
-        return inv;  // usage for the command named, or the overview
-    }
-    if (inv.command.empty()) {
-        throw UsageError{"no command given"};
-    }
-    auto spec = std::find_if(commands().begin(), commands().end(),
-                             [&](const CommandSpec& s) { return s.name == inv.command; });
-    if (spec == commands().end()) {
-        throw UsageError{fmt::format("unknown command \"{}\"", inv.command)};
-    }
-    if (spec->name == "help") {
-        inv.help = true;
-        inv.command = raw.positional.empty() ? "" : raw.positional.front();
+    Invocation build(const char* env_socket) {
+        const auto subs = app_.get_subcommands();
+        const CLI::App* sub = subs.empty() ? nullptr : subs.front();
+        check_extras(sub);
+        if (sub == nullptr) {
+            throw UsageError{"no command given"};
+        }
+        Invocation inv;
+        inv.command = sub->get_name();
+        inv.method = methods_.at(inv.command);
+        inv.json = v_.json;
+        inv.socket = app_.count("--socket") > 0                     ? v_.socket
+                     : env_socket != nullptr && *env_socket != '\0' ? env_socket
+                                                                    : std::string(kDefaultSocket);
+        if (inv.command == "help") {
+            return help_of(v_.help_topic);
+        }
+        if (inv.command == "watch") {
+            watch(*sub, inv);
+        } else if (inv.command == "speed" || inv.command == "angle" || inv.command == "center") {
+            motion(*sub, inv);
+        } else if (inv.command == "record") {
+            record(*sub, inv);
+        } else if (inv.command == "settings") {
+            settings(*sub, inv);
+        }
         return inv;
     }
-    check_options(*spec, raw);
-    inv.method = spec->method;
-    if (spec->name == "watch") {
-        build_watch(inv, raw);
-    } else if (spec->name == "speed" || spec->name == "angle" || spec->name == "center") {
-        build_axes(inv, raw);
-    } else if (spec->name == "settings") {
-        build_settings(inv, raw);
-    } else if (spec->name == "record") {
-        build_record(inv, raw);
+
+    Invocation help_of(const std::string& topic) const {
+        Invocation inv;
+        inv.help = true;
+        if (topic.empty()) {
+            inv.text = app_.help();
+            return inv;
+        }
+        try {
+            inv.text = app_.get_subcommand(topic)->help("gportctl");
+        } catch (const CLI::OptionNotFound&) {
+            throw UsageError{fmt::format("help: unknown command \"{}\"", topic)};
+        }
+        return inv;
     }
-    return inv;
-}
+
+    void watch(const CLI::App& sub, Invocation& inv) const {
+        for (const auto& topic : v_.topics) {
+            if (std::find(inv.topics.begin(), inv.topics.end(), topic) == inv.topics.end()) {
+                inv.topics.push_back(topic);
+            }
+        }
+        if (inv.topics.empty()) {
+            inv.topics = kTopics;
+        }
+        inv.params["topics"] = inv.topics;
+        if (sub.count("--rate") > 0) {
+            inv.rate_hz = v_.rate;
+            inv.params["max_rate_hz"] = v_.rate;
+        }
+        if (sub.count("--count") > 0) {
+            inv.count = v_.count;
+        }
+        if (sub.count("--for") > 0) {
+            inv.duration = args::parse_duration(v_.for_text);
+        }
+    }
+
+    void motion(const CLI::App& sub, Invocation& inv) const {
+        for (const auto& [name, value] :
+             {std::pair{"roll", v_.roll}, std::pair{"pitch", v_.pitch}, std::pair{"yaw", v_.yaw}}) {
+            if (sub.get_option_no_throw(fmt::format("--{}", name)) != nullptr &&
+                sub.count(fmt::format("--{}", name)) > 0) {
+                inv.params[name] = value;
+            }
+        }
+        if (sub.get_option_no_throw("--for") != nullptr && sub.count("--for") > 0) {
+            inv.duration = args::parse_duration(v_.for_text);
+            inv.params["duration_ms"] = inv.duration->count();
+        }
+        if (sub.get_option_no_throw("--lease") != nullptr && sub.count("--lease") > 0) {
+            const bool digits = v_.lease_text.find_first_not_of("0123456789") == std::string::npos;
+            inv.params["lease_ms"] =
+                args::parse_duration(digits ? v_.lease_text + "ms" : v_.lease_text)->count();
+        }
+        if (v_.clamp) {
+            inv.params["clamp"] = true;
+        }
+        if (v_.wait) {
+            inv.params["wait"] = true;
+            inv.wait = true;
+        }
+    }
+
+    void record(const CLI::App& sub, Invocation& inv) const {
+        if (sub.count("state") > 0) {
+            inv.params["on"] = v_.state == "on";
+        }
+        if (v_.force) {
+            if (sub.count("state") == 0) {
+                throw UsageError{"record: --force needs on or off"};
+            }
+            inv.params["force"] = true;
+        }
+    }
+
+    void settings(const CLI::App& sub, Invocation& inv) const {
+        if (sub.count("--dead-zone") > 0) {
+            inv.params["dead_zone"] = v_.dead_zone;
+        }
+        if (sub.count("--follow-speed") > 0) {
+            inv.params["follow_speed"] = v_.follow_speed;
+        }
+        if (sub.count("--inverted") > 0) {
+            inv.params["inverted"] =
+                v_.inverted == "yes" || v_.inverted == "true" || v_.inverted == "on";
+        }
+        if (!inv.params.empty()) {
+            inv.method = "set_settings";
+        }
+    }
+
+    Values v_;
+    CLI::App app_;
+    std::map<std::string, std::string> methods_;
+};
 
 }  // namespace
 
 std::optional<std::chrono::milliseconds> parse_duration(std::string_view text) {
-    static const std::map<std::string_view, double> kUnits = {
-        {"ms", 1.0}, {"s", 1000.0}, {"m", 60000.0}};
-    const auto split_at = text.find_first_not_of("0123456789.");
-    if (split_at == 0 || split_at == std::string_view::npos) {
-        return std::nullopt;
+    auto ms = args::parse_duration(text);
+    return ms && *ms <= kMaxDuration ? ms : std::nullopt;
+}
+
+std::string usage(std::string_view command) {
+    std::vector<std::string> args = {"--help"};
+    if (!command.empty()) {
+        args.insert(args.begin(), std::string(command));
     }
-    auto number = parse_number(text.substr(0, split_at));
-    auto unit = kUnits.find(text.substr(split_at));
-    if (!number || unit == kUnits.end()) {
-        return std::nullopt;
-    }
-    const double ms = std::round(*number * unit->second);
-    if (ms < 1 || ms > 86'400'000) {
-        return std::nullopt;
-    }
-    return std::chrono::milliseconds(static_cast<long long>(ms));
+    auto parsed = parse_args(args, nullptr);
+    return parsed ? parsed->text : usage("");
 }
 
 ParseResult parse_args(const std::vector<std::string>& args, const char* env_socket) {
     try {
-        return parse_or_throw(args, env_socket);
+        return Parser().parse(args, env_socket);
     } catch (UsageError& error) {
         return error;
     }

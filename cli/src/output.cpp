@@ -85,8 +85,11 @@ std::string status(const json& s) {
     std::string out;
     out += fmt::format("link:      {} ({})\n", get(link, "state", std::string("?")),
                        get(link, "reason", std::string("")));
+    const auto error = get(s, "device_error", std::string());
     out += fmt::format("device:    {} ({})\n", get(s, "device", std::string("?")),
-                       get(s, "device_open", false) ? "open" : "closed");
+                       get(s, "device_open", false) ? "open"
+                       : error.empty()              ? "closed"
+                                                    : "closed: " + error);
     out += fmt::format("daemon:    gportd {}, API {}, up {}\n",
                        get(s, "daemon_version", std::string("?")), get(s, "api_version", 0),
                        duration(get(s, "uptime_ms", 0ll)));

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "gport/cli/output.hpp"
+#include "gport/cli/progress.hpp"
 #include "gport/client/connection.hpp"
 #include "gport/client/error.hpp"
 
@@ -21,11 +22,13 @@ using namespace std::chrono_literals;
 // dies or hangs, the gimbal stops within the duration.
 constexpr auto kResendEvery = 200ms;
 constexpr auto kResendDuration = 500ms;
+// speed --for shows its progress this often (attitude samples asked for).
+constexpr double kProgressHz = 2.0;
 
 class Runner {
   public:
-    Runner(const Invocation& inv, Connection& conn, std::ostream& out, std::ostream& err)
-        : inv_(inv), conn_(conn), out_(out), err_(err) {}
+    Runner(const Invocation& inv, Connection& conn, std::ostream& out, std::ostream& err, bool tty)
+        : inv_(inv), conn_(conn), out_(out), err_(err), tty_(tty) {}
 
     int dispatch() {
         if (inv_.command == "watch") {
@@ -55,11 +58,38 @@ class Runner {
             return kExitUnavailable;
         }
         if (reply->contains("error")) {
-            err_ << "gportctl: " << format_error((*reply)["error"]) << "\n";
+            const auto& error = (*reply)["error"];
+            if (auto usage = option_refusal(error)) {
+                err_ << "gportctl: " << *usage << "\nTry 'gportctl " << inv_.command
+                     << " --help'.\n";
+                return kExitUsage;
+            }
+            err_ << "gportctl: " << format_error(error) << "\n";
             return kExitError;
         }
         result = reply->value("result", json());
         return kExitOk;
+    }
+
+    // gportd's keepalive.max_duration_ms is known only to the daemon: its
+    // refusal of a duration or lease is a usage error naming the option typed.
+    static std::optional<std::string> option_refusal(const json& error) {
+        const std::string message = error.value("message", "");
+        if (error.value("code", 0) != -32602) {
+            return std::nullopt;
+        }
+        for (const auto& [param, option] :
+             {std::pair{"duration_ms = ", "--for"}, std::pair{"lease_ms = ", "--lease"}}) {
+            const auto allowed = message.find("; allowed ");
+            if (message.starts_with(param) && allowed != std::string::npos) {
+                const auto value = message.substr(std::string_view(param).size());
+                return fmt::format(
+                    "{}: {} ms is longer than gportd allows: {} ms "
+                    "(its keepalive.max_duration_ms)",
+                    option, value.substr(0, value.find(' ')), message.substr(allowed + 10));
+            }
+        }
+        return std::nullopt;
     }
 
     void print(const json& result) {
@@ -75,6 +105,7 @@ class Runner {
         out_.flush();
     }
 
+    // Until Ctrl-C, or -n COUNT events, or --for DURATION (exit 0 for all three).
     int watch() {
         json result;
         if (const int status = call("subscribe", inv_.params, result); status != kExitOk) {
@@ -83,22 +114,38 @@ class Runner {
         if (!inv_.json) {
             print(result);
         }
+        const bool timed = inv_.duration.has_value();
+        const auto deadline = timed ? std::chrono::steady_clock::now() + *inv_.duration
+                                    : std::chrono::steady_clock::time_point::max();
+        long seen = 0;
         json message;
-        while (true) {
-            switch (conn_.read(message)) {
+        while (!inv_.count || seen < *inv_.count) {
+            switch (timed ? conn_.read(message, until(deadline)) : conn_.read(message)) {
                 case Connection::ReadStatus::kMessage:
                     if (!message.contains("id")) {
                         notification(message);
+                        ++seen;
                     }
                     break;
                 case Connection::ReadStatus::kInterrupted:
                     return kExitOk;
-                case Connection::ReadStatus::kClosed:
                 case Connection::ReadStatus::kTimeout:
+                    if (timed && std::chrono::steady_clock::now() >= deadline) {
+                        return kExitOk;
+                    }
+                    break;
+                case Connection::ReadStatus::kClosed:
                     err_ << "gportctl: the daemon closed the connection\n";
                     return kExitUnavailable;
             }
         }
+        return kExitOk;
+    }
+
+    static std::chrono::milliseconds until(std::chrono::steady_clock::time_point when) {
+        return std::max(std::chrono::milliseconds(0),
+                        std::chrono::duration_cast<std::chrono::milliseconds>(
+                            when - std::chrono::steady_clock::now()));
     }
 
     // Sends stop on the way out, ignoring the interruption that asked for it.
@@ -113,10 +160,13 @@ class Runner {
     }
 
     // The daemon keeps the motion alive; we stay connected until it ends
-    // (it would stop the motion of a client that disconnects).
+    // (it would stop the motion of a client that disconnects), showing its
+    // progress from attitude samples a few times a second, then how it ended.
     int speed_for() {
         json result;
-        if (const int status = call("subscribe", {{"topics", {"motion"}}}, result);
+        if (const int status =
+                call("subscribe",
+                     {{"topics", {"motion", "attitude"}}, {"max_rate_hz", kProgressHz}}, result);
             status != kExitOk) {
             return status;
         }
@@ -124,20 +174,24 @@ class Runner {
             return status;
         }
         print(result);
+        Progress progress(out_, *inv_.duration, tty_ && !inv_.json);
         const auto deadline = std::chrono::steady_clock::now() + *inv_.duration + 2s;
         json message;
         while (std::chrono::steady_clock::now() < deadline) {
-            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-                deadline - std::chrono::steady_clock::now());
-            switch (conn_.read(message, left)) {
+            switch (conn_.read(message, until(deadline))) {
                 case Connection::ReadStatus::kMessage:
-                    if (motion_over(message)) {
+                    if (message.value("method", "") == "attitude" && !inv_.json) {
+                        progress.show(message["params"]);
+                    } else if (motion_over(message)) {
+                        progress.end(message["params"], inv_.json);
                         return kExitOk;
                     }
                     break;
                 case Connection::ReadStatus::kInterrupted:
+                    progress.end(json::object(), true);
                     return stop_and_exit();
                 case Connection::ReadStatus::kClosed:
+                    progress.end(json::object(), true);
                     err_ << "gportctl: the daemon closed the connection\n";
                     return kExitUnavailable;
                 case Connection::ReadStatus::kTimeout:
@@ -192,12 +246,13 @@ class Runner {
     Connection& conn_;
     std::ostream& out_;
     std::ostream& err_;
+    bool tty_;
 };
 
 }  // namespace
 
 int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
-        std::function<bool()> interrupted) {
+        std::function<bool()> interrupted, bool tty) {
     std::optional<Connection> opened;
     try {
         opened.emplace(Connection::open(invocation.socket));
@@ -207,11 +262,11 @@ int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
     }
     auto& conn = *opened;
     conn.interrupted = std::move(interrupted);
-    return Runner(invocation, conn, out, err).dispatch();
+    return Runner(invocation, conn, out, err, tty).dispatch();
 }
 
 int main_with(const std::vector<std::string>& args, const char* env_socket, std::ostream& out,
-              std::ostream& err, std::function<bool()> interrupted) {
+              std::ostream& err, std::function<bool()> interrupted, bool tty) {
     auto parsed = parse_args(args, env_socket);
     if (!parsed) {
         err << "gportctl: " << parsed.error().message << "\nTry 'gportctl --help'.\n";
@@ -219,10 +274,10 @@ int main_with(const std::vector<std::string>& args, const char* env_socket, std:
     }
     const auto& invocation = *parsed;
     if (invocation.help) {
-        out << usage(invocation.command);
+        out << invocation.text;
         return kExitOk;
     }
-    return run(invocation, out, err, std::move(interrupted));
+    return run(invocation, out, err, std::move(interrupted), tty);
 }
 
 }  // namespace gport::cli

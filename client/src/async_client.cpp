@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "codec.hpp"
+#include "connect_error.hpp"
 
 namespace gport::client {
 
@@ -34,8 +35,8 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
              handler = std::move(handler)](boost::system::error_code ec) {
                 if (ec || generation != self->current) {
                     const auto why = ec ? ec.message() : std::string("cancelled");
-                    handler(Error(ErrorCode::kTransport, "cannot connect to " + path + ": " + why +
-                                                             " (is gportd running?)"));
+                    handler(Error(ErrorCode::kTransport,
+                                  detail::connect_failure(path, ec ? ec.value() : 0, why)));
                     return;
                 }
                 self->open = true;

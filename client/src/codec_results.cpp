@@ -138,6 +138,7 @@ Status status(const json& result) {
         s.link = {link.value("state", std::string()), link.value("reason", std::string())};
         s.device = result.value("device", std::string());
         s.device_open = result.value("device_open", false);
+        s.device_error = optional_of<std::string>(result, "device_error");
         s.uptime_ms = result.value("uptime_ms", std::int64_t{0});
         s.attitude_age_ms = optional_of<std::int64_t>(result, "attitude_age_ms");
         s.counters = counters(result.value("counters", json::object()));

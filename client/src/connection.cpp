@@ -11,6 +11,7 @@
 #include <system_error>
 #include <utility>
 
+#include "connect_error.hpp"
 #include "gport/client/error.hpp"
 
 namespace gport::client {
@@ -38,8 +39,8 @@ Connection Connection::open(const std::string& path) {
     if (::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) != 0) {
         const int error = errno;
         ::close(fd);
-        throw Error(ErrorCode::kTransport, "cannot connect to " + path + ": " +
-                                               std::strerror(error) + " (is gportd running?)");
+        throw Error(ErrorCode::kTransport,
+                    detail::connect_failure(path, error, std::strerror(error)));
     }
     return Connection(fd);
 }

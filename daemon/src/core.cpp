@@ -28,6 +28,21 @@ Millis keepalive_period(double rate_hz) {
     return std::chrono::duration_cast<Millis>(std::chrono::duration<double>(1.0 / rate_hz));
 }
 
+// "dead_zone 10 -> 5, inverted no -> yes": the values that changed, or that
+// nothing did.
+std::string settings_change(const gp::SettingsBlock& before, const gp::SettingsBlock& after) {
+    std::string out;
+    const auto add = [&](const char* name, const std::string& from, const std::string& to) {
+        if (from != to) {
+            out += fmt::format("{}{} {} -> {}", out.empty() ? "" : ", ", name, from, to);
+        }
+    };
+    add("dead_zone", std::to_string(before.dead_zone), std::to_string(after.dead_zone));
+    add("follow_speed", std::to_string(before.follow_speed), std::to_string(after.follow_speed));
+    add("inverted", before.inverted() ? "yes" : "no", after.inverted() ? "yes" : "no");
+    return out.empty() ? "nothing changed (the values asked for were already set)" : out;
+}
+
 std::string pid_of(const std::optional<ClientInfo>& client) {
     return client ? std::to_string(client->pid) : std::string("-");
 }
@@ -70,7 +85,12 @@ Core::Core(asio::io_context& io, const config::Config& config, std::shared_ptr<s
                     return link_down();
                 }),
       quality_timer_(io),
-      shutdown_timer_(io) {}
+      shutdown_timer_(io) {
+    settings_.on_changed([this](std::uint64_t client, const gp::SettingsBlock& before,
+                                const gp::SettingsBlock& after) {
+        log_->info("settings changed by client {}: {}", client, settings_change(before, after));
+    });
+}
 
 void Core::start() {
     log_->info("gimbal device {} (keepalive {} Hz, stale after {} ms)", config_.serial.device,
@@ -140,7 +160,11 @@ void Core::on_attitude(const gp::Attitude& attitude, SteadyTime now, WallTime wa
 // ---- events ------------------------------------------------------------------
 
 void Core::on_link(const LinkEvent& event) {
-    log_->info("link {}: {}", to_string(event.state), event.reason);
+    if (event.reason == LinkMonitor::kWaitingForFirstAttitude) {
+        log_->debug("{}", event.reason);
+    } else {
+        log_->info("link {}: {}", to_string(event.state), event.reason);
+    }
     if (event.state == LinkState::kDown) {
         // The device is closed: nothing can be sent, so neither the zero
         // speed (as before) nor "center" (failsafe_end says so); a stale

@@ -9,6 +9,9 @@ Status Core::status() const {
     s.link_reason = monitor_.reason();
     s.device = config_.serial.device;
     s.device_open = port_.is_open();
+    if (!s.device_open && !port_.open_error().empty()) {
+        s.device_error = port_.open_error();
+    }
     const auto now = std::chrono::steady_clock::now();
     s.uptime = std::chrono::duration_cast<Millis>(now - started_);
     if (latest_) {

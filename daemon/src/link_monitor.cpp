@@ -8,7 +8,7 @@ LinkMonitor::LinkMonitor(boost::asio::io_context& io, Millis stale_after, OnChan
     : timer_(io), stale_after_(stale_after), on_change_(std::move(on_change)) {}
 
 void LinkMonitor::device_opened() {
-    change(LinkState::kStale, "device open, waiting for attitude");
+    change(LinkState::kStale, std::string(kWaitingForFirstAttitude));
     arm(std::chrono::steady_clock::now() + stale_after_);
 }
 

@@ -58,6 +58,7 @@ void SerialPort::try_open() {
         error = ec.message();
     }
     if (ec) {
+        open_error_ = error;
         ++stats_.failures;
         if (auto count = open_failures_log_.occur()) {
             log_->warn("cannot open device {}: {} ({} attempt{} since last report); retrying",
@@ -67,6 +68,7 @@ void SerialPort::try_open() {
         return;
     }
     ++stats_.opens;
+    open_error_.clear();
     healthy_ = false;
     open_failures_log_.reset();
     log_->info("device {} opened at {} baud", device_, baud_);

@@ -31,11 +31,12 @@ std::optional<CommandError> SettingsExchange::admit(std::uint64_t client) const 
 }
 
 void SettingsExchange::get(std::uint64_t client, Reply reply) {
-    enqueue(Job{client, std::nullopt, std::move(reply), Step::kRead, 0, {}, std::nullopt});
+    enqueue(Job{
+        client, std::nullopt, std::move(reply), Step::kRead, 0, {}, std::nullopt, std::nullopt});
 }
 
 void SettingsExchange::set(std::uint64_t client, SettingsChange change, Reply reply) {
-    enqueue(Job{client, change, std::move(reply), Step::kRead, 0, {}, std::nullopt});
+    enqueue(Job{client, change, std::move(reply), Step::kRead, 0, {}, std::nullopt, std::nullopt});
 }
 
 void SettingsExchange::enqueue(Job job) {
@@ -119,6 +120,7 @@ void SettingsExchange::advance(const gp::SettingsBlock* report) {
     }
     if (job.step == Step::kRead && job.change) {
         const auto& c = *job.change;
+        job.before = job.block;
         job.block.dead_zone = c.dead_zone.value_or(job.block.dead_zone);
         job.block.follow_speed = c.follow_speed.value_or(job.block.follow_speed);
         if (c.inverted) {
@@ -139,6 +141,9 @@ void SettingsExchange::finish(Outcome<gp::SettingsBlock> result) {
     Job job = std::move(jobs_.front());
     jobs_.pop_front();
     running_ = false;
+    if (result && job.before && changed_) {
+        changed_(job.client, *job.before, *result);
+    }
     if (job.reply) {
         job.reply(std::move(result));
     }

@@ -145,11 +145,11 @@ void speed(MethodContext& c, const json& params, Respond respond) {
     p.only({"roll", "pitch", "yaw", "duration_ms", "clamp", "lease_ms"});
     const auto axes = p.axes();
     std::optional<daemon::Millis> duration;
-    if (auto ms = p.integer("duration_ms", 1, 86'400'000)) {
+    if (auto ms = p.integer("duration_ms", 1, kMaxDurationMs)) {
         duration = daemon::Millis(*ms);
     }
     std::optional<daemon::Millis> lease;
-    if (auto ms = p.integer("lease_ms", 1, 86'400'000)) {
+    if (auto ms = p.integer("lease_ms", 1, kMaxDurationMs)) {
         lease = daemon::Millis(*ms);
     }
     const bool clamp = p.boolean("clamp").value_or(false);

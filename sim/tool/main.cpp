@@ -68,12 +68,15 @@ int main(int argc, char** argv) {
     const std::vector<std::string_view> args(argv + 1, argv + argc);
     auto parsed = parse_command_line(args);
     if (!parsed) {
-        fmt::print(stderr, "gport-sim: {}\nTry 'gport-sim --help' for the options.\n",
-                   parsed.error().message);
+        fmt::print(stderr, "gport-sim: {}\nTry 'gport-sim --help'.\n", parsed.error().message);
         return kExitUsage;
     }
     if (parsed->help) {
         fmt::print("{}", help_text());
+        return 0;
+    }
+    if (parsed->version) {
+        fmt::print("{}", version_text());
         return 0;
     }
     try {

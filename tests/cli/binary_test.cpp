@@ -40,6 +40,10 @@ TEST(Gportctl, ExitStatuses) {
     EXPECT_EQ(exit_status(spawn({"--help"})), 0);
     EXPECT_EQ(exit_status(spawn({"fly"})), 64);
     EXPECT_EQ(exit_status(spawn({"speed", "--yaw", "1000"})), 64);
+    EXPECT_EQ(exit_status(spawn({"--version"})), 0);
+    EXPECT_EQ(exit_status(spawn({"status", "--verbose"})), 64);
+    EXPECT_EQ(exit_status(spawn({"speed", "--for", "2d"})), 64);
+    EXPECT_EQ(exit_status(spawn({"watch", "-n", "-1"})), 64);
     EXPECT_EQ(exit_status(spawn({"--socket", "/nonexistent/gportd.sock", "status"})), 69);
     ServerHarness h;
     EXPECT_EQ(exit_status(spawn({"--socket", h.path(), "center"})), 0);

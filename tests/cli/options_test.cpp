@@ -63,8 +63,9 @@ TEST(Options, SpeedAndAngleTakeDegrees) {
     EXPECT_FALSE(parse({"speed", "--roll", "1"}).duration);
     EXPECT_EQ(parse({"angle", "--pitch", "-90"}).params, json({{"pitch", -90.0}}));
     EXPECT_THAT(refusal({"speed", "--yaw", "400"}), HasSubstr("-327.67 to 327.67"));
-    EXPECT_THAT(refusal({"speed", "--yaw", "fast"}), HasSubstr("--yaw fast"));
-    EXPECT_THAT(refusal({"speed", "--for", "2 hours"}), HasSubstr("2s, 500ms"));
+    EXPECT_THAT(refusal({"speed", "--yaw", "fast"}), HasSubstr("--yaw: fast: expected deg/s"));
+    EXPECT_THAT(refusal({"speed", "--for", "2 hours"}),
+                HasSubstr("--for: 2 hours: expected a duration from 1ms to 24h"));
     EXPECT_THAT(refusal({"angle", "--for", "2s"}), HasSubstr("unknown option --for"));
     EXPECT_THAT(refusal({"speed", "--yaw"}), HasSubstr("--yaw needs a value"));
 }
@@ -80,8 +81,8 @@ TEST(Options, WaitClampAndLease) {
     EXPECT_EQ(parse({"speed", "--yaw", "5", "--lease", "250", "--clamp"}).params,
               json({{"yaw", 5.0}, {"lease_ms", 250}, {"clamp", true}}));
     EXPECT_EQ(parse({"speed", "--lease=2s"}).params, json({{"lease_ms", 2000}}));
-    EXPECT_THAT(refusal({"speed", "--lease", "soon"}), HasSubstr("--lease soon: expected"));
-    EXPECT_THAT(refusal({"speed", "--lease", "0"}), HasSubstr("--lease 0"));
+    EXPECT_THAT(refusal({"speed", "--lease", "soon"}), HasSubstr("--lease: soon: expected"));
+    EXPECT_THAT(refusal({"speed", "--lease", "0"}), HasSubstr("--lease: 0: expected"));
     EXPECT_THAT(refusal({"speed", "--wait"}), HasSubstr("speed: unknown option --wait"));
     EXPECT_THAT(refusal({"center", "--clamp"}), HasSubstr("center: unknown option --clamp"));
     EXPECT_THAT(refusal({"lock", "--wait"}), HasSubstr("lock: unknown option --wait"));
@@ -108,7 +109,8 @@ TEST(Options, Durations) {
     EXPECT_FALSE(parse_duration("0ms"));
     EXPECT_FALSE(parse_duration("s"));
     EXPECT_FALSE(parse_duration("-1s"));
-    EXPECT_FALSE(parse_duration("3h"));
+    EXPECT_EQ(parse_duration("3h"), 3h);
+    EXPECT_FALSE(parse_duration("25h"));  // longer than the protocol's longest (a day)
 }
 
 TEST(Options, SettingsGetOrSet) {
@@ -117,7 +119,8 @@ TEST(Options, SettingsGetOrSet) {
     EXPECT_EQ(set.method, "set_settings");
     EXPECT_EQ(set.params, json({{"dead_zone", 5}, {"inverted", true}, {"follow_speed", 0}}));
     EXPECT_THAT(refusal({"settings", "--dead-zone", "256"}), HasSubstr("0 to 255"));
-    EXPECT_THAT(refusal({"settings", "--inverted", "maybe"}), HasSubstr("yes or no"));
+    EXPECT_THAT(refusal({"settings", "--inverted", "maybe"}),
+                HasSubstr("--inverted: maybe: expected one of yes, no"));
 }
 
 TEST(Options, WatchTopicsAndRate) {
@@ -125,23 +128,65 @@ TEST(Options, WatchTopicsAndRate) {
     EXPECT_EQ(all.params["topics"], json({"attitude", "link", "motion"}));
     auto some = parse({"watch", "link", "attitude", "--rate", "5"});
     EXPECT_EQ(some.params, json({{"topics", {"link", "attitude"}}, {"max_rate_hz", 5.0}}));
-    EXPECT_THAT(refusal({"watch", "weather"}), HasSubstr("topics: attitude, link, motion"));
+    EXPECT_THAT(refusal({"watch", "weather"}),
+                HasSubstr("topics: weather: expected one of attitude, link, motion"));
     EXPECT_THAT(refusal({"watch", "--rate", "0"}), HasSubstr("from 0.01 to 1000"));
     EXPECT_THAT(refusal({"watch", "--rate", "1e-9"}), HasSubstr("from 0.01 to 1000"));
 }
 
 TEST(Options, HelpAndUsageErrors) {
     EXPECT_TRUE(parse({"--help"}).help);
+    EXPECT_THAT(parse({"--help"}).text, HasSubstr("130 interrupted"));
     auto page = parse({"speed", "--help"});
     EXPECT_TRUE(page.help);
-    EXPECT_EQ(page.command, "speed");
-    EXPECT_EQ(parse({"help", "watch"}).command, "watch");
+    EXPECT_THAT(page.text, HasSubstr("Usage: gportctl speed"));
+    EXPECT_THAT(parse({"help", "watch"}).text, HasSubstr("Usage: gportctl watch"));
+    EXPECT_THAT(parse({"-h", "angle"}).text, HasSubstr("Usage: gportctl angle"));
     EXPECT_THAT(usage("speed"), HasSubstr("--for DURATION"));
     EXPECT_THAT(usage(""), HasSubstr("acquire and release are not commands"));
+    EXPECT_THAT(refusal({"help", "fly"}), HasSubstr("help: unknown command \"fly\""));
     EXPECT_THAT(refusal({}), HasSubstr("no command"));
     EXPECT_THAT(refusal({"fly"}), HasSubstr("unknown command \"fly\""));
     EXPECT_THAT(refusal({"stop", "now"}), HasSubstr("unexpected argument \"now\""));
     EXPECT_THAT(refusal({"status", "--roll", "1"}), HasSubstr("it takes none"));
+}
+
+TEST(Options, VersionEverywhere) {
+    for (const auto& args : {std::vector<std::string>{"--version"}, {"status", "--version"}}) {
+        auto version = parse(args);
+        EXPECT_TRUE(version.help);
+        EXPECT_THAT(version.text, ::testing::StartsWith("gportctl "));
+    }
+}
+
+TEST(Options, SignedValuesAndUnknownOptionsSwallowNothing) {
+    EXPECT_EQ(parse({"speed", "--yaw", "+30"}).params, json({{"yaw", 30.0}}));
+    EXPECT_EQ(parse({"angle", "--roll=+1.5", "--pitch", "-2"}).params,
+              json({{"roll", 1.5}, {"pitch", -2.0}}));
+    EXPECT_THAT(refusal({"status", "--verbose"}), HasSubstr("status: unknown option --verbose"));
+    EXPECT_THAT(refusal({"status", "--verbose", "attitude"}), HasSubstr("--verbose"));
+    EXPECT_THAT(refusal({"speed", "--yaw", "1", "--x", "2"}),
+                HasSubstr("unknown option --x; options: --roll, --pitch, --yaw"));
+    EXPECT_THAT(refusal({"--socket"}), HasSubstr("--socket needs a value"));
+    EXPECT_THAT(refusal({"speed", "--yaw", "nan"}), HasSubstr("--yaw: nan"));
+    EXPECT_THAT(refusal({"angle", "--yaw", "inf"}), HasSubstr("-327.67 to 327.67"));
+}
+
+TEST(Options, WatchCountAndDuration) {
+    auto counted = parse({"watch", "attitude", "-n", "5"});
+    EXPECT_EQ(counted.count, 5);
+    EXPECT_FALSE(counted.duration);
+    EXPECT_EQ(parse({"watch", "--count=2"}).count, 2);
+    EXPECT_EQ(parse({"watch", "--for", "3s"}).duration, 3000ms);
+    EXPECT_THAT(refusal({"watch", "-n", "0"}), HasSubstr("--count: 0: expected an integer"));
+    EXPECT_THAT(refusal({"watch", "--for", "forever"}), HasSubstr("--for: forever"));
+}
+
+TEST(Options, ForIsCheckedAgainstTheProtocolsLongest) {
+    EXPECT_EQ(parse({"speed", "--for", "24h"}).duration, 86'400'000ms);
+    EXPECT_THAT(refusal({"speed", "--for", "25h"}),
+                HasSubstr("--for: 25h: expected a duration from 1ms to 24h"));
+    EXPECT_THAT(refusal({"speed", "--lease", "86400001"}), HasSubstr("--lease: 86400001"));
 }
 
 }  // namespace

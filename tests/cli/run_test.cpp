@@ -26,11 +26,12 @@ struct Ran {
 class RunTest : public ::testing::Test {
   protected:
     Ran run(
-        std::vector<std::string> args, std::function<bool()> interrupted = [] { return false; }) {
+        std::vector<std::string> args, std::function<bool()> interrupted = [] { return false; },
+        bool tty = false) {
         args.insert(args.begin(), {"--socket", h_.path()});
         out_.str("");
         std::ostringstream err;
-        const int status = main_with(args, nullptr, out_, err, std::move(interrupted));
+        const int status = main_with(args, nullptr, out_, err, std::move(interrupted), tty);
         return {status, out_.str(), err.str()};
     }
 
@@ -57,6 +58,16 @@ TEST_F(RunTest, StatusForPeopleAndForScripts) {
     auto script = run({"--json", "status"});
     ASSERT_EQ(script.status, kExitOk);
     EXPECT_EQ(json::parse(script.out)["clients"], 1);
+    EXPECT_TRUE(json::parse(script.out)["device_error"].is_null());
+}
+
+TEST_F(RunTest, StatusSaysWhyTheDeviceIsClosed) {
+    h_.on_io([&] {
+        h_.api.status_value.device = "/dev/gimbal";
+        h_.api.status_value.device_error = "No such file or directory";
+    });
+    EXPECT_THAT(run({"status"}).out,
+                HasSubstr("device:    /dev/gimbal (closed: No such file or directory)"));
 }
 
 TEST_F(RunTest, CommandsReachTheCore) {
@@ -139,6 +150,25 @@ TEST_F(RunTest, DaemonErrorsExitOneWithTheCode) {
     EXPECT_THAT(busy.err, HasSubstr("error -32003: another client holds control (pid 99)"));
 }
 
+TEST_F(RunTest, ADurationOverTheDaemonsLimitIsAUsageErrorNamingTheOption) {
+    // The daemon's keepalive.max_duration_ms is known only to it (the core's wording).
+    h_.on_io([&] {
+        h_.api.error = daemon::CommandError{daemon::ErrorCode::kInvalidParams,
+                                            "duration_ms = 120000 is out of range; allowed 1 "
+                                            "to 60000"};
+    });
+    auto ran = run({"speed", "--yaw", "5", "--for", "2m"});
+    EXPECT_EQ(ran.status, kExitUsage);
+    EXPECT_THAT(ran.err, HasSubstr("--for: 120000 ms is longer than gportd allows: 1 to 60000 ms "
+                                   "(its keepalive.max_duration_ms)"));
+    h_.on_io([&] {
+        h_.api.error = daemon::CommandError{daemon::ErrorCode::kInvalidParams,
+                                            "lease_ms = 90000 is out of range; allowed 1 to 60000"};
+    });
+    EXPECT_THAT(run({"speed", "--yaw", "5", "--lease", "90s", "--for", "1s"}).err,
+                HasSubstr("--lease: 90000 ms is longer than gportd allows"));
+}
+
 TEST_F(RunTest, SettingsGetAndSet) {
     auto got = run({"settings"});
     EXPECT_EQ(got.status, kExitOk);
@@ -203,6 +233,73 @@ TEST_F(RunTest, SpeedForADurationWaitsForTheMotionToEnd) {
     EXPECT_EQ(ran.status, kExitOk) << ran.err;
     EXPECT_THAT(ran.out, HasSubstr("moving for 3000 ms"));
     EXPECT_THAT(calls().back(), HasSubstr("speed 500 0 0 3000"));
+}
+
+// Publishes an attitude sample and ends the motion once gportctl has started it.
+class SpeedForProgress : public RunTest {
+  protected:
+    Ran speed_for(bool tty) {
+        bool ended = false;
+        return run(
+            {"speed", "--yaw", "5", "--for", "3s"},
+            [&] {
+                if (!ended && printed("moving for")) {
+                    ended = true;
+                    h_.on_io([&] {
+                        daemon::AttitudeSample sample;
+                        sample.attitude.hall = {0, 0, 1234};
+                        h_.api.observer->on_attitude(sample);
+                        daemon::MotionEvent event;
+                        event.change = daemon::MotionChange::kEnded;
+                        event.reason = daemon::EndReason::kDuration;
+                        h_.api.observer->on_motion(event);
+                    });
+                }
+                return false;
+            },
+            tty);
+    }
+};
+
+TEST_F(SpeedForProgress, PlainLinesThenTheEndReason) {
+    auto ran = speed_for(false);
+    EXPECT_EQ(ran.status, kExitOk) << ran.err;
+    EXPECT_THAT(ran.out, ::testing::StartsWith("moving for 3000 ms\nmoving "));
+    EXPECT_THAT(ran.out,
+                ::testing::EndsWith(
+                    "s of 3.0s  hall roll 0.00 pitch 0.00 yaw 12.34 deg\nended: duration\n"));
+    EXPECT_THAT(ran.out, ::testing::Not(HasSubstr("\r")));
+}
+
+TEST_F(SpeedForProgress, OneLineUpdatedInPlaceOnATerminal) {
+    auto ran = speed_for(true);
+    EXPECT_EQ(ran.status, kExitOk) << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("\rmoving "));
+    EXPECT_THAT(ran.out, HasSubstr("yaw 12.34 deg\x1b[K\nended: duration\n"));
+}
+
+TEST_F(RunTest, WatchEndsAfterCountEventsOrTheDuration) {
+    bool published = false;
+    auto counted = run({"watch", "link", "-n", "2"}, [&] {
+        if (!published && printed("watching")) {
+            published = true;
+            h_.on_io([&] {
+                for (int i = 0; i < 3; ++i) {
+                    h_.api.observer->on_link({daemon::LinkState::kStale, "no attitude"});
+                }
+            });
+        }
+        return false;
+    });
+    EXPECT_EQ(counted.status, kExitOk) << counted.err;
+    std::size_t lines = 0;
+    for (std::size_t at = 0; (at = counted.out.find("link      stale", at)) != std::string::npos;
+         ++at) {
+        ++lines;
+    }
+    EXPECT_EQ(lines, 2U) << counted.out;
+    auto timed = run({"watch", "link", "--for", "100ms"});
+    EXPECT_EQ(timed.status, kExitOk) << timed.err;
 }
 
 TEST_F(RunTest, SpeedForStopsWhenInterrupted) {

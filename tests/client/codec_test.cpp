@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "connect_error.hpp"
+
 namespace gport::client::codec {
 namespace {
 
@@ -124,6 +126,17 @@ TEST(ClientCodec, StatusWithATrackedMotionAndUnknownMembers) {
     EXPECT_EQ(s.self.id, 7);
     EXPECT_EQ(s.self_dropped, 4U);
     EXPECT_EQ(s.recording, "off");
+}
+
+TEST(ConnectFailure, PermissionDeniedSaysToJoinTheGportGroup) {
+    const auto denied = detail::connect_failure("/run/gportd.sock", EACCES, "Permission denied");
+    EXPECT_NE(denied.find("cannot connect to /run/gportd.sock: Permission denied"),
+              std::string::npos);
+    EXPECT_NE(denied.find("members of the gport group"), std::string::npos);
+    EXPECT_NE(denied.find("usermod -aG gport"), std::string::npos);
+    EXPECT_EQ(denied.find("is gportd running"), std::string::npos);
+    const auto absent = detail::connect_failure("/run/gportd.sock", ENOENT, "No such file");
+    EXPECT_NE(absent.find("(is gportd running?)"), std::string::npos);
 }
 
 }  // namespace

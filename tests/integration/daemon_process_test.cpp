@@ -19,6 +19,10 @@ namespace {
 TEST(DaemonProcess, UsageErrorExits64) {
     Process p({GPORTD_PATH, "--no-such-option"});
     EXPECT_EQ(p.wait(), 64);
+    Process missing({GPORTD_PATH, "--device"});
+    EXPECT_EQ(missing.wait(), 64);
+    Process positional({GPORTD_PATH, "/dev/ttyUSB0"});
+    EXPECT_EQ(positional.wait(), 64);
 }
 
 TEST(DaemonProcess, ConfigErrorExits78BeforeTouchingTheGimbal) {
@@ -36,6 +40,9 @@ TEST(DaemonProcess, HelpAndVersionExitZero) {
     EXPECT_NE(first->find("gportd"), std::string::npos);
     EXPECT_EQ(help.wait(), 0);
     Process version({GPORTD_PATH, "--version"});
+    auto printed = version.next_line();
+    ASSERT_TRUE(printed.has_value());
+    EXPECT_EQ(printed->rfind("gportd ", 0), 0U) << *printed;
     EXPECT_EQ(version.wait(), 0);
 }
 

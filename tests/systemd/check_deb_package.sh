@@ -36,6 +36,7 @@ for pattern in '^\./usr/bin/gportd$' '^\./usr/bin/gportctl$' '^\./usr/bin/gport-
                '/systemd/system/gportd@\.service$' '/systemd/system/gportd@\.socket$' \
                '/sysusers\.d/gportd\.conf$' '/udev/rules\.d/60-gportd\.rules$' \
                '^\./etc/gportd/gportd\.json$' '^\./usr/share/doc/gportd/operations\.md$' \
+               '^\./usr/share/bash-completion/completions/gportctl$' \
                '/libgport-client\.so\.1$' '/libgport-client\.so$' \
                '/pkgconfig/gport-client\.pc$' '/cmake/gport-client/gport-clientConfig\.cmake$' \
                '^\./usr/include/gport/client/client\.hpp$' \

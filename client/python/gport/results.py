@@ -133,6 +133,7 @@ class Status:
     recording: str  # assumed: on, off or unknown
     client: Me | None
     raw: Json = field(default_factory=dict, compare=False, repr=False)
+    device_error: str | None = None  # closed: why the last open failed
 
 
 @dataclass(frozen=True)
@@ -244,6 +245,10 @@ def _optional_int(value: Any) -> int | None:
     return None if value is None else int(value)
 
 
+def _optional_str(value: Any) -> str | None:
+    return None if value is None else str(value)
+
+
 def parse_attitude(raw: Json) -> Attitude:
     rates = raw.get("rates")
     parsed_rates = None
@@ -311,6 +316,7 @@ def parse_status(raw: Json) -> Status:
         recording=str(raw.get("recording", "unknown")),
         client=_me(raw.get("client")),
         raw=raw,
+        device_error=_optional_str(raw.get("device_error")),
     )
 
 

@@ -1,5 +1,5 @@
-// gportctl's command line: one subcommand per API method, parsed into an
-// Invocation without touching the socket, so that it is tested directly.
+// gportctl's command line (CLI11): one subcommand per API method, parsed
+// into an Invocation without touching the socket, so that it is tested directly.
 #pragma once
 
 #include <chrono>
@@ -30,10 +30,12 @@ struct Invocation {
     nlohmann::json params = nlohmann::json::object();
     std::string socket{kDefaultSocket};
     bool json = false;                // --json: raw result objects, one per line
-    bool help = false;                // --help: print usage for `command` (or all)
+    bool help = false;                // --help or --version: print `text` and exit 0
+    std::string text;                 // the help page or version asked for
     std::vector<std::string> topics;  // watch
     std::optional<double> rate_hz;    // watch --rate
-    std::optional<std::chrono::milliseconds> duration;  // speed --for
+    std::optional<long> count;        // watch -n: stop after this many events
+    std::optional<std::chrono::milliseconds> duration;  // speed --for, watch --for
     bool wait = false;                                  // angle, center --wait
 };
 
@@ -47,10 +49,11 @@ using ParseResult = Result<Invocation, UsageError>;
 // --socket wins over it.
 ParseResult parse_args(const std::vector<std::string>& args, const char* env_socket);
 
-// "2s", "500ms", "1.5s", "2m" -> milliseconds (at least 1 ms).
+// "2s", "500ms", "1.5s", "2m" -> milliseconds (1 ms to the protocol's longest).
 std::optional<std::chrono::milliseconds> parse_duration(std::string_view text);
 
-// Usage text for one subcommand, or the overview when `command` is empty or unknown.
+// Usage text for one subcommand ("gportctl COMMAND --help"), or the
+// overview when `command` is empty.
 std::string usage(std::string_view command);
 
 }  // namespace gport::cli

@@ -10,12 +10,13 @@
 namespace gport::cli {
 
 // `interrupted` reports SIGINT/SIGTERM; watch and speed end on it (speed
-// after sending stop).
+// after sending stop). `tty`: `out` is a terminal, where speed --for
+// updates one progress line in place.
 int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
-        std::function<bool()> interrupted);
+        std::function<bool()> interrupted, bool tty = false);
 
 // Parses argv (without argv[0]) and runs it: the whole of gportctl.
 int main_with(const std::vector<std::string>& args, const char* env_socket, std::ostream& out,
-              std::ostream& err, std::function<bool()> interrupted);
+              std::ostream& err, std::function<bool()> interrupted, bool tty = false);
 
 }  // namespace gport::cli

@@ -97,6 +97,7 @@ struct Status {
     Link link{};
     std::string device{};
     bool device_open = false;
+    std::optional<std::string> device_error{};  // closed: why the last open failed
     std::int64_t uptime_ms = 0;
     std::optional<std::int64_t> attitude_age_ms{};  // empty before the first sample
     Counters counters{};

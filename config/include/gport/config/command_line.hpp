@@ -1,4 +1,4 @@
-// gportd's command line:
+// gportd's command line (CLI11, with the conventions of gport/base/args.hpp):
 //
 //   gportd [--config FILE] [--device PATH] [--socket PATH] [--log-level LEVEL]
 //          [--simulate] [--help] [--version]
@@ -39,8 +39,8 @@ struct CommandLine {
 };
 
 // `args` is argv as given to main (args[0], the program name, is skipped).
-// Unknown options, missing values and invalid values are usage errors,
-// all reported at once.
+// Unknown options, missing values and invalid values are usage errors
+// (CLI11 stops at the first; the message names the option and what is allowed).
 Result<CommandLine> parse_command_line(std::span<const char* const> args);
 
 // The --help text, ending with a newline.

@@ -123,6 +123,7 @@ struct Status {
     std::string link_reason;
     std::string device;
     bool device_open = false;
+    std::optional<std::string> device_error;  // closed: why the last open failed
     Millis uptime{0};
     std::optional<Millis> attitude_age;
     Counters counters;

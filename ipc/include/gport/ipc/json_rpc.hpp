@@ -47,6 +47,9 @@ inline constexpr std::size_t kMaxDepth = 64;
 inline constexpr std::size_t kMaxBatch = 32;
 inline constexpr std::size_t kMaxIdLength = 128;
 inline constexpr double kMaxRateHz = 1000.0;
+// The longest duration_ms and lease_ms a request may carry (a day); the
+// daemon's keepalive.max_duration_ms narrows it.
+inline constexpr std::int64_t kMaxDurationMs = 86'400'000;
 // Slower than one sample in 100 s is not a rate anyone needs, and keeps the
 // interval far from overflowing a clock duration.
 inline constexpr double kMinRateHz = 0.01;

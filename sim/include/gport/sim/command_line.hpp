@@ -18,7 +18,8 @@ using gport::kExitUsage;
 struct CommandLine {
     SimOptions options;  // options.trace is left empty: the tool decides where it goes
     bool trace = false;
-    bool help = false;
+    bool help = false;     // -h/--help: print help_text()
+    bool version = false;  // --version: print "gport-sim <version>"
 };
 
 // A command line gport-sim refuses: the message names the option and what it
@@ -27,10 +28,13 @@ struct OptionError {
     std::string message;
 };
 
-// Parses the arguments after the program name. Accepts "--opt value" and
-// "--opt=value".
+// Parses the arguments after the program name with CLI11, as gportd and
+// gportctl do (gport/base/args.hpp): "--opt value" and "--opt=value".
 Result<CommandLine, OptionError> parse_command_line(std::span<const std::string_view> args);
 
 std::string help_text();
+
+// "gport-sim <version>", ending with a newline.
+std::string version_text();
 
 }  // namespace gport::sim

@@ -8,6 +8,7 @@
 #include <boost/asio/steady_timer.hpp>
 #include <functional>
 #include <string>
+#include <string_view>
 
 #include "gport/daemon/events.hpp"
 
@@ -15,6 +16,11 @@ namespace gport::daemon {
 
 class LinkMonitor {
   public:
+    // The reason of the stale state between the device opening and its first
+    // attitude: expected at every start, so logged at debug, not as a problem.
+    static constexpr std::string_view kWaitingForFirstAttitude =
+        "device open, waiting for the first attitude";
+
     using OnChange = std::function<void(const LinkEvent&)>;
 
     LinkMonitor(boost::asio::io_context& io, Millis stale_after, OnChange on_change);

@@ -54,6 +54,9 @@ class SerialPort {
 
     bool is_open() const { return port_.is_open(); }
     const std::string& device() const { return device_; }
+    // Why the last attempt to open the device failed ("No such file or
+    // directory"); empty once it opened.
+    const std::string& open_error() const { return open_error_; }
     Stats stats() const;
 
     // Queues a frame for the device. False when the device is closed, or for
@@ -91,6 +94,7 @@ class SerialPort {
     std::optional<protocol::Frame> owed_stop_;
     bool stopped_ = true;
     bool healthy_ = false;  // bytes arrived since the last open
+    std::string open_error_;
     std::vector<std::function<void()>> drained_waiters_;
     Stats stats_;
 };

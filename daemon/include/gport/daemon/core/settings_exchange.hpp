@@ -32,7 +32,13 @@ class SettingsExchange {
     static constexpr std::size_t kMaxPerClient = 4;
     static constexpr std::size_t kMaxTotal = 64;
 
+    // After a set went through: the block read before and the one read back.
+    using Changed = std::function<void(std::uint64_t client, const protocol::SettingsBlock& before,
+                                       const protocol::SettingsBlock& after)>;
+
     SettingsExchange(boost::asio::io_context& io, const config::RequestConfig& config, Send send);
+
+    void on_changed(Changed changed) { changed_ = std::move(changed); }
 
     // kTooMany when the client, or everyone together, has too many requests
     // waiting; check before get()/set().
@@ -59,6 +65,7 @@ class SettingsExchange {
         Step step = Step::kRead;
         unsigned attempt = 0;
         protocol::SettingsBlock block;
+        std::optional<protocol::SettingsBlock> before;  // a set: the block first read
         std::optional<CommandError> refused;  // the frame was not queued: fail at the timer
     };
 
@@ -72,6 +79,7 @@ class SettingsExchange {
     boost::asio::steady_timer timer_;
     config::RequestConfig config_;
     Send send_;
+    Changed changed_;
     std::deque<Job> jobs_;  // front is on the wire
     bool running_ = false;
     std::uint64_t timeouts_ = 0;

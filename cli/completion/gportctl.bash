@@ -1,0 +1,64 @@
+# bash completion for gportctl: commands, their options and arguments (watch
+# topics, record on/off, settings --inverted yes/no, help COMMAND).
+# Installed as /usr/share/bash-completion/completions/gportctl; keep in step
+# with cli/src/options.cpp (tests/cli/completion_test.sh compares them).
+
+_gportctl() {
+    local cur=${COMP_WORDS[COMP_CWORD]}
+    local prev=${COMP_WORDS[COMP_CWORD - 1]}
+    local commands="status attitude watch speed stop angle center lock photo record settings help"
+    local global="--socket --json --help --version"
+    COMPREPLY=()
+
+    case $prev in
+        --socket)
+            COMPREPLY=($(compgen -f -- "$cur"))
+            return
+            ;;
+        --inverted)
+            COMPREPLY=($(compgen -W "yes no" -- "$cur"))
+            return
+            ;;
+        --roll | --pitch | --yaw | --for | --lease | --rate | -n | --count | --dead-zone | --follow-speed)
+            return # a number or a duration
+            ;;
+    esac
+
+    # The command is the first word that is neither an option nor --socket's value.
+    local command="" i
+    for ((i = 1; i < COMP_CWORD; i++)); do
+        case ${COMP_WORDS[i]} in
+            --socket) ((i++)) ;;
+            -*) ;;
+            *)
+                command=${COMP_WORDS[i]}
+                break
+                ;;
+        esac
+    done
+
+    local options="" arguments=""
+    case $command in
+        "") arguments=$commands ;;
+        watch)
+            options="--rate -n --count --for"
+            arguments="attitude link motion"
+            ;;
+        speed) options="--roll --pitch --yaw --for --lease --clamp" ;;
+        angle) options="--roll --pitch --yaw --clamp --wait" ;;
+        center) options="--wait" ;;
+        record)
+            options="--force"
+            arguments="on off"
+            ;;
+        settings) options="--dead-zone --follow-speed --inverted" ;;
+        help) arguments=$commands ;;
+    esac
+    if [[ $cur == -* ]]; then
+        COMPREPLY=($(compgen -W "$options $global" -- "$cur"))
+    else
+        COMPREPLY=($(compgen -W "$arguments" -- "$cur"))
+    fi
+}
+
+complete -F _gportctl gportctl
