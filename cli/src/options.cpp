@@ -34,6 +34,7 @@ const std::vector<CommandSpec>& commands() {
         {"photo", "photo", {}},
         {"record", "record", {"force"}},
         {"settings", "get_settings", {"dead-zone", "follow-speed", "inverted"}},
+        {"monitor", "", {"control", "for", "color"}},
         {"help", "", {}},
     };
     return specs;
@@ -173,6 +174,28 @@ void build_record(Invocation& inv, const Raw& raw) {
     }
 }
 
+// monitor [--control] [--for DURATION] [--color auto|always|never]
+void build_monitor(Invocation& inv, const Raw& raw) {
+    static const std::map<std::string, ColorMode, std::less<>> kColors = {
+        {"auto", ColorMode::kAuto}, {"always", ColorMode::kAlways}, {"never", ColorMode::kNever}};
+    inv.monitor.socket = inv.socket;
+    for (const auto& [option, value] : raw.options) {
+        if (option == "control") {
+            inv.monitor.control = true;
+        } else if (option == "for") {
+            inv.monitor.duration = parse_duration(value);
+            if (!inv.monitor.duration) {
+                throw UsageError{fmt::format(
+                    "--for {}: expected a duration such as 3s, 500ms, 1.5s or 1m", value)};
+            }
+        } else if (auto color = kColors.find(value); color != kColors.end()) {
+            inv.monitor.color = color->second;
+        } else {
+            throw UsageError{fmt::format("--color {}: expected auto, always or never", value)};
+        }
+    }
+}
+
 // Splits argv into global options (applied to `inv`), command options and
 // positionals; the first positional is the command.
 Raw split(const std::vector<std::string>& args, Invocation& inv, const char* env_socket) {
@@ -186,7 +209,7 @@ Raw split(const std::vector<std::string>& args, Invocation& inv, const char* env
             inv.help = true;
         } else if (arg == "--json") {
             inv.json = true;
-        } else if (arg == "--force" || arg == "--clamp" || arg == "--wait") {
+        } else if (arg == "--force" || arg == "--clamp" || arg == "--wait" || arg == "--control") {
             raw.options.emplace_back(arg.substr(2), "");  // a flag: takes no value
         } else if (arg.rfind("--", 0) == 0 && arg.size() > 2) {
             std::string name = arg.substr(2);
@@ -262,6 +285,8 @@ Invocation parse_or_throw(const std::vector<std::string>& args, const char* env_
         build_settings(inv, raw);
     } else if (spec->name == "record") {
         build_record(inv, raw);
+    } else if (spec->name == "monitor") {
+        build_monitor(inv, raw);
     }
     return inv;
 }

@@ -6,6 +6,7 @@
 
 #include <thread>
 
+#include "gport/cli/monitor.hpp"
 #include "gport/cli/output.hpp"
 #include "gport/client/connection.hpp"
 #include "gport/client/error.hpp"
@@ -198,6 +199,9 @@ class Runner {
 
 int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
         std::function<bool()> interrupted) {
+    if (invocation.command == "monitor") {
+        return run_monitor(invocation.monitor, out, err, interrupted);
+    }
     std::optional<Connection> opened;
     try {
         opened.emplace(Connection::open(invocation.socket));

@@ -15,6 +15,7 @@ commands:
   status                     link, device, counters, clients, current motion
   attitude                   the latest attitude sample
   watch [TOPIC...]           stream attitude, link and motion events
+  monitor [--control]        full-screen live view (q quits; --for DURATION)
   speed --yaw DEG/S ...      move at a speed (until Ctrl-C, or --for DURATION)
   stop                       stop any motion now
   angle --pitch DEG ...      go to an angle (--wait: until it is reached)
@@ -66,6 +67,16 @@ const std::map<std::string, std::string, std::less<>>& pages() {
          "With --for DURATION (2s, 500ms, 1.5s, 1m) the daemon keeps the motion going;\n"
          "gportctl stays connected until it ends (the daemon stops the motion of a\n"
          "client that disconnects), and Ctrl-C stops it early.\n"},
+        {"monitor",
+         "usage: gportctl monitor [--control] [--for DURATION] [--color auto|always|never]\n\n"
+         "A full-screen live view, redrawn ten times a second: link, IMU and hall\n"
+         "angles, an attitude indicator, rates, the current motion, control,\n"
+         "counters and the latest events. Keys: q quits, c centres; with --control\n"
+         "(which acquires control, released on exit) the arrows nudge yaw and pitch.\n"
+         "--for DURATION ends it after DURATION (3s, 1m). Colour unless NO_COLOR is\n"
+         "set or --color never. When stdout is not a terminal (or TERM=dumb) it\n"
+         "prints a plain status block every second instead. Ctrl-C, q and the end\n"
+         "of --for exit 0 with the terminal restored.\n"},
         {"stop", "usage: gportctl stop\n\nSends zero speed at once.\n"},
         {"angle",
          "usage: gportctl angle [--roll DEG] [--pitch DEG] [--yaw DEG] [--clamp] [--wait]\n\n"

@@ -11,6 +11,7 @@
 
 #include "gport/base/exit_status.hpp"
 #include "gport/base/result.hpp"
+#include "gport/cli/monitor.hpp"
 
 namespace gport::cli {
 
@@ -35,6 +36,7 @@ struct Invocation {
     std::optional<double> rate_hz;    // watch --rate
     std::optional<std::chrono::milliseconds> duration;  // speed --for
     bool wait = false;                                  // angle, center --wait
+    MonitorOptions monitor;                             // monitor
 };
 
 struct UsageError {
