@@ -15,6 +15,10 @@ GPORT_PACKAGES=(
   file procps
   # The Python client's tests: pytest and mypy --strict (client/python).
   python3 python3-pytest mypy
+  # gportctl monitor's test runs it in tmux; the man pages are built with
+  # scdoc and their tests render them with man -l (man-db) and col
+  # (bsdextrautils).
+  tmux scdoc man-db bsdextrautils
 )
 
 gport_install_deps() {

@@ -75,8 +75,8 @@ std::vector<Line> angle_table(const MonitorModel& model) {
     lines.push_back(axes_row("IMU", a.imu, "°"));
     lines.push_back(axes_row("hall", a.hall, "°"));
     if (a.rates) {
-        lines.push_back(axes_row("rate", a.rates->hall, ""));
-        lines.back().push_back({" °/s", kLabel});
+        lines.push_back(axes_row("rate", a.rates->hall, " "));  // digits under the angles
+        lines.back().push_back({"°/s", kLabel});
         lines.push_back(labelled(
             "IMU ω",
             fmt::format("x {} y {} z {} °/s", signed_value(a.rates->imu.x, 1, ""),

@@ -158,7 +158,7 @@ void render_narrow(Screen& screen, const MonitorModel& model) {
 Screen render(const MonitorModel& model, int width, int height) {
     Screen screen(width, height);
     if (width < kMinWidth || height < kMinHeight) {
-        const std::string text = fmt::format("terminal too small: {}x{}", width, height);
+        const std::string text = fmt::format("too small: {}x{}", width, height);
         screen.put(height / 2, std::max((width - columns(text)) / 2, 0), text);
         return screen;
     }
