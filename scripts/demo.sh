@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and shows gportd working against its
-# simulated gimbal: gportctl reads status, watches attitude, moves the
-# gimbal, and changes a setting. Everything runs from build/release; nothing
-# is installed and the daemon is stopped at the end.
+# simulated gimbal: gportctl reads status, watches attitude, shows the live
+# monitor for 3 s, moves the gimbal, and changes a setting. Everything runs
+# from build/release; nothing is installed and the daemon is stopped at the end.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/deps.sh
@@ -47,6 +47,12 @@ watcher=$!
 sleep 0.6
 "$gportctl" speed --yaw +30 --for 2s
 wait "$watcher"
+echo
+echo "\$ gportctl monitor --for 3s   (while: gportctl speed --yaw -20 --pitch 10 --for 2s)"
+"$gportctl" speed --yaw -20 --pitch 10 --for 2s >/dev/null &
+mover=$!
+"$gportctl" monitor --for 3s
+wait "$mover" || true
 run angle --pitch -30 --yaw 45 --wait
 run attitude
 run center --wait

@@ -21,6 +21,10 @@ GPORT_PACKAGES=(
   # The systemd end-to-end stage (scripts/systemd-e2e.sh): a Debian root made
   # with debootstrap, booted with systemd-nspawn (package systemd-container).
   debootstrap systemd-container
+  # gportctl monitor's test runs it in tmux; the man pages are built with
+  # scdoc and their tests render them with man -l (man-db) and col
+  # (bsdextrautils).
+  tmux scdoc man-db bsdextrautils
 )
 
 # Packages that count as present when their command is, whoever installed it

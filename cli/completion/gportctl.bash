@@ -6,7 +6,7 @@
 _gportctl() {
     local cur=${COMP_WORDS[COMP_CWORD]}
     local prev=${COMP_WORDS[COMP_CWORD - 1]}
-    local commands="status attitude watch speed stop angle center lock photo record settings help"
+    local commands="status attitude watch speed stop angle center lock photo record settings monitor help"
     local global="--socket --json --help --version"
     COMPREPLY=()
 
@@ -17,6 +17,10 @@ _gportctl() {
             ;;
         --inverted)
             COMPREPLY=($(compgen -W "yes no" -- "$cur"))
+            return
+            ;;
+        --color)
+            COMPREPLY=($(compgen -W "auto always never" -- "$cur"))
             return
             ;;
         --roll | --pitch | --yaw | --for | --lease | --rate | -n | --count | --dead-zone | --follow-speed)
@@ -52,6 +56,7 @@ _gportctl() {
             arguments="on off"
             ;;
         settings) options="--dead-zone --follow-speed --inverted" ;;
+        monitor) options="--control --for --color" ;;
         help) arguments=$commands ;;
     esac
     if [[ $cur == -* ]]; then

@@ -50,6 +50,8 @@ struct Values {
     int dead_zone = 0, follow_speed = 0;
     std::string inverted;
     std::string help_topic;
+    bool control = false;  // monitor
+    std::string color = "auto";
 };
 
 class Parser {
@@ -115,8 +117,21 @@ class Parser {
         command("photo", "photo", "take a photo");
         add_record();
         add_settings();
+        add_monitor();
         auto* help = command("help", "", "this text, or a command's");
         help->add_option("command", v_.help_topic, "the command to describe");
+    }
+
+    void add_monitor() {
+        auto* sub = command("monitor", "", "full-screen live view of the gimbal (q quits)");
+        sub->add_flag("--control", v_.control,
+                      "acquire control (released on exit); the arrow keys nudge the gimbal");
+        sub->add_option("--for", v_.for_text, "end after DURATION (2s, 500ms, 1m)")
+            ->type_name("DURATION")
+            ->check(args::duration_in(1ms, kMaxDuration));
+        sub->add_option("--color", v_.color, "colour: auto (unless $NO_COLOR), always or never")
+            ->type_name("WHEN")
+            ->check(args::one_of({"auto", "always", "never"}));
     }
 
     void add_watch() {
@@ -242,6 +257,8 @@ class Parser {
             record(*sub, inv);
         } else if (inv.command == "settings") {
             settings(*sub, inv);
+        } else if (inv.command == "monitor") {
+            monitor(*sub, inv);
         }
         return inv;
     }
@@ -259,6 +276,17 @@ class Parser {
             throw UsageError{fmt::format("help: unknown command \"{}\"", topic)};
         }
         return inv;
+    }
+
+    void monitor(const CLI::App& sub, Invocation& inv) const {
+        inv.monitor.socket = inv.socket;
+        inv.monitor.control = v_.control;
+        if (sub.count("--for") > 0) {
+            inv.monitor.duration = args::parse_duration(v_.for_text);
+        }
+        inv.monitor.color = v_.color == "always"  ? ColorMode::kAlways
+                            : v_.color == "never" ? ColorMode::kNever
+                                                  : ColorMode::kAuto;
     }
 
     void watch(const CLI::App& sub, Invocation& inv) const {

@@ -6,6 +6,7 @@
 
 #include <thread>
 
+#include "gport/cli/monitor.hpp"
 #include "gport/cli/output.hpp"
 #include "gport/cli/progress.hpp"
 #include "gport/client/connection.hpp"
@@ -253,6 +254,9 @@ class Runner {
 
 int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
         std::function<bool()> interrupted, bool tty) {
+    if (invocation.command == "monitor") {
+        return run_monitor(invocation.monitor, out, err, interrupted);
+    }
     std::optional<Connection> opened;
     try {
         opened.emplace(Connection::open(invocation.socket));

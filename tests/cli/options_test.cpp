@@ -189,5 +189,26 @@ TEST(Options, ForIsCheckedAgainstTheProtocolsLongest) {
     EXPECT_THAT(refusal({"speed", "--lease", "86400001"}), HasSubstr("--lease: 86400001"));
 }
 
+// gportctl monitor: its options become the MonitorOptions of run_monitor.
+TEST(Options, Monitor) {
+    auto inv = parse(
+        {"--socket", "/tmp/g.sock", "monitor", "--control", "--for", "3s", "--color", "never"});
+    EXPECT_EQ(inv.command, "monitor");
+    EXPECT_EQ(inv.monitor.socket, "/tmp/g.sock");
+    EXPECT_TRUE(inv.monitor.control);
+    EXPECT_EQ(inv.monitor.duration, 3s);
+    EXPECT_EQ(inv.monitor.color, ColorMode::kNever);
+    auto plain = parse({"monitor"}, "/run/other.sock");
+    EXPECT_EQ(plain.monitor.socket, "/run/other.sock");
+    EXPECT_FALSE(plain.monitor.control);
+    EXPECT_FALSE(plain.monitor.duration);
+    EXPECT_EQ(plain.monitor.color, ColorMode::kAuto);
+    EXPECT_THAT(refusal({"monitor", "--for", "soon"}),
+                HasSubstr("--for: soon"));
+    EXPECT_THAT(refusal({"monitor", "--color", "pink"}),
+                HasSubstr("--color: pink"));
+    EXPECT_THAT(refusal({"monitor", "--yaw", "1"}), HasSubstr("unknown option --yaw"));
+}
+
 }  // namespace
 }  // namespace gport::cli

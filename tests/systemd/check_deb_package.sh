@@ -49,6 +49,21 @@ for pattern in '^\./usr/bin/gportd$' '^\./usr/bin/gportctl$' '^\./usr/bin/gport-
 $contents"
 done
 
+# The man pages (when built): gzipped under /usr/share/man, and `man NAME`
+# finds and renders them from the unpacked package.
+if grep -q '^GPORT_BUILD_MAN:BOOL=ON' "$build/CMakeCache.txt"; then
+    root=$work/root
+    dpkg-deb -x "$deb" "$root"
+    for page in man8/gportd.8 man1/gportctl.1 man1/gport-sim.1 man5/gportd.json.5; do
+        [ -f "$root/usr/share/man/$page.gz" ] || fail "the package lacks /usr/share/man/$page.gz"
+        name=$(basename "$page")
+        text=$(MANPATH="$root/usr/share/man" MANWIDTH=80 man "${name##*.}" "${name%.*}" 2>&1 | col -b)
+        printf "%s\n" "$text" | grep -qx SYNOPSIS || fail "man ${name%.*} from the package does not render:
+$text"
+    done
+    echo "man pages: packaged and rendered by man"
+fi
+
 control=$work/control
 dpkg-deb -e "$deb" "$control"
 for script in postinst prerm postrm; do

@@ -11,6 +11,7 @@
 
 #include "gport/base/exit_status.hpp"
 #include "gport/base/result.hpp"
+#include "gport/cli/monitor.hpp"
 
 namespace gport::cli {
 
@@ -37,6 +38,7 @@ struct Invocation {
     std::optional<long> count;        // watch -n: stop after this many events
     std::optional<std::chrono::milliseconds> duration;  // speed --for, watch --for
     bool wait = false;                                  // angle, center --wait
+    MonitorOptions monitor;                             // monitor
 };
 
 struct UsageError {

@@ -1,0 +1,31 @@
+// The monitor's frames: a MonitorModel in, text out. Pure functions, tested
+// at 80×24 and at small sizes; the terminal side only writes what they give.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "screen.hpp"
+#include "state.hpp"
+
+namespace gport::cli::monitor {
+
+// Below these, the narrow single-column layout (no attitude indicator).
+inline constexpr int kWideMinWidth = 72;
+inline constexpr int kWideMinHeight = 20;
+// Below these, only a "terminal too small" line.
+inline constexpr int kMinWidth = 24;
+inline constexpr int kMinHeight = 6;
+
+// The nudge speed of the arrow keys (°/s), shown in the key help.
+inline constexpr double kNudgeSpeedDegPerS = 20.0;
+
+// The whole screen for a terminal of width × height.
+Screen render(const MonitorModel& model, int width, int height);
+
+// The plain status block printed once a second when stdout is not a
+// terminal: a few "name: value" lines, then the `new_events` latest events,
+// then an empty line. No escape sequences.
+std::string render_plain(const MonitorModel& model, std::size_t new_events);
+
+}  // namespace gport::cli::monitor
