@@ -96,7 +96,7 @@ TEST(CommandLine, LimitsSetTheMechanicalRange) {
         const auto refused = parse({"--limits", bad});
         ASSERT_FALSE(refused.ok()) << bad;
         EXPECT_NE(refused.error().message.find(
-                      "--limits needs three mechanical limits ROLL,PITCH,YAW in degrees, each "
+                      "--limits: needs three mechanical limits ROLL,PITCH,YAW in degrees, each "
                       "above 0 and at most 180"),
                   std::string::npos)
             << refused.error().message;
