@@ -5,7 +5,7 @@ set -euo pipefail
 
 GPORT_PACKAGES=(
   cmake ninja-build g++ pkg-config
-  libboost-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libsystemd-dev
+  libboost-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libsystemd-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev
   systemd dpkg-dev
