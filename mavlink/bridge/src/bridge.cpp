@@ -76,6 +76,14 @@ void Bridge::on_connected() {
             link_state_ = status.link.state;
         }
     });
+    gportd_.async_limits([this](std::optional<client::Error> error, client::Limits limits) {
+        if (error) {
+            spdlog::warn("gportd: limits unknown ({}); GIMBAL_DEVICE_INFORMATION says NaN",
+                         error->message());
+            return;
+        }
+        limits_ = limits;
+    });
     gportd_.async_subscribe({"attitude", "link"}, std::max(options_.attitude_rate_hz * 2, 1.0),
                             [](std::optional<client::Error> error, client::Subscription) {
                                 if (error) {
@@ -254,7 +262,7 @@ void Bridge::request_message(const Header& from, const CommandLong& command) {
     const auto id = static_cast<std::uint32_t>(command.param[0]);
     if (id == GimbalDeviceInformation::kId) {
         ack(from, command.command, mav_result::kAccepted);
-        send(make_information(time_boot_ms()));
+        send(make_information(time_boot_ms(), limits_, options_.invert));
     } else if (id == Heartbeat::kId) {
         ack(from, command.command, mav_result::kAccepted);
         send_heartbeat();

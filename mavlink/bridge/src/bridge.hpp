@@ -76,6 +76,7 @@ class Bridge {
     bool connected_ = false;
     std::string link_state_;
     std::optional<client::AttitudeSample> sample_;
+    std::optional<client::Limits> limits_;
     std::optional<double> vehicle_yaw_deg_;
     std::optional<double> vehicle_yaw_rate_dps_;
     std::optional<Clock::time_point> manager_seen_;

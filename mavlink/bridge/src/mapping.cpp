@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <limits>
+#include <tuple>
+#include <utility>
 
 #include "gport/mavlink/attitude.hpp"
 #include "gport/mavlink/enums.hpp"
@@ -140,7 +142,25 @@ GimbalDeviceAttitudeStatus make_attitude_status(const AttitudeInputs& inputs, co
     return status;
 }
 
-GimbalDeviceInformation make_information(std::uint32_t time_boot_ms) {
+namespace {
+
+constexpr double kNoLimit = 327.67;  // the protocol's whole range: no soft limit
+
+// min and max in radians, NaN when unlimited.
+std::pair<float, float> range_of(const client::AxisRange& range, bool invert) {
+    if (range.min <= -kNoLimit && range.max >= kNoLimit) {
+        return {kNaN, kNaN};
+    }
+    const double min = invert ? -range.max : range.min;
+    const double max = invert ? -range.min : range.max;
+    return {static_cast<float>(to_radians(min)), static_cast<float>(to_radians(max))};
+}
+
+}  // namespace
+
+GimbalDeviceInformation make_information(std::uint32_t time_boot_ms,
+                                         const std::optional<client::Limits>& limits,
+                                         const Invert& invert) {
     GimbalDeviceInformation info;
     info.time_boot_ms = time_boot_ms;
     info.vendor_name = *chars_of<32>("HEQUAV", "vendor_name");
@@ -150,9 +170,13 @@ GimbalDeviceInformation make_information(std::uint32_t time_boot_ms) {
                      gimbal_cap::kHasRollLock | gimbal_cap::kHasPitchAxis |
                      gimbal_cap::kHasPitchLock | gimbal_cap::kHasYawAxis |
                      gimbal_cap::kHasYawFollow | gimbal_cap::kHasYawLock;
-    // Unknown until gportd reports its configured limits (docs/mavlink.md).
     info.roll_min = info.roll_max = info.pitch_min = info.pitch_max = info.yaw_min = info.yaw_max =
         kNaN;
+    if (limits) {
+        std::tie(info.roll_min, info.roll_max) = range_of(limits->roll, invert.roll);
+        std::tie(info.pitch_min, info.pitch_max) = range_of(limits->pitch, invert.pitch);
+        std::tie(info.yaw_min, info.yaw_max) = range_of(limits->yaw, invert.yaw);
+    }
     return info;
 }
 

@@ -163,6 +163,7 @@ async function main() {
   fs.writeFileSync(config, JSON.stringify({
     link: { stale_ms: 300, reconnect_initial_ms: 50, reconnect_max_ms: 200 },
     requests: { timeout_ms: 200, retries: 1 },
+    limits: { pitch: { min: -90, max: 30 } }, // reported in GIMBAL_DEVICE_INFORMATION
   }));
   const sim = start('gport-sim', simPath, ['--link', link, '--trace', '--form', '24'], onTrace);
   await until(() => fs.existsSync(link), 10000, 'the simulator link');
@@ -199,6 +200,9 @@ async function main() {
   const info = await until(() => since(t0, 'GIMBAL_DEVICE_INFORMATION')[0], 5000, 'GIMBAL_DEVICE_INFORMATION');
   check(info.data.vendorName.replace(/\0+$/, '') === 'HEQUAV' && info.data.modelName.replace(/\0+$/, '') === 'G-Port',
     `information: vendor ${info.data.vendorName}, model ${info.data.modelName}, cap_flags ${info.data.capFlags}`);
+  check(near(info.data.pitchMin, rad(-90), 1e-6) && near(info.data.pitchMax, rad(30), 1e-6) &&
+    Number.isNaN(info.data.rollMin) && Number.isNaN(info.data.yawMax),
+  `information limits from gportd's config: pitch ${info.data.pitchMin}..${info.data.pitchMax} rad, roll/yaw NaN (unlimited)`);
 
   // Attitude status at the configured rate.
   t0 = Date.now();

@@ -124,7 +124,12 @@ struct AttitudeInputs {
 GimbalDeviceAttitudeStatus make_attitude_status(const AttitudeInputs& inputs, const Health& health,
                                                 const Invert& invert);
 
-// The GIMBAL_DEVICE_INFORMATION gport-mavlink sends.
-GimbalDeviceInformation make_information(std::uint32_t time_boot_ms);
+// The GIMBAL_DEVICE_INFORMATION gport-mavlink sends. The angle limits are
+// gportd's soft limits (`limits` method) in radians, flipped with `invert`;
+// NaN ("unknown") for an axis without one (the protocol's ±327.67°) or
+// before gportd answered.
+GimbalDeviceInformation make_information(std::uint32_t time_boot_ms,
+                                         const std::optional<client::Limits>& limits,
+                                         const Invert& invert);
 
 }  // namespace gport::mavlink::bridge
