@@ -54,8 +54,8 @@ void Bridge::connect() {
             on_connected();
             return;
         }
-        spdlog::debug("gportd: cannot connect to {}: {}; again in {} ms", options_.socket,
-                      error->message(), backoff_.count());
+        warn_once(last_connect_error_, "gportd: cannot connect to " + options_.socket + ": " +
+                                           error->message() + "; retrying with backoff");
         reconnect_timer_.expires_after(backoff_);
         reconnect_timer_.async_wait([this](boost::system::error_code ec) {
             if (!ec) {
@@ -69,6 +69,7 @@ void Bridge::connect() {
 void Bridge::on_connected() {
     backoff_ = 100ms;
     connected_ = true;
+    last_connect_error_.clear();
     filter_.reset();
     spdlog::info("gportd: connected to {}", options_.socket);
     gportd_.async_status([this](std::optional<client::Error> error, client::Status status) {

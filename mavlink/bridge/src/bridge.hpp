@@ -91,6 +91,7 @@ class Bridge {
     std::uint64_t ignored_messages_ = 0;
     std::string last_motion_error_;
     std::string last_mapping_error_;
+    std::string last_connect_error_;
 
     static std::uint16_t gimbal_flags_default();
 };
