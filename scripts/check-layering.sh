@@ -5,7 +5,7 @@
 #   base  protocol  config  daemon  sim  ipc  systemd  app  client  cli  examples  mavlink
 #
 # mavlink/ is last: its codec needs only base/, and the gport-mavlink program
-# that will join it is a client of gportd built on the client library, so it
+# (mavlink/bridge/) is a client of gportd built on the client library, so it
 # sits above every part of the daemon and above client/.
 #
 # Each folder may include its own headers and those of the folders before

@@ -25,10 +25,12 @@ gport_system_dir(rulesdir "${GPORT_UDEV_RULESDIR}" "${GPORT_SYSTEM_UDEV_RULESDIR
 
 # Units: substitute the installed paths and the shared sandbox.
 file(READ "${GPORT_SRC_DIR}/units/sandbox.conf" GPORT_UNIT_SANDBOX)
+file(READ "${GPORT_SRC_DIR}/units/mavlink-sandbox.conf" GPORT_MAVLINK_SANDBOX)
 set(GPORT_BINDIR "${CMAKE_INSTALL_PREFIX}/${GPORT_BINDIR_REL}")
 set(GPORT_DOC_DIR "${CMAKE_INSTALL_PREFIX}/${GPORT_DOCDIR_REL}")
 set(units "")
-foreach(unit gportd.service gportd.socket gportd@.service gportd@.socket)
+foreach(unit gportd.service gportd.socket gportd@.service gportd@.socket gport-mavlink.service
+             gport-mavlink@.service)
   configure_file("${GPORT_SRC_DIR}/units/${unit}.in" "${GPORT_STAGE_DIR}/${unit}" @ONLY)
   list(APPEND units "${GPORT_STAGE_DIR}/${unit}")
 endforeach()
@@ -37,6 +39,6 @@ endforeach()
 # like install() does.
 file(INSTALL DESTINATION "${unitdir}" TYPE FILE FILES ${units})
 file(INSTALL DESTINATION "${sysusersdir}" TYPE FILE
-     FILES "${GPORT_SRC_DIR}/sysusers/gportd.conf")
+     FILES "${GPORT_SRC_DIR}/sysusers/gportd.conf" "${GPORT_SRC_DIR}/sysusers/gport-mavlink.conf")
 file(INSTALL DESTINATION "${rulesdir}" TYPE FILE
      FILES "${GPORT_SRC_DIR}/udev/60-gportd.rules")

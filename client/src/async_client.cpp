@@ -277,6 +277,10 @@ void AsyncClient::async_settings(Handler<Settings> handler) {
     impl_->call("get_settings", json::object(), typed(std::move(handler), codec::settings));
 }
 
+void AsyncClient::async_limits(Handler<Limits> handler) {
+    impl_->call("limits", json::object(), typed(std::move(handler), codec::limits));
+}
+
 void AsyncClient::async_set_settings(const SettingsChange& change, Handler<Settings> handler) {
     impl_->call("set_settings", codec::settings_params(change),
                 typed(std::move(handler), codec::settings));

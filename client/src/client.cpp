@@ -147,6 +147,9 @@ Control Client::acquire() {
 Control Client::release() {
     return codec::control(impl().call("release"));
 }
+Limits Client::limits() {
+    return codec::limits(impl().call("limits"));
+}
 Settings Client::settings() {
     return codec::settings(impl().call("get_settings"));
 }

@@ -36,6 +36,7 @@ CenterResult center_result(const json& result);
 RecordResult record_result(const json& result);
 Control control(const json& result);
 Settings settings(const json& result);
+Limits limits(const json& result);
 Subscription subscription(const json& result);
 
 // A notification message ({"method":topic,"params":...}); empty for a topic

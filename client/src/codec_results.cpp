@@ -198,6 +198,18 @@ Settings settings(const json& result) {
     });
 }
 
+Limits limits(const json& result) {
+    return guarded("limits result", result, [&] {
+        const auto range = [&](const char* axis) {
+            const json& r = result.at(axis);
+            return AxisRange{r.at("min").get<double>(), r.at("max").get<double>()};
+        };
+        return Limits{range("roll"), range("pitch"), range("yaw"),
+                      result.at("max_speed").get<double>(),
+                      result.at("braking_margin_deg").get<double>()};
+    });
+}
+
 Subscription subscription(const json& result) {
     return guarded("subscription", result, [&] {
         return Subscription{strings(result, "topics"), optional_of<double>(result, "max_rate_hz")};

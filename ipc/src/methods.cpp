@@ -87,6 +87,20 @@ void status(MethodContext& c, const json& params, Respond respond) {
     respond(status_json(c.api.status(), c.stats(), c.client));
 }
 
+json range_json(const config::AxisRange& range) {
+    return json{{"min", range.min}, {"max", range.max}};
+}
+
+void limits(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({});
+    const auto l = c.api.limits();
+    respond(json{{"roll", range_json(l.roll)},
+                 {"pitch", range_json(l.pitch)},
+                 {"yaw", range_json(l.yaw)},
+                 {"max_speed", l.max_speed},
+                 {"braking_margin_deg", l.braking_margin_deg}});
+}
+
 void attitude(MethodContext& c, const json& params, Respond respond) {
     Params(params).only({});
     auto sample = c.api.latest_attitude();
@@ -292,6 +306,7 @@ constexpr std::array kMethods{
     Entry{"release", release},
     Entry{"get_settings", get_settings},
     Entry{"set_settings", set_settings},
+    Entry{"limits", limits},
 };
 
 }  // namespace

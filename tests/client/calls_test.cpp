@@ -126,6 +126,15 @@ TEST_F(ClientCalls, SettingsReadAndChange) {
     EXPECT_EQ(error_code_of([&] { client().set_settings({}); }), -32602);
 }
 
+TEST_F(ClientCalls, LimitsAreTheConfiguredOnes) {
+    const auto l = client().limits();  // the fixture's config sets none: the protocol's range
+    EXPECT_EQ(l.pitch.min, -327.67);
+    EXPECT_EQ(l.pitch.max, 327.67);
+    EXPECT_EQ(l.yaw.max, 327.67);
+    EXPECT_EQ(l.max_speed, 327.67);
+    EXPECT_EQ(l.braking_margin_deg, 1.0);
+}
+
 TEST_F(ClientCalls, DefaultSocketComesFromTheEnvironment) {
     ::setenv("GPORT_SOCKET", socket().c_str(), 1);
     EXPECT_EQ(gc::Client::default_socket(), socket());

@@ -288,6 +288,18 @@ TEST_F(DispatcherTest, StatusSaysTheAssumedRecordingState) {
     EXPECT_EQ(call("status")["result"]["recording"], "on");
 }
 
+TEST_F(DispatcherTest, LimitsReportsTheConfiguredSoftLimits) {
+    api_.limits_value.pitch = {-90, 30};
+    api_.limits_value.max_speed = 60;
+    auto result = call("limits")["result"];
+    EXPECT_EQ(result["pitch"], (json{{"min", -90.0}, {"max", 30.0}}));
+    EXPECT_EQ(result["roll"], (json{{"min", -327.67}, {"max", 327.67}}));
+    EXPECT_EQ(result["yaw"]["max"], 327.67);
+    EXPECT_EQ(result["max_speed"], 60.0);
+    EXPECT_EQ(result["braking_margin_deg"], 1.0);
+    EXPECT_EQ(code(call("limits", {{"axis", "pitch"}})), rpc_error::kInvalidParams);
+}
+
 TEST_F(DispatcherTest, AcquireAndReleaseSayWhoHoldsControl) {
     auto held = call("acquire")["result"];
     EXPECT_EQ(held["controller"]["pid"], 4242);

@@ -97,6 +97,13 @@ def test_record_toggle_and_state(client: gport.Client) -> None:
         client.record(force=True)
 
 
+def test_limits_are_the_configured_ones(client: gport.Client) -> None:
+    limits = client.limits()
+    assert limits.pitch == gport.AxisRange(-327.67, 327.67)
+    assert limits.max_speed == 327.67
+    assert limits.braking_margin_deg == 1.0
+
+
 def test_settings_read_modify_write(client: gport.Client) -> None:
     before = client.settings()
     after = client.set_settings(dead_zone=(before.dead_zone + 1) % 256)

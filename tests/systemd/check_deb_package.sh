@@ -35,6 +35,8 @@ for pattern in '^\./usr/bin/gportd$' '^\./usr/bin/gportctl$' '^\./usr/bin/gport-
                '/systemd/system/gportd\.service$' '/systemd/system/gportd\.socket$' \
                '/systemd/system/gportd@\.service$' '/systemd/system/gportd@\.socket$' \
                '/sysusers\.d/gportd\.conf$' '/udev/rules\.d/60-gportd\.rules$' \
+               '^\./usr/bin/gport-mavlink$' '/systemd/system/gport-mavlink\.service$' \
+               '/systemd/system/gport-mavlink@\.service$' '/sysusers\.d/gport-mavlink\.conf$' \
                '^\./etc/gportd/gportd\.json$' '^\./usr/share/doc/gportd/operations\.md$' \
                '^\./usr/share/bash-completion/completions/gportctl$' \
                '/libgport-client\.so\.1$' '/libgport-client\.so$' \

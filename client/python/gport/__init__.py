@@ -50,6 +50,8 @@ from .results import (
     SpeedResult,
     Status,
     Subscription,
+    AxisRange,
+    Limits,
 )
 
 # The project's version (CMakeLists.txt project()); tests/python checks they agree.
@@ -89,6 +91,8 @@ __all__ = [
     "Rates",
     "RecordResult",
     "Settings",
+    "AxisRange",
+    "Limits",
     "SpeedResult",
     "Status",
     "Subscription",

@@ -18,6 +18,7 @@ from .results import (
     Notification,
     RecordResult,
     Settings,
+    Limits,
     SpeedResult,
     Status,
     Subscription,
@@ -27,6 +28,7 @@ from .results import (
     parse_control,
     parse_record,
     parse_settings,
+    parse_limits,
     parse_speed,
     parse_status,
     parse_subscription,
@@ -224,6 +226,10 @@ class AsyncClient:
 
     async def release(self) -> Control:
         return parse_control(await self.call("release"))
+
+    async def limits(self) -> Limits:
+        """gportd's configured soft limits (read-only)."""
+        return parse_limits(await self.call("limits"))
 
     async def settings(self) -> Settings:
         return parse_settings(await self.call("get_settings"))

@@ -19,6 +19,7 @@ from .results import (
     Notification,
     RecordResult,
     Settings,
+    Limits,
     SpeedResult,
     Status,
     Subscription,
@@ -28,6 +29,7 @@ from .results import (
     parse_control,
     parse_record,
     parse_settings,
+    parse_limits,
     parse_speed,
     parse_status,
     parse_subscription,
@@ -247,6 +249,10 @@ class Client:
 
     def release(self) -> Control:
         return parse_control(self.call("release"))
+
+    def limits(self) -> Limits:
+        """gportd's configured soft limits (read-only)."""
+        return parse_limits(self.call("limits"))
 
     def settings(self) -> Settings:
         return parse_settings(self.call("get_settings"))

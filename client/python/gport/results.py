@@ -199,6 +199,25 @@ class Settings:
 
 
 @dataclass(frozen=True)
+class AxisRange:
+    """One axis's soft limit in degrees (``limits``)."""
+
+    min: float
+    max: float
+
+
+@dataclass(frozen=True)
+class Limits:
+    """gportd's configured soft limits (the ``limits`` method)."""
+
+    roll: AxisRange
+    pitch: AxisRange
+    yaw: AxisRange
+    max_speed: float
+    braking_margin_deg: float
+
+
+@dataclass(frozen=True)
 class Subscription:
     """The topics now subscribed and the attitude rate cap."""
 
@@ -363,6 +382,19 @@ def parse_control(raw: Json) -> Control:
 
 def parse_settings(raw: Json) -> Settings:
     return Settings(int(raw["dead_zone"]), int(raw["follow_speed"]), bool(raw["inverted"]))
+
+
+def parse_limits(raw: Json) -> Limits:
+    def axis(name: str) -> AxisRange:
+        return AxisRange(float(raw[name]["min"]), float(raw[name]["max"]))
+
+    return Limits(
+        axis("roll"),
+        axis("pitch"),
+        axis("yaw"),
+        float(raw["max_speed"]),
+        float(raw["braking_margin_deg"]),
+    )
 
 
 def parse_subscription(raw: Json) -> Subscription:

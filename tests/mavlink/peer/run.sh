@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
-# The ctest mavlink_node_crosscheck: installs node-mavlink (pinned by
-# package-lock.json) with `npm ci` into WORKDIR, a folder of the build tree,
-# and runs crosscheck.js against TOOL (mavlink_peer_tool). The source tree is
-# never written. Fails, never skips, when node or npm is missing: CI installs
+# The ctests mavlink_node_crosscheck and mavlink_peer_gimbal_manager: installs
+# node-mavlink (pinned by package-lock.json) with `npm ci` into WORKDIR, a
+# folder of the build tree, and runs SCRIPT (crosscheck.js against
+# mavlink_peer_tool, or gimbal_manager.js against the programs) with ARGS.
+# The source tree is never written. Fails, never skips, when node or npm is missing: CI installs
 # Debian's nodejs and npm (scripts/deps.sh).
 #
-#   run.sh TOOL WORKDIR
+#   run.sh WORKDIR SCRIPT ARGS...
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-tool=$1
-work=$2
+work=$1
+script=$2
+shift 2
 
 for cmd in node npm; do
   if ! command -v "$cmd" >/dev/null 2>&1; then
@@ -32,4 +34,4 @@ if ! cmp -s "$here/package-lock.json" "$work/package-lock.json" ||
   echo "== npm ci (node $(node --version), npm $(npm --version)) in $work"
   (cd "$work" && npm ci --no-audit --no-fund --ignore-scripts --omit=optional --loglevel=error)
 fi
-NODE_PATH="$work/node_modules" node "$here/crosscheck.js" "$tool" "$work"
+NODE_PATH="$work/node_modules" node "$here/$script" "$@"

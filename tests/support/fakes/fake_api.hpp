@@ -45,6 +45,9 @@ class FakeApi final : public daemon::Api {
     std::function<void()> on_status;  // runs on every status()
 
     void set_observer(daemon::CoreObserver* o) override { observer = o; }
+    config::LimitsConfig limits_value;
+    config::LimitsConfig limits() const override { return limits_value; }
+
     daemon::Status status() const override {
         ++status_calls;
         if (on_status) {

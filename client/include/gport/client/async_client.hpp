@@ -63,6 +63,7 @@ class GPORT_CLIENT_API AsyncClient {
     void async_release(Handler<Control> handler);
     void async_settings(Handler<Settings> handler);
     void async_set_settings(const SettingsChange& change, Handler<Settings> handler);
+    void async_limits(Handler<Limits> handler);
     void async_subscribe(const std::vector<std::string>& topics, std::optional<double> max_rate_hz,
                          Handler<Subscription> handler);
     void async_unsubscribe(const std::vector<std::string>& topics, Handler<Subscription> handler);

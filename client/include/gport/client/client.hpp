@@ -64,6 +64,7 @@ class GPORT_CLIENT_API Client {
     Control release();
     Settings settings();
     Settings set_settings(const SettingsChange& change);
+    Limits limits();  // gportd's configured soft limits
 
     // topics: "attitude", "link", "motion"; max_rate_hz caps attitude.
     Subscription subscribe(const std::vector<std::string>& topics,

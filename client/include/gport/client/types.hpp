@@ -174,6 +174,20 @@ struct SettingsChange {
     std::optional<bool> inverted{};
 };
 
+// The `limits` method: gportd's configured soft limits (config "limits").
+struct AxisRange {
+    double min = 0;
+    double max = 0;
+};
+
+struct Limits {
+    AxisRange roll{};
+    AxisRange pitch{};
+    AxisRange yaw{};
+    double max_speed = 0;  // °/s
+    double braking_margin_deg = 0;
+};
+
 struct Subscription {
     std::vector<std::string> topics{};
     std::optional<double> max_rate_hz{};

@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gport/config/config.hpp"
 #include "gport/daemon/events.hpp"
 #include "gport/daemon/outcome.hpp"
 
@@ -142,6 +143,8 @@ class Api {
     virtual Status status() const = 0;
     virtual std::optional<AttitudeSample> latest_attitude() const = 0;
     virtual bool may_command(const ClientInfo& client) const = 0;
+    // The configured soft limits (config "limits"), read-only.
+    virtual config::LimitsConfig limits() const = 0;
 
     // ---- commands ----
     // Speed in 0.01°/s; duration empty means the configured default. A

@@ -58,6 +58,7 @@ class Core final : public Api {
     Status status() const override;
     std::optional<AttitudeSample> latest_attitude() const override { return latest_; }
     bool may_command(const ClientInfo& client) const override;
+    config::LimitsConfig limits() const override { return config_.limits; }
     Outcome<SpeedStarted> speed(const ClientInfo& client, protocol::Axes speed,
                                 std::optional<Millis> duration, bool clamp = false,
                                 std::optional<Millis> lease = std::nullopt) override;

@@ -1,0 +1,135 @@
+// gport-mavlink's mapping between MAVLink's gimbal protocol v2 and gportd's
+// API: pure functions and small state machines, no I/O (docs/mavlink.md,
+// "What is mapped").
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+
+#include "gport/client/types.hpp"
+#include "gport/mavlink/frame.hpp"
+#include "gport/mavlink/message_types.hpp"
+
+namespace gport::mavlink::bridge {
+
+// Per-axis sign flips between G-Port degrees and MAVLink degrees (default
+// identity: roll right, pitch up, yaw right positive on both sides).
+struct Invert {
+    bool roll = false;
+    bool pitch = false;
+    bool yaw = false;
+};
+
+// Applies the flips (the same both ways: a flip is its own inverse).
+client::Axes apply(const Invert& invert, const client::Axes& axes);
+
+// ---- GIMBAL_DEVICE_SET_ATTITUDE -> a gportd command --------------------------
+
+struct AngleCommand {  // gportd `angle`, degrees, vehicle frame
+    client::Axes target{};
+};
+struct SpeedCommand {  // gportd `speed`, degrees per second
+    client::Axes speed{};
+};
+struct CenterCommand {};  // gportd `center` (RETRACT or NEUTRAL)
+struct NoCommand {        // nothing to send; `reason` says why
+    std::string reason{};
+};
+using Command = std::variant<NoCommand, AngleCommand, SpeedCommand, CenterCommand>;
+
+// True when the message asks for earth-frame yaw: YAW_IN_EARTH_FRAME, or
+// (the protocol's older convention) YAW_LOCK without either frame flag.
+bool yaw_in_earth_frame(std::uint16_t flags);
+
+// The command for a set-attitude message. `vehicle_yaw_deg` is the
+// autopilot's yaw (AUTOPILOT_STATE_FOR_GIMBAL_DEVICE), needed to turn an
+// earth-frame yaw into a vehicle-frame one; without it such a target is a
+// NoCommand. A NaN rate axis counts as 0; all rates NaN with a NaN
+// quaternion is a NoCommand.
+Command map_set_attitude(const GimbalDeviceSetAttitude& message, const Invert& invert,
+                         std::optional<double> vehicle_yaw_deg);
+
+// ---- the change filter -------------------------------------------------------
+
+// Passes an angle target only when no target was sent yet or one axis moved
+// by more than `threshold_deg` (MAVLink's float quaternion resolves about
+// 0.01° once turned into the G-Port's 0.01° frames).
+class AngleFilter {
+  public:
+    explicit AngleFilter(double threshold_deg = 0.01) : threshold_(threshold_deg) {}
+    // True (and remembers the target) when it should be sent.
+    bool pass(const client::Axes& target);
+    // Forgets the last target (another kind of command ran, or gportd reconnected).
+    void reset() { last_.reset(); }
+
+  private:
+    double threshold_;
+    std::optional<client::Axes> last_;
+};
+
+// ---- whose system we join ------------------------------------------------------
+
+// The system id gport-mavlink uses: the configured one, or the first
+// autopilot heartbeat's (not a GCS's, not another gimbal's or companion's:
+// MAV_TYPE_GCS and MAV_AUTOPILOT_INVALID are ignored).
+class SystemId {
+  public:
+    explicit SystemId(std::optional<std::uint8_t> fixed) : value_(fixed) {}
+    // Returns true when this heartbeat made us adopt its sysid.
+    bool on_heartbeat(const Header& header, const Heartbeat& heartbeat);
+    std::optional<std::uint8_t> value() const { return value_; }
+
+  private:
+    std::optional<std::uint8_t> value_;
+};
+
+// True when a message with these targets is for us (or broadcast: 0).
+bool addressed_to(std::uint8_t target_system, std::uint8_t target_component, std::uint8_t sysid,
+                  std::uint8_t compid);
+
+// ---- status --------------------------------------------------------------------
+
+struct Health {
+    bool gportd_connected = false;
+    std::string link_state{};   // gportd's link: "up", "stale", "down" ("" unknown)
+    bool manager_seen = false;  // an autopilot heartbeat within the last 3 s
+};
+
+// HEARTBEAT system_status: ACTIVE when gportd is reached and its link is
+// up, CRITICAL otherwise.
+std::uint8_t system_status(const Health& health);
+
+// GIMBAL_DEVICE_ATTITUDE_STATUS failure_flags: COMMS_ERROR when the link
+// is stale or down, COMMS_ERROR | SOFTWARE_ERROR when gportd is
+// unreachable, NO_MANAGER without a manager.
+std::uint32_t failure_flags(const Health& health);
+
+// What the attitude status needs besides the health.
+struct AttitudeInputs {
+    std::optional<client::AttitudeSample> sample{};
+    std::optional<double> vehicle_yaw_deg{};       // from AUTOPILOT_STATE_FOR_GIMBAL_DEVICE
+    std::optional<double> vehicle_yaw_rate_dps{};  // its angular_velocity_z, if sent
+    std::uint16_t mode_flags = 0;                  // lock/retract/neutral of the last command
+    std::uint32_t time_boot_ms = 0;
+    std::uint8_t target_system = 0;
+    std::uint8_t target_component = 0;
+};
+
+// The status message: quaternion from IMU roll and pitch and hall yaw
+// (vehicle frame), angular velocity from the rates (IMU x/y, hall yaw) or NaN
+// without them, delta_yaw (the vehicle's yaw) or NaN. Without a sample the
+// quaternion is NaN.
+GimbalDeviceAttitudeStatus make_attitude_status(const AttitudeInputs& inputs, const Health& health,
+                                                const Invert& invert);
+
+// The GIMBAL_DEVICE_INFORMATION gport-mavlink sends. The angle limits are
+// gportd's soft limits (`limits` method) in radians, flipped with `invert`;
+// NaN ("unknown") for an axis without one (the protocol's ±327.67°) or
+// before gportd answered.
+GimbalDeviceInformation make_information(std::uint32_t time_boot_ms,
+                                         const std::optional<client::Limits>& limits,
+                                         const Invert& invert);
+
+}  // namespace gport::mavlink::bridge

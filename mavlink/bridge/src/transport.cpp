@@ -1,0 +1,154 @@
+#include "transport.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <array>
+#include <boost/asio/ip/udp.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/serial_port.hpp>
+#include <boost/asio/write.hpp>
+#include <stdexcept>
+#include <vector>
+
+namespace gport::mavlink::bridge {
+
+namespace {
+
+namespace asio = boost::asio;
+using asio::ip::udp;
+
+class UdpTransport final : public Transport {
+  public:
+    UdpTransport(asio::io_context& io, const Endpoint& e) : socket_(io) {
+        boost::system::error_code ec;
+        const auto address = asio::ip::make_address(e.address, ec);
+        if (ec) {
+            throw std::runtime_error(to_string(e) + ": \"" + e.address + "\" is not an IP address");
+        }
+        const udp::endpoint where(address, static_cast<unsigned short>(e.number));
+        socket_.open(where.protocol());
+        if (e.kind == Endpoint::Kind::kUdpIn) {
+            socket_.set_option(udp::socket::reuse_address(true));
+            socket_.bind(where, ec);
+            if (ec) {
+                throw std::runtime_error(to_string(e) + ": cannot bind: " + ec.message());
+            }
+        } else {
+            peer_ = where;
+        }
+    }
+
+    void start(Receiver receive) override {
+        receive_ = std::move(receive);
+        read();
+    }
+
+    void send(std::span<const std::uint8_t> frame) override {
+        if (!peer_) {
+            ++send_failures_;
+            return;
+        }
+        boost::system::error_code ec;
+        socket_.send_to(asio::buffer(frame.data(), frame.size()), *peer_, 0, ec);
+        if (ec) {
+            ++send_failures_;
+            spdlog::debug("mavlink: send to {}:{} failed: {}", peer_->address().to_string(),
+                          peer_->port(), ec.message());
+        }
+    }
+
+    bool has_peer() const override { return peer_.has_value(); }
+
+  private:
+    void read() {
+        socket_.async_receive_from(
+            asio::buffer(buffer_), sender_, [this](boost::system::error_code ec, std::size_t n) {
+                if (ec == asio::error::operation_aborted) {
+                    return;
+                }
+                if (!ec) {
+                    if (!peer_ || *peer_ != sender_) {
+                        spdlog::info("mavlink: peer {}:{}", sender_.address().to_string(),
+                                     sender_.port());
+                    }
+                    peer_ = sender_;
+                    receive_({buffer_.data(), n});
+                }
+                // Re-armed through post: timers and gportd's replies get their turn
+                // between datagrams of a flooding peer.
+                asio::post(socket_.get_executor(), [this] { read(); });
+            });
+    }
+
+    udp::socket socket_;
+    udp::endpoint sender_;
+    std::optional<udp::endpoint> peer_;
+    std::array<std::uint8_t, kReadSize> buffer_{};
+    Receiver receive_;
+};
+
+class SerialTransport final : public Transport {
+  public:
+    SerialTransport(asio::io_context& io, const Endpoint& e) : port_(io) {
+        boost::system::error_code ec;
+        port_.open(e.address, ec);
+        if (ec) {
+            throw std::runtime_error(to_string(e) + ": cannot open " + e.address + ": " +
+                                     ec.message());
+        }
+        port_.set_option(asio::serial_port::baud_rate(e.number), ec);
+        if (ec) {
+            throw std::runtime_error(to_string(e) + ": baud rate " + std::to_string(e.number) +
+                                     " refused: " + ec.message());
+        }
+        port_.set_option(asio::serial_port::character_size(8));
+        port_.set_option(asio::serial_port::parity(asio::serial_port::parity::none));
+        port_.set_option(asio::serial_port::stop_bits(asio::serial_port::stop_bits::one));
+        port_.set_option(asio::serial_port::flow_control(asio::serial_port::flow_control::none));
+    }
+
+    void start(Receiver receive) override {
+        receive_ = std::move(receive);
+        read();
+    }
+
+    void send(std::span<const std::uint8_t> frame) override {
+        boost::system::error_code ec;
+        asio::write(port_, asio::buffer(frame.data(), frame.size()), ec);
+        if (ec) {
+            ++send_failures_;
+        }
+    }
+
+    bool has_peer() const override { return true; }
+
+  private:
+    void read() {
+        port_.async_read_some(
+            asio::buffer(buffer_), [this](boost::system::error_code ec, std::size_t n) {
+                if (ec == asio::error::operation_aborted) {
+                    return;
+                }
+                if (ec) {
+                    throw std::runtime_error("mavlink serial port: " + ec.message());
+                }
+                receive_({buffer_.data(), n});
+                asio::post(port_.get_executor(), [this] { read(); });
+            });
+    }
+
+    asio::serial_port port_;
+    std::array<std::uint8_t, kReadSize> buffer_{};
+    Receiver receive_;
+};
+
+}  // namespace
+
+std::unique_ptr<Transport> open_transport(asio::io_context& io, const Endpoint& endpoint) {
+    if (endpoint.kind == Endpoint::Kind::kSerial) {
+        return std::make_unique<SerialTransport>(io, endpoint);
+    }
+    return std::make_unique<UdpTransport>(io, endpoint);
+}
+
+}  // namespace gport::mavlink::bridge

@@ -1,0 +1,110 @@
+// gport-mavlink's options: command line over config over defaults; bad
+// options exit 64, a bad config 78 (docs/mavlink.md, "Options").
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "gport/mavlink/bridge/options.hpp"
+
+namespace gport::mavlink::bridge {
+namespace {
+
+ParseOutcome parse(std::vector<std::string> args, const std::string& env = "") {
+    args.insert(args.begin(), "gport-mavlink");
+    return parse_options(args, env);
+}
+
+std::string write_config(const std::string& text) {
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("gport-mavlink-test-" + std::to_string(::getpid()) + ".json");
+    std::ofstream(path) << text;
+    return path.string();
+}
+
+TEST(Options, Defaults) {
+    const auto out = parse({});
+    ASSERT_TRUE(out.options) << out.text;
+    EXPECT_EQ(out.options->socket, "/run/gportd.sock");
+    EXPECT_FALSE(out.options->sysid);
+    EXPECT_EQ(out.options->compid, 154);
+    EXPECT_EQ(out.options->attitude_rate_hz, 10);
+    EXPECT_EQ(out.options->lease_ms, 500U);
+}
+
+TEST(Options, EnvironmentSocketAndCommandLine) {
+    const auto out = parse({"--mavlink", "udpout:127.0.0.1:14555", "--sysid", "3", "--compid",
+                            "155", "--attitude-rate", "20", "--lease-ms", "300", "--invert-yaw"},
+                           "/tmp/g.sock");
+    ASSERT_TRUE(out.options) << out.text;
+    EXPECT_EQ(out.options->socket, "/tmp/g.sock");
+    EXPECT_EQ(out.options->mavlink.kind, Endpoint::Kind::kUdpOut);
+    EXPECT_EQ(out.options->mavlink.number, 14555U);
+    EXPECT_EQ(out.options->sysid, 3);
+    EXPECT_EQ(out.options->compid, 155);
+    EXPECT_EQ(out.options->attitude_rate_hz, 20);
+    EXPECT_EQ(out.options->lease_ms, 300U);
+    EXPECT_TRUE(out.options->invert.yaw);
+    EXPECT_FALSE(out.options->invert.roll);
+}
+
+TEST(Options, Endpoints) {
+    std::string error;
+    auto serial = parse_endpoint("serial:/dev/ttyAMA0:921600", error);
+    ASSERT_TRUE(serial) << error;
+    EXPECT_EQ(serial->kind, Endpoint::Kind::kSerial);
+    EXPECT_EQ(serial->address, "/dev/ttyAMA0");
+    EXPECT_EQ(serial->number, 921600U);
+    EXPECT_FALSE(parse_endpoint("tcp:1.2.3.4:5", error));
+    EXPECT_NE(error.find("udpin:ADDR:PORT"), std::string::npos);
+    EXPECT_FALSE(parse_endpoint("udpin:0.0.0.0:70000", error));
+    EXPECT_NE(error.find("1 to 65535"), std::string::npos);
+    EXPECT_FALSE(parse_endpoint("udpin", error));
+}
+
+TEST(Options, BadOptionsExit64) {
+    EXPECT_EQ(parse({"--sysid", "0"}).exit_code, 64);
+    EXPECT_EQ(parse({"--mavlink", "tcp:x:1"}).exit_code, 64);
+    EXPECT_EQ(parse({"--attitude-rate", "0"}).exit_code, 64);
+    EXPECT_EQ(parse({"--lease-ms", "10"}).exit_code, 64);
+    EXPECT_EQ(parse({"--log-level", "loud"}).exit_code, 64);
+    EXPECT_EQ(parse({"--bogus"}).exit_code, 64);
+}
+
+TEST(Options, HelpExits0) {
+    const auto out = parse({"--help"});
+    EXPECT_FALSE(out.options);
+    EXPECT_EQ(out.exit_code, 0);
+    EXPECT_NE(out.text.find("--mavlink"), std::string::npos);
+}
+
+TEST(Options, ConfigSectionUnderTheCommandLine) {
+    const auto path = write_config(
+        "{\n // comment\n \"mavlink\": {\"url\": \"udpin:127.0.0.1:14600\", \"sysid\": 5,"
+        " \"attitude_rate_hz\": 5, \"invert\": {\"pitch\": true}}}");
+    const auto out = parse({"--config", path, "--attitude-rate", "25"});
+    ASSERT_TRUE(out.options) << out.text;
+    EXPECT_EQ(out.options->mavlink.number, 14600U);
+    EXPECT_EQ(out.options->sysid, 5);
+    EXPECT_EQ(out.options->attitude_rate_hz, 25);
+    EXPECT_TRUE(out.options->invert.pitch);
+    std::filesystem::remove(path);
+}
+
+TEST(Options, BadConfigExits78) {
+    for (const std::string text :
+         {"{\"mavlink\": {\"rate\": 5}}", "{\"mavlink\": {\"sysid\": 300}}",
+          "{\"mavlink\": {\"url\": \"udp:1\"}}", "{\"mavlink\": {\"lease_ms\": 1}}", "{nope",
+          "{}"}) {
+        const auto path = write_config(text);
+        const auto out = parse({"--config", path});
+        EXPECT_EQ(out.exit_code, 78) << text;
+        EXPECT_NE(out.text.find(path), std::string::npos) << out.text;
+        std::filesystem::remove(path);
+    }
+    EXPECT_EQ(parse({"--config", "/nonexistent/gport.json"}).exit_code, 78);
+}
+
+}  // namespace
+}  // namespace gport::mavlink::bridge
