@@ -48,6 +48,11 @@ class SimProcess {
     std::unique_ptr<Process> process_;
 };
 
+// Whether `text` holds `part` (a log line, a screen).
+inline bool contains(const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+}
+
 // Waits until the daemon reports its link to the gimbal up.
 inline bool link_up(Client& client) {
     return eventually([&] { return client.call("status")["result"]["link"]["state"] == "up"; });

@@ -13,10 +13,6 @@
 namespace gport::testing {
 namespace {
 
-bool contains(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
-
 // The IMU yaw the screen shows ("IMU     +12.34°  -30.00°  +45.00°").
 std::optional<double> screen_imu_yaw(const std::string& screen) {
     static const std::regex kImu(R"(IMU +([-+][0-9.]+)° +([-+][0-9.]+)° +([-+][0-9.]+)°)");

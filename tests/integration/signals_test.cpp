@@ -14,10 +14,6 @@
 namespace gport::testing {
 namespace {
 
-bool contains(const std::string& line, const std::string& what) {
-    return line.find(what) != std::string::npos;
-}
-
 // gportd with its log on the Process's stdout (stderr redirected by a shell
 // that execs it, so the pid is gportd's) and no --log-level, so that the
 // config file's log.level is the one in effect.
