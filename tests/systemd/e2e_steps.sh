@@ -345,14 +345,39 @@ check "purge removed /etc/gportd and the package's record; the gportd user stays
     sh -c "[ ! -e /etc/gportd ] && ! dpkg -s gportd >/dev/null 2>&1 && getent passwd gportd >/dev/null"
 
 # ---- 9 -----------------------------------------------------------------------
-step "9. gport-mavlink"
-# The package was purged in step 8; its users stay (Debian policy), so the
-# account postinst made for gport-mavlink is still there to check. Running
-# the bridge against gportd is the ctest mavlink_peer_gimbal_manager's job.
-check "the package has gport-mavlink and its units" \
-    sh -c "dpkg-deb -c '$deb' | grep -q '/usr/bin/gport-mavlink$' \
-           && dpkg-deb -c '$deb' | grep -q '/gport-mavlink\\.service$' \
-           && dpkg-deb -c '$deb' | grep -q '/gport-mavlink@\\.service$'"
+step "9. gport-mavlink: starts after gportd, stops with it"
+# Step 8 purged the package; install it again for the bridge's unit. The
+# MAVLink side itself (heartbeats, attitude, commands) is the ctest
+# mavlink_peer_gimbal_manager's job; here: the unit's life beside gportd.
+if out=$(apt-get install -y -q "$deb" 2>&1); then
+    pass "apt-get install $(basename "$deb") again"
+else
+    fail "apt-get install $(basename "$deb") again" "$out"
+fi
 check "postinst made the gport-mavlink user, in groups gport and dialout" \
     sh -c "getent passwd gport-mavlink >/dev/null && id -nG gport-mavlink | grep -qw gport \
            && id -nG gport-mavlink | grep -qw dialout"
+check "gport-mavlink.service is installed but not enabled (it needs its endpoint first)" \
+    sh -c "[ \"\$(systemctl is-enabled gport-mavlink.service)\" = disabled ]"
+systemctl stop gportd.service gportd.socket >/dev/null 2>&1
+systemctl start gport-mavlink.service
+check "starting gport-mavlink starts gportd (BindsTo) and runs as gport-mavlink" \
+    sh -c "systemctl is-active -q gportd.service && sleep 1 && systemctl is-active -q gport-mavlink.service \
+           && [ \"\$(ps -o user= -p \$(systemctl show -p MainPID --value gport-mavlink.service))\" = gport-mavlink ]"
+started_after() {
+    local daemon bridge
+    daemon=$(systemctl show -p ActiveEnterTimestampMonotonic --value gportd.service)
+    bridge=$(systemctl show -p ExecMainStartTimestampMonotonic --value gport-mavlink.service)
+    [ "$daemon" -gt 0 ] && [ "$bridge" -ge "$daemon" ]
+}
+check "gport-mavlink started after gportd was ready" started_after
+check "the bridge is a client of gportd (status counts it)" \
+    eventually 10 sh -c "gportctl --json status | grep -Eq '\"clients\": ?[2-9]'"
+systemctl stop gportd.service
+check "stopping gportd stops gport-mavlink with it" \
+    eventually 10 sh -c "! systemctl is-active -q gport-mavlink.service"
+if out=$(apt-get purge -y -q gportd 2>&1); then
+    pass "apt-get purge gportd (again)"
+else
+    fail "apt-get purge gportd (again)" "$out"
+fi
