@@ -72,11 +72,49 @@ TEST(Options, BadOptionsExit64) {
     EXPECT_EQ(parse({"--bogus"}).exit_code, 64);
 }
 
+TEST(Options, OutOfRangeNamesOptionValueAndWhatIsAllowed) {
+    const auto out = parse({"--sysid", "300"});
+    EXPECT_FALSE(out.options);
+    EXPECT_EQ(out.exit_code, 64);
+    EXPECT_NE(out.text.find("--sysid: 300: expected an integer from 1 to 255"), std::string::npos)
+        << out.text;
+    EXPECT_NE(parse({"--attitude-rate", "0"})
+                  .text.find("--attitude-rate: 0: expected messages per second from 0.1 to 100"),
+              std::string::npos);
+    EXPECT_NE(parse({"--log-level", "loud"})
+                  .text.find("--log-level: loud: expected one of trace, debug, info, warn, "
+                             "error, critical, off"),
+              std::string::npos);
+}
+
+TEST(Options, UnknownOptionAndStrayArgumentAreNamed) {
+    const auto unknown = parse({"--bogus=1"});
+    EXPECT_EQ(unknown.exit_code, 64);
+    EXPECT_NE(unknown.text.find("unknown option --bogus; the options are"), std::string::npos)
+        << unknown.text;
+    const auto stray = parse({"udpin:0.0.0.0:14550"});
+    EXPECT_EQ(stray.exit_code, 64);
+    EXPECT_NE(stray.text.find("unexpected argument \"udpin:0.0.0.0:14550\"; gport-mavlink takes "
+                              "only options"),
+              std::string::npos)
+        << stray.text;
+    EXPECT_NE(parse({"--sysid"}).text.find("--sysid needs a value"), std::string::npos);
+}
+
+TEST(Options, VersionExits0) {
+    const auto out = parse({"--version"});
+    EXPECT_FALSE(out.options);
+    EXPECT_EQ(out.exit_code, 0);
+    EXPECT_EQ(out.text.rfind("gport-mavlink ", 0), 0U) << out.text;
+}
+
 TEST(Options, HelpExits0) {
     const auto out = parse({"--help"});
     EXPECT_FALSE(out.options);
     EXPECT_EQ(out.exit_code, 0);
-    EXPECT_NE(out.text.find("--mavlink"), std::string::npos);
+    EXPECT_NE(out.text.find("--mavlink URL"), std::string::npos) << out.text;
+    EXPECT_NE(out.text.find("print this help and exit"), std::string::npos);
+    EXPECT_NE(out.text.find("Exit status:"), std::string::npos);
 }
 
 TEST(Options, ConfigSectionUnderTheCommandLine) {

@@ -56,7 +56,7 @@ done
 if grep -q '^GPORT_BUILD_MAN:BOOL=ON' "$build/CMakeCache.txt"; then
     root=$work/root
     dpkg-deb -x "$deb" "$root"
-    for page in man8/gportd.8 man1/gportctl.1 man1/gport-sim.1 man5/gportd.json.5; do
+    for page in man8/gportd.8 man1/gportctl.1 man1/gport-sim.1 man1/gport-mavlink.1 man5/gportd.json.5; do
         [ -f "$root/usr/share/man/$page.gz" ] || fail "the package lacks /usr/share/man/$page.gz"
         name=$(basename "$page")
         text=$(MANPATH="$root/usr/share/man" MANWIDTH=80 man "${name##*.}" "${name%.*}" 2>&1 | col -b)

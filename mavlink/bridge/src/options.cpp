@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "gport/base/args.hpp"
 #include "gport/base/exit_status.hpp"
-#include "gport/version.hpp"
 
 namespace gport::mavlink::bridge {
 
@@ -165,60 +165,106 @@ std::string to_string(const Endpoint& e) {
     return std::string(scheme) + ":" + e.address + ":" + std::to_string(e.number);
 }
 
-ParseOutcome parse_options(const std::vector<std::string>& argv, const std::string& env_socket) {
-    CLI::App app{"gport-mavlink: the G-Port, served by gportd, as a MAVLink gimbal v2 device",
-                 "gport-mavlink"};
-    app.set_version_flag("--version", std::string("gport-mavlink ") + std::string(gport::kVersion));
+namespace {
+
+constexpr const char* kDescription =
+    "gport-mavlink: the G-Port, served by gportd, as a MAVLink gimbal v2 device.\n"
+    "A client of gportd's socket: it streams GIMBAL_DEVICE_ATTITUDE_STATUS, answers\n"
+    "GIMBAL_DEVICE_INFORMATION and turns GIMBAL_DEVICE_SET_ATTITUDE and the photo\n"
+    "and video commands into gportd calls (man gport-mavlink, docs/mavlink.md).";
+
+constexpr const char* kFooter =
+    "Options on the command line win over the \"mavlink\" section of --config,\n"
+    "which wins over the defaults.\n\n"
+    "Exit status: 0 after SIGINT/SIGTERM (and for --help, --version), 64 for a bad\n"
+    "command line, 71 when the MAVLink endpoint cannot be opened, 78 for a bad\n"
+    "config file.\n\n"
+    "Examples:\n"
+    "  gport-mavlink --mavlink udpin:127.0.0.1:14560    # behind mavlink-router\n"
+    "  gport-mavlink --mavlink udpout:192.168.1.10:14550\n"
+    "  gport-mavlink --mavlink serial:/dev/ttyAMA0:921600 --invert-yaw\n"
+    "  gport-mavlink --config /etc/gportd/mavlink.json";
+
+std::optional<std::string> check_url(std::string_view text) {
+    std::string error;
+    if (parse_endpoint(std::string(text), error)) {
+        return std::nullopt;
+    }
+    return error;
+}
+
+std::optional<std::string> not_empty(std::string_view text) {
+    if (text.empty()) {
+        return std::string("must not be empty");
+    }
+    return std::nullopt;
+}
+
+// What the command line gave; empty for what it did not.
+struct Given {
     std::optional<std::string> socket, url, config, log_level;
     std::optional<int> sysid, compid;
     std::optional<double> rate;
     std::optional<unsigned> lease;
     bool inv_roll = false, inv_pitch = false, inv_yaw = false;
-    app.add_option("--socket", socket,
-                   "gportd's socket (default /run/gportd.sock, or $GPORT_SOCKET)");
-    app.add_option(
-        "--mavlink", url,
-        "udpin:ADDR:PORT, udpout:ADDR:PORT or serial:DEVICE:BAUD (default udpin:0.0.0.0:14550)");
-    app.add_option("--sysid", sysid, "system id (default: the first autopilot heartbeat's)")
-        ->check(CLI::Range(1, 255));
-    app.add_option("--compid", compid, "component id (default 154, MAV_COMP_ID_GIMBAL)")
-        ->check(CLI::Range(1, 255));
-    app.add_option("--attitude-rate", rate,
-                   "GIMBAL_DEVICE_ATTITUDE_STATUS rate in Hz (0.1 to 100, default 10)");
-    app.add_option("--lease-ms", lease, "speed lease in ms (50 to 60000, default 500)");
-    app.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off");
-    app.add_option("--config", config, "a JSON file whose \"mavlink\" section sets these options");
-    app.add_flag("--invert-roll", inv_roll, "flip the roll axis's sign");
-    app.add_flag("--invert-pitch", inv_pitch, "flip the pitch axis's sign");
-    app.add_flag("--invert-yaw", inv_yaw, "flip the yaw axis's sign");
-    std::vector<std::string> args(argv.rbegin(), argv.rend() - 1);  // CLI11 wants them reversed
+};
+
+void add_options(CLI::App& app, Given& g) {
+    app.add_option("--socket", g.socket,
+                   "gportd's socket (default $GPORT_SOCKET, else /run/gportd.sock)")
+        ->type_name("PATH")
+        ->check(args::check_with(not_empty));
+    app.add_option("--mavlink", g.url,
+                   "udpin:ADDR:PORT, udpout:ADDR:PORT or serial:DEVICE:BAUD (default "
+                   "udpin:0.0.0.0:14550)")
+        ->type_name("URL")
+        ->check(args::check_with(check_url));
+    app.add_option("--sysid", g.sysid, "system id (default: the first autopilot heartbeat's)")
+        ->type_name("N")
+        ->check(args::integer_in(1, 255));
+    app.add_option("--compid", g.compid, "component id (default 154, MAV_COMP_ID_GIMBAL)")
+        ->type_name("N")
+        ->check(args::integer_in(1, 255));
+    app.add_option("--attitude-rate", g.rate,
+                   "GIMBAL_DEVICE_ATTITUDE_STATUS messages per second (default 10)")
+        ->type_name("HZ")
+        ->check(args::number_in(0.1, 100, "messages per second"));
+    app.add_option("--lease-ms", g.lease, "the lease of each speed sent to gportd (default 500)")
+        ->type_name("MS")
+        ->check(args::integer_in(50, 60000));
+    app.add_option("--log-level", g.log_level, "what to log to stderr (default info)")
+        ->type_name("LEVEL")
+        ->check(args::one_of({kLogLevels.begin(), kLogLevels.end()}));
+    app.add_option("--config", g.config, "a JSON file whose \"mavlink\" section sets these options")
+        ->type_name("FILE");
+    app.add_flag("--invert-roll", g.inv_roll, "flip the roll axis's sign");
+    app.add_flag("--invert-pitch", g.inv_pitch, "flip the pitch axis's sign");
+    app.add_flag("--invert-yaw", g.inv_yaw, "flip the yaw axis's sign");
+}
+
+ParseOutcome usage_error(const std::string& problem) {
     ParseOutcome out;
-    try {
-        app.parse(args);
-    } catch (const CLI::Success& e) {
-        std::ostringstream text;
-        out.exit_code = app.exit(e, text, text);
-        out.text = text.str();
-        return out;
-    } catch (const CLI::ParseError& e) {
-        out.exit_code = kExitUsage;
-        out.text = "gport-mavlink: " + std::string(e.what()) + "\nTry 'gport-mavlink --help'.\n";
-        return out;
-    }
+    out.exit_code = kExitUsage;
+    out.text = "gport-mavlink: " + problem + "\nTry 'gport-mavlink --help'.\n";
+    return out;
+}
+
+ParseOutcome finish(const Given& given, const std::string& env_socket) {
+    ParseOutcome out;
     Options o;
     if (!env_socket.empty()) {
         o.socket = env_socket;
     }
-    if (config) {
-        if (auto problem = apply_config(*config, o); !problem.empty()) {
+    if (given.config) {
+        if (auto problem = apply_config(*given.config, o); !problem.empty()) {
             out.exit_code = kExitConfig;
             out.text = "gport-mavlink: configuration error: " + problem + "\n";
             return out;
         }
     }
-    if (url) {
+    if (given.url) {
         std::string error;
-        auto endpoint = parse_endpoint(*url, error);
+        auto endpoint = parse_endpoint(*given.url, error);
         if (!endpoint) {
             out.exit_code = kExitUsage;
             out.text = "gport-mavlink: --mavlink: " + error + "\n";
@@ -226,21 +272,27 @@ ParseOutcome parse_options(const std::vector<std::string>& argv, const std::stri
         }
         o.mavlink = *endpoint;
     }
-    if (socket)
-        o.socket = *socket;
-    if (sysid)
-        o.sysid = static_cast<std::uint8_t>(*sysid);
-    if (compid)
-        o.compid = static_cast<std::uint8_t>(*compid);
-    if (rate)
-        o.attitude_rate_hz = *rate;
-    if (lease)
-        o.lease_ms = *lease;
-    if (log_level)
-        o.log_level = *log_level;
-    o.invert.roll = o.invert.roll || inv_roll;
-    o.invert.pitch = o.invert.pitch || inv_pitch;
-    o.invert.yaw = o.invert.yaw || inv_yaw;
+    if (given.socket) {
+        o.socket = *given.socket;
+    }
+    if (given.sysid) {
+        o.sysid = static_cast<std::uint8_t>(*given.sysid);
+    }
+    if (given.compid) {
+        o.compid = static_cast<std::uint8_t>(*given.compid);
+    }
+    if (given.rate) {
+        o.attitude_rate_hz = *given.rate;
+    }
+    if (given.lease) {
+        o.lease_ms = *given.lease;
+    }
+    if (given.log_level) {
+        o.log_level = *given.log_level;
+    }
+    o.invert.roll = o.invert.roll || given.inv_roll;
+    o.invert.pitch = o.invert.pitch || given.inv_pitch;
+    o.invert.yaw = o.invert.yaw || given.inv_yaw;
     if (auto problem = check(o); !problem.empty()) {
         out.exit_code = kExitUsage;
         out.text = "gport-mavlink: " + problem + "\n";
@@ -248,6 +300,33 @@ ParseOutcome parse_options(const std::vector<std::string>& argv, const std::stri
     }
     out.options = o;
     return out;
+}
+
+}  // namespace
+
+ParseOutcome parse_options(const std::vector<std::string>& argv, const std::string& env_socket) {
+    CLI::App app{kDescription, "gport-mavlink"};
+    args::configure(app, kFooter);
+    app.allow_extras();  // named by args::leftover_problem
+    Given given;
+    add_options(app, given);
+    std::vector<std::string> reversed(argv.rbegin(), argv.rend() - 1);  // CLI11 wants them reversed
+    ParseOutcome out;
+    try {
+        app.parse(reversed);
+    } catch (const CLI::ParseError& e) {
+        if (!args::is_request(e)) {
+            return usage_error(args::message_of(e));
+        }
+        std::ostringstream text;
+        out.exit_code = app.exit(e, text, text);
+        out.text = text.str();
+        return out;
+    }
+    if (auto problem = args::leftover_problem(app); !problem.empty()) {
+        return usage_error(problem);
+    }
+    return finish(given, env_socket);
 }
 
 }  // namespace gport::mavlink::bridge
