@@ -4,6 +4,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <filesystem>
+
 #include "client_fixture.hpp"
 
 namespace gport::testing {
@@ -49,9 +51,19 @@ TEST_F(ClientErrors, ReadOnlyPeerMayReadButNotCommand) {
     client_.reset();
     ::chmod(dir_.path().c_str(), 0755);  // nobody must reach the socket
     start(R"("socket": {"mode": "0666"}, "access": {"control_uids": [4242]})");
+    // nobody may not read the build tree (under /root on a CI machine): the
+    // probe runs from a copy, with the library beside it.
+    const auto probe_dir = dir_.file("probe");
+    std::filesystem::create_directory(probe_dir);
+    std::filesystem::copy_file(CLIENT_PROBE_PATH, probe_dir + "/client_probe");
+    std::filesystem::copy_file(
+        CLIENT_LIBRARY_PATH,
+        probe_dir + "/" + std::filesystem::path(CLIENT_LIBRARY_PATH).filename().string());
+    ::chmod(probe_dir.c_str(), 0755);
     const auto as_nobody = [&](const std::string& method) {
-        Process probe({"/usr/bin/setpriv", "--reuid=65534", "--regid=65534", "--clear-groups",
-                       CLIENT_PROBE_PATH, socket(), method});
+        Process probe({"/usr/bin/env", "LD_LIBRARY_PATH=" + probe_dir, "/usr/bin/setpriv",
+                       "--reuid=65534", "--regid=65534", "--clear-groups",
+                       probe_dir + "/client_probe", socket(), method});
         auto line = probe.next_line();
         probe.wait();
         return line.value_or("(nothing)");
