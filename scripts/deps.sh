@@ -25,6 +25,11 @@ GPORT_PACKAGES=(
   # scdoc and their tests render them with man -l (man-db) and col
   # (bsdextrautils).
   tmux scdoc man-db bsdextrautils
+  # gpsd, for bench_vs_gpsd (the side-by-side benchmark, docs/performance.md).
+  # The benchmark starts its own `gpsd -N -n -b -S PORT` on a pty; the
+  # package's gpsd.socket (port 2947, only where systemd runs) starts nothing
+  # until something connects to it, and we never do.
+  gpsd
 )
 
 # Packages that count as present when their command is, whoever installed it

@@ -5,6 +5,7 @@
 #include <sys/types.h>
 
 #include <string>
+#include <vector>
 
 namespace gport::bench {
 
@@ -30,6 +31,9 @@ class DaemonProcess {
     // Writes the config and starts gportd. Throws std::runtime_error when the
     // binary cannot be started.
     explicit DaemonProcess(const DaemonOptions& options);
+    // Starts any program (argv[0] is its path) with stdout and stderr going
+    // to `log_path`: the comparison with gpsd runs gpsd through this.
+    DaemonProcess(const std::vector<std::string>& argv, const std::string& log_path);
     ~DaemonProcess();
     DaemonProcess(const DaemonProcess&) = delete;
     DaemonProcess& operator=(const DaemonProcess&) = delete;
@@ -43,6 +47,8 @@ class DaemonProcess {
     int terminate(int timeout_ms = 5000);
 
   private:
+    void spawn(const std::vector<std::string>& argv, const std::string& log_path, bool realtime);
+
     pid_t pid_ = -1;
     int status_ = -1;
     bool reaped_ = false;
