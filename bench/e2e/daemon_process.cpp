@@ -24,10 +24,17 @@ void write_daemon_config(const DaemonOptions& options) {
         << "    // Room for the 1000-subscriber case plus the flooding and control clients,\n"
         << "    // all of them under the benchmark's one uid.\n"
         << "    \"socket\": {\"max_clients\": " << options.max_clients
-        << ", \"max_clients_per_uid\": " << options.max_clients << ", \"mode\": \"0600\"},\n"
+        << ", \"max_clients_per_uid\": " << options.max_clients << ", \"mode\": \"0600\",\n"
+        << "               // The flood cells measure the loop, not the per-client rate limit.\n"
+        << "               \"max_requests_per_s\": 100000},\n"
         << "    // One speed command lasts the whole run, so keepalive ticks are never reset.\n"
         << "    \"keepalive\": {\"max_duration_ms\": " << options.max_duration_ms << "},\n"
-        << "    \"log\": {\"level\": \"" << options.log_level << "\"}\n"
+        << "    \"log\": {\"level\": \"" << options.log_level << "\"}";
+    if (options.realtime_priority > 0) {  // only when asked: older gportd builds lack the key
+        out << ",\n    \"realtime\": {\"priority\": " << options.realtime_priority
+            << ", \"lock_memory\": true}";
+    }
+    out << "\n"
         << "}\n";
     if (!out) {
         throw std::runtime_error("cannot write the daemon config " + options.config_path);

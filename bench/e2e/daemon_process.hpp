@@ -21,6 +21,8 @@ struct DaemonOptions {
     // Run gportd SCHED_FIFO (what a unit's CPUSchedulingPolicy=fifo does), to
     // tell the daemon's own delays from the time it waits for a CPU.
     bool realtime = false;
+    // realtime.priority in the config (with lock_memory): gportd applies it itself.
+    int realtime_priority = 0;
 };
 
 // Writes a gportd config (JSON with comments) for a benchmark run.
