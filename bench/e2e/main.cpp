@@ -149,6 +149,13 @@ int run(const Options& options) {
         std::remove((std::string(dir) + "/" + name).c_str());
     }
     ::rmdir(dir);
+    // Never a time: only a crash or a wrong count fails the run (the short CI form).
+    const auto& d = result.delivery;
+    if (d.missing > d.reported_dropped || d.out_of_order != 0) {
+        std::cerr << "bench_e2e: " << d.missing << " lines missing but " << d.reported_dropped
+                  << " reported dropped, " << d.out_of_order << " out of order\n";
+        return 1;
+    }
     return result.daemon_exit == 0 ? 0 : 1;
 }
 
