@@ -25,6 +25,15 @@ GPORT_PACKAGES=(
   # scdoc and their tests render them with man -l (man-db) and col
   # (bsdextrautils).
   tmux scdoc man-db bsdextrautils
+  # gpsd, for bench_vs_gpsd (the side-by-side benchmark, docs/performance.md).
+  # The benchmark starts its own `gpsd -N -n -b -S PORT` on a pty; the
+  # package's gpsd.socket (port 2947, only where systemd runs) starts nothing
+  # until something connects to it, and we never do. Its udev rule would
+  # hand USB serial adapters it takes for GPS receivers (CP210x 10c4:ea60,
+  # PL2303 067b:2303: adapters a G-Port may sit behind) to that gpsd; when
+  # this script installs gpsd it turns that off (USBAUTO="false" in
+  # /etc/default/gpsd, read by gpsdctl@.service; nothing is masked).
+  gpsd
 )
 
 # Packages that count as present when their command is, whoever installed it
@@ -53,4 +62,8 @@ gport_install_deps() {
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq
   apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  if [[ " ${missing[*]} " == *" gpsd "* ]] && [ -f /etc/default/gpsd ]; then
+    sed -i 's/^USBAUTO=.*/USBAUTO="false"/' /etc/default/gpsd
+    echo "== gpsd installed for bench_vs_gpsd only: USB hotplug turned off (/etc/default/gpsd USBAUTO)"
+  fi
 }

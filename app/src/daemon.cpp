@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 
+#include "gport/app/realtime.hpp"
 #include "gport/app/reload.hpp"
 #include "gport/base/log_context.hpp"
 #include "gport/config/loader.hpp"
@@ -232,6 +233,13 @@ int run_daemon(const config::Config& config, const config::CommandLine& command_
     options.level = spdlog::level::from_str(config.log.level);
     auto log = systemd::make_logger(options, context);
     spdlog::set_default_logger(log);
+    const auto realtime = apply_realtime(config.realtime);
+    for (const auto& line : realtime.applied) {
+        log->info("{}", line);
+    }
+    for (const auto& line : realtime.warnings) {
+        log->warn("{}", line);
+    }
     try {
         Daemon daemon(config, command_line, context, log);
         const int status = daemon.run();

@@ -46,6 +46,8 @@ const std::vector<Key>& keys() {
         key<&Config::access, &AccessConfig::control_uids>("access.control_uids", true),
         key<&Config::access, &AccessConfig::control_gids>("access.control_gids", true),
         key<&Config::log, &LogConfig::level>("log.level", true),
+        key<&Config::realtime, &RealtimeConfig::priority>("realtime.priority", false),
+        key<&Config::realtime, &RealtimeConfig::lock_memory>("realtime.lock_memory", false),
         key<&Config::limits, &LimitsConfig::roll>("limits.roll", true),
         key<&Config::limits, &LimitsConfig::pitch>("limits.pitch", true),
         key<&Config::limits, &LimitsConfig::yaw>("limits.yaw", true),

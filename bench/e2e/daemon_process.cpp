@@ -24,10 +24,17 @@ void write_daemon_config(const DaemonOptions& options) {
         << "    // Room for the 1000-subscriber case plus the flooding and control clients,\n"
         << "    // all of them under the benchmark's one uid.\n"
         << "    \"socket\": {\"max_clients\": " << options.max_clients
-        << ", \"max_clients_per_uid\": " << options.max_clients << ", \"mode\": \"0600\"},\n"
+        << ", \"max_clients_per_uid\": " << options.max_clients << ", \"mode\": \"0600\",\n"
+        << "               // The flood cells measure the loop, not the per-client rate limit.\n"
+        << "               \"max_requests_per_s\": 100000},\n"
         << "    // One speed command lasts the whole run, so keepalive ticks are never reset.\n"
         << "    \"keepalive\": {\"max_duration_ms\": " << options.max_duration_ms << "},\n"
-        << "    \"log\": {\"level\": \"" << options.log_level << "\"}\n"
+        << "    \"log\": {\"level\": \"" << options.log_level << "\"}";
+    if (options.realtime_priority > 0) {  // only when asked: older gportd builds lack the key
+        out << ",\n    \"realtime\": {\"priority\": " << options.realtime_priority
+            << ", \"lock_memory\": true}";
+    }
+    out << "\n"
         << "}\n";
     if (!out) {
         throw std::runtime_error("cannot write the daemon config " + options.config_path);
@@ -40,26 +47,43 @@ DaemonProcess::DaemonProcess(const DaemonOptions& options) {
         throw std::runtime_error("gportd not executable at " + options.binary +
                                  " (pass --gportd PATH)");
     }
+    spawn({options.binary, "--config", options.config_path, "--device", options.device, "--socket",
+           options.socket},
+          options.log_path, options.realtime);
+}
+
+DaemonProcess::DaemonProcess(const std::vector<std::string>& argv, const std::string& log_path) {
+    if (argv.empty() || ::access(argv[0].c_str(), X_OK) != 0) {
+        throw std::runtime_error("not executable: " + (argv.empty() ? std::string() : argv[0]));
+    }
+    spawn(argv, log_path, false);
+}
+
+void DaemonProcess::spawn(const std::vector<std::string>& argv, const std::string& log_path,
+                          bool realtime) {
+    std::vector<char*> args;
+    for (const auto& a : argv) {
+        args.push_back(const_cast<char*>(a.c_str()));
+    }
+    args.push_back(nullptr);
     pid_ = ::fork();
     if (pid_ < 0) {
         throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
     }
     if (pid_ == 0) {
-        const int log = ::open(options.log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int log = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         if (log >= 0) {
             ::dup2(log, STDOUT_FILENO);
             ::dup2(log, STDERR_FILENO);
         }
-        if (options.realtime) {
+        if (realtime) {
             sched_param param{};
             param.sched_priority = 5;  // below the benchmark's measuring threads (10)
             if (::sched_setscheduler(0, SCHED_FIFO, &param) != 0) {
                 ::_exit(126);
             }
         }
-        ::execl(options.binary.c_str(), options.binary.c_str(), "--config",
-                options.config_path.c_str(), "--device", options.device.c_str(), "--socket",
-                options.socket.c_str(), static_cast<char*>(nullptr));
+        ::execv(args[0], args.data());
         ::_exit(127);
     }
 }

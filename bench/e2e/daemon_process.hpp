@@ -5,6 +5,7 @@
 #include <sys/types.h>
 
 #include <string>
+#include <vector>
 
 namespace gport::bench {
 
@@ -20,6 +21,8 @@ struct DaemonOptions {
     // Run gportd SCHED_FIFO (what a unit's CPUSchedulingPolicy=fifo does), to
     // tell the daemon's own delays from the time it waits for a CPU.
     bool realtime = false;
+    // realtime.priority in the config (with lock_memory): gportd applies it itself.
+    int realtime_priority = 0;
 };
 
 // Writes a gportd config (JSON with comments) for a benchmark run.
@@ -30,6 +33,9 @@ class DaemonProcess {
     // Writes the config and starts gportd. Throws std::runtime_error when the
     // binary cannot be started.
     explicit DaemonProcess(const DaemonOptions& options);
+    // Starts any program (argv[0] is its path) with stdout and stderr going
+    // to `log_path`: the comparison with gpsd runs gpsd through this.
+    DaemonProcess(const std::vector<std::string>& argv, const std::string& log_path);
     ~DaemonProcess();
     DaemonProcess(const DaemonProcess&) = delete;
     DaemonProcess& operator=(const DaemonProcess&) = delete;
@@ -43,6 +49,8 @@ class DaemonProcess {
     int terminate(int timeout_ms = 5000);
 
   private:
+    void spawn(const std::vector<std::string>& argv, const std::string& log_path, bool realtime);
+
     pid_t pid_ = -1;
     int status_ = -1;
     bool reaped_ = false;

@@ -59,6 +59,11 @@ proto::Frame frame_for(std::uint32_t counter) {
     return proto::encode(attitude);
 }
 
+std::string bytes_of(const proto::Frame& frame) {
+    const auto bytes = frame.bytes();
+    return {bytes.begin(), bytes.end()};
+}
+
 }  // namespace
 
 std::uint32_t counter_of_line(std::string_view line) {
@@ -126,8 +131,7 @@ void FakeGimbal::write_loop(double rate_hz, std::size_t max_frames) {
         const timespec at{static_cast<time_t>(due / 1'000'000'000), due % 1'000'000'000};
         while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &at, nullptr) == EINTR) {
         }
-        const auto frame = frame_for(n);
-        const auto bytes = frame.bytes();
+        const std::string bytes = payload_ ? payload_(n) : bytes_of(frame_for(n));
         std::size_t done = 0;
         while (done < bytes.size()) {
             const auto w = ::write(master_.get(), bytes.data() + done, bytes.size() - done);

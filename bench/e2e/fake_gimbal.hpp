@@ -10,6 +10,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -40,6 +41,11 @@ class FakeGimbal {
 
     const std::string& device() const { return slave_path_; }
 
+    // What frame n's bytes are; by default the 0x87 frame carrying counter n.
+    // The comparison with gpsd writes NMEA sentences through the same writer.
+    using Payload = std::function<std::string(std::uint32_t)>;
+    void set_payload(Payload payload) { payload_ = std::move(payload); }
+
     // Starts sending frames at `rate_hz`; at most `max_frames` of them.
     void start_stream(double rate_hz, std::size_t max_frames);
     // Stops the writer; afterwards write_times() is stable.
@@ -60,6 +66,7 @@ class FakeGimbal {
     void write_loop(double rate_hz, std::size_t max_frames);
     void read_loop();
 
+    Payload payload_;
     Fd master_;
     Fd slave_;  // held open so the line keeps its raw settings and never hangs up
     std::string slave_path_;

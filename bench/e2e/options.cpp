@@ -37,6 +37,8 @@ std::string usage() {
            "  --gportd PATH      the daemon binary (default: the one built with this bench)\n"
            "  --json FILE        also write the results as JSON to FILE\n"
            "  --no-header        print only the table row\n"
+           "  --realtime N       gportd's config sets realtime.priority N and lock_memory\n"
+           "                     (the product's option; a warning in its log when refused)\n"
            "  --daemon-fifo      run gportd SCHED_FIFO (needs root or CAP_SYS_NICE): shows how\n"
            "                     much of a delay is waiting for a CPU on a loaded machine\n"
            "  -h, --help         this text\n";
@@ -72,6 +74,9 @@ std::optional<Options> parse_options(int argc, char** argv) {
         } else if (arg == "--subscribers") {
             n = number(arg, value, 0, 4000);
             o.subscribers = static_cast<int>(n.value_or(0));
+        } else if (arg == "--realtime") {
+            n = number(arg, value, 1, 99);
+            o.realtime_priority = static_cast<int>(n.value_or(0));
         } else if (arg == "--flood") {
             n = number(arg, value, 0, 100);
             o.flooders = static_cast<int>(n.value_or(0));

@@ -123,7 +123,9 @@ std::string table_row(const CellResult& r) {
         streaming ? fmt::format("{:.0f}", r.latency.first_p99_us) : "-", r.cpu_percent,
         mib(r.rss_kib), mib(r.hwm_kib), r.keepalive.p99_dev_ms, r.keepalive.max_dev_ms,
         r.keepalive.intervals, r.flood_replies_per_s,
-        r.daemon_fifo ? r.load_start + " (gportd FIFO)" : r.load_start);
+        r.daemon_fifo             ? r.load_start + " (gportd FIFO)"
+        : r.realtime_priority > 0 ? r.load_start + " (realtime.priority)"
+                                  : r.load_start);
 }
 
 nlohmann::json to_json(const CellResult& r) {
@@ -139,6 +141,7 @@ nlohmann::json to_json(const CellResult& r) {
         {"writer_late_frames", r.writer_late},
         {"measuring_threads_sched_fifo", r.realtime},
         {"daemon_sched_fifo", r.daemon_fifo},
+        {"realtime_priority", r.realtime_priority},
         {"lines",
          {{"expected", d.expected},
           {"delivered", d.delivered},

@@ -50,8 +50,9 @@ struct CellResult {
     std::uint32_t frames_written = 0;
     std::uint32_t writer_late = 0;
     bool realtime = false;  // the measuring threads ran SCHED_FIFO  // frames our writer sent more
-    bool daemon_fifo = false;  // gportd itself ran SCHED_FIFO (--daemon-fifo)
-                               // than a period late
+    int realtime_priority = 0;  // --realtime: gportd's realtime.priority
+    bool daemon_fifo = false;   // gportd itself ran SCHED_FIFO (--daemon-fifo)
+                                // than a period late
     DeliveryStats delivery;
     LatencyStats latency;
     KeepaliveStats keepalive;

@@ -93,6 +93,14 @@ std::optional<Millis> Reader::millis(const Json& value, std::string_view path, s
     return std::nullopt;
 }
 
+std::optional<bool> Reader::boolean(const Json& value, std::string_view path) {
+    if (!value.is_boolean()) {
+        error(path, fmt::format("must be true or false, got {}", describe(value)));
+        return std::nullopt;
+    }
+    return value.get<bool>();
+}
+
 std::optional<std::string> Reader::string(const Json& value, std::string_view path) {
     if (!value.is_string()) {
         error(path, fmt::format("must be a string, got {}", describe(value)));

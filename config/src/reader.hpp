@@ -47,6 +47,7 @@ class Reader {
                                  std::int64_t max);
     // A string without NUL characters (they would silently cut C APIs short).
     std::optional<std::string> string(const Json& value, std::string_view path);
+    std::optional<bool> boolean(const Json& value, std::string_view path);
     // Checks `value` is an object; `path` is empty for the whole file and
     // `allowed` lists the keys it may hold (for the message).
     bool object(const Json& value, std::string_view path,

@@ -357,6 +357,19 @@ const std::vector<Section>& sections() {
                    c.log.level = std::move(*level);
                }
            }}}},
+        {"realtime",
+         {{"priority",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               if (auto n = r.integer(v, p, 0, kMaxRealtimePriority)) {
+                   c.realtime.priority = static_cast<int>(*n);
+               }
+           }},
+          {"lock_memory",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               if (auto b = r.boolean(v, p)) {
+                   c.realtime.lock_memory = *b;
+               }
+           }}}},
         {"limits",
          {{"roll",
            [](Reader& r, const Json& v, const std::string& p, Config& c) {

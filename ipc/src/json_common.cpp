@@ -7,7 +7,11 @@
 namespace gport::ipc::detail {
 
 std::string json_line(const nlohmann::json& message) {
-    return message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + '\n';
+    return json_text(message) + '\n';
+}
+
+std::string json_text(const nlohmann::json& value) {
+    return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 double degrees(std::int16_t centi) {

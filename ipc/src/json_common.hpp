@@ -12,6 +12,8 @@ namespace gport::ipc::detail {
 
 // One message as an NDJSON line: compact, invalid UTF-8 replaced, newline-ended.
 std::string json_line(const nlohmann::json& message);
+// The same without the newline (invalid UTF-8 replaced, as json_line does).
+std::string json_text(const nlohmann::json& value);
 
 // Degrees from 0.01 units. The division is correctly rounded, so the shortest
 // round-trip output prints exactly two decimals at most ("-39.29").

@@ -22,9 +22,13 @@ using detail::Reply;
 using detail::RpcError;
 using nlohmann::json;
 
-// A JSON-RPC reply object; `done` receives it, or is not called at all for
-// a notification.
-using ReplyDone = std::function<void(json)>;
+// A JSON-RPC reply object, serialized (no newline); `done` receives it, or is
+// not called at all for a notification.
+using ReplyDone = std::function<void(std::string)>;
+
+std::string dump(const json& value) {
+    return detail::json_text(value);
+}
 
 json error_object(const json& id, int code, std::string_view message) {
     return {{"jsonrpc", "2.0"},
@@ -32,11 +36,19 @@ json error_object(const json& id, int code, std::string_view message) {
             {"error", {{"code", code}, {"message", std::string(message)}}}};
 }
 
-json reply_object(const json& id, Reply reply) {
+// Members in the order nlohmann writes them (sorted), whatever the result's form.
+std::string reply_object(const json& id, Reply reply) {
     if (auto* error = std::get_if<RpcError>(&reply)) {
-        return error_object(id, error->code, error->message);
+        return dump(error_object(id, error->code, error->message));
     }
-    return {{"jsonrpc", "2.0"}, {"id", id}, {"result", std::move(std::get<json>(reply))}};
+    std::string out = "{\"id\":" + dump(id) + ",\"jsonrpc\":\"2.0\",\"result\":";
+    if (auto* raw = std::get_if<detail::RawJson>(&reply)) {
+        out += raw->text;
+    } else {
+        out += dump(std::get<json>(reply));
+    }
+    out += '}';
+    return out;
 }
 
 // nlohmann's parser recurses once per nesting level; count levels with a
@@ -128,7 +140,7 @@ void run_method(detail::Handler handler, detail::MethodContext& context, const j
 
 void run_request(const json& request, detail::MethodContext& context, const ReplyDone& done) {
     if (auto error = envelope_error(request)) {
-        done(std::move(*error));
+        done(dump(*error));
         return;
     }
     const auto id_it = request.find("id");
@@ -151,6 +163,9 @@ void run_request(const json& request, detail::MethodContext& context, const Repl
     }
     auto params = request.find("params");
     run_method(handler, context, params == request.end() ? json(nullptr) : *params, respond);
+    if (name != "status") {
+        context.status_cache.invalidate();  // what it changed shows in the next status
+    }
 }
 
 // Collects a batch's replies in request order and sends them as one line once
@@ -161,7 +176,7 @@ class Batch {
 
     ReplyDone slot(std::size_t index, const std::shared_ptr<Batch>& self) {
         ++outstanding_;
-        return [self, index](json reply) { self->fill(index, std::move(reply)); };
+        return [self, index](std::string reply) { self->fill(index, std::move(reply)); };
     }
 
     // Called after every member has been dispatched; members that were
@@ -172,7 +187,7 @@ class Batch {
     }
 
   private:
-    void fill(std::size_t index, json reply) {
+    void fill(std::size_t index, std::string reply) {
         replies_[index] = std::move(reply);
         --outstanding_;
         finish_if_done();
@@ -183,18 +198,19 @@ class Batch {
             return;
         }
         sent_ = true;
-        json out = json::array();
-        for (auto& reply : replies_) {
-            if (!reply.is_null()) {
-                out.push_back(std::move(reply));
+        std::string out;
+        for (const auto& reply : replies_) {
+            if (!reply.empty()) {
+                out += out.empty() ? '[' : ',';
+                out += reply;
             }
         }
         if (!out.empty()) {
-            sink_(detail::json_line(out));
+            sink_(out + "]\n");
         }
     }
 
-    std::vector<json> replies_;
+    std::vector<std::string> replies_;  // empty: a notification's slot
     ReplySink sink_;
     std::size_t outstanding_ = 0;
     bool dispatched_ = false;
@@ -259,8 +275,9 @@ std::string error_line(int code, std::string_view message) {
     return detail::json_line(error_object(nullptr, code, message));
 }
 
-Dispatcher::Dispatcher(daemon::Api& api, std::function<ServerStats()> stats)
-    : api_(api), stats_(std::move(stats)) {}
+Dispatcher::Dispatcher(daemon::Api& api, std::function<ServerStats()> stats,
+                       StatusCache::Clock::duration status_max_age)
+    : api_(api), stats_(std::move(stats)), status_cache_(status_max_age) {}
 
 void Dispatcher::handle_line(std::string_view line, ClientState& client, const ReplySink& sink) {
     // Whatever is logged while the request runs (here, in the core, in the
@@ -279,16 +296,16 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const R
         sink(error_line(rpc_error::kParse, fmt::format("parse error: {}", e.what())));
         return;
     }
-    detail::MethodContext context{api_, client, stats_};
+    detail::MethodContext context{api_, client, stats_, status_cache_};
     // A reply may come after this returns (settings): it keeps a copy of the
     // sink, and of who asked, so its delivery is logged with the client's
     // fields too (the groups are not needed for that).
     const daemon::ClientInfo asker{
         client.info.id, client.info.pid, client.info.uid, client.info.gid, {}};
     if (!request.is_array()) {
-        run_request(request, context, [sink, asker](json reply) {
+        run_request(request, context, [sink, asker](std::string reply) {
             const daemon::ClientLogScope reply_scope(asker);
-            sink(detail::json_line(reply));
+            sink(std::move(reply) + '\n');
         });
         return;
     }
@@ -303,7 +320,7 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const R
     });
     for (std::size_t i = 0; i < request.size(); ++i) {
         if (is_notification(request[i])) {
-            run_request(request[i], context, [](json) {});
+            run_request(request[i], context, [](const std::string&) {});
         } else {
             run_request(request[i], context, batch->slot(i, batch));
         }

@@ -84,7 +84,11 @@ daemon::MotionEndCallback answer_on_end(const std::shared_ptr<Waiter>& waiter) {
 
 void status(MethodContext& c, const json& params, Respond respond) {
     Params(params).only({});
-    respond(status_json(c.api.status(), c.stats(), c.client));
+    const auto& shared = c.status_cache.members(StatusCache::Clock::now(), [&c] {
+        const auto text = json_text(shared_status_json(c.api.status(), c.stats()));
+        return text.substr(1, text.size() - 2);  // the members, without the braces
+    });
+    respond(RawJson{"{\"client\":" + json_text(client_status_json(c.client)) + "," + shared + "}"});
 }
 
 json range_json(const config::AxisRange& range) {

@@ -8,6 +8,7 @@
 #include <variant>
 
 #include "gport/ipc/json_rpc.hpp"
+#include "gport/ipc/status_cache.hpp"
 
 namespace gport::ipc::detail {
 
@@ -16,8 +17,13 @@ struct RpcError {
     std::string message;
 };
 
+// A result already serialized (the cached part of `status`, spliced).
+struct RawJson {
+    std::string text;
+};
+
 // A method's answer: its result, or an error.
-using Reply = std::variant<nlohmann::json, RpcError>;
+using Reply = std::variant<nlohmann::json, RpcError, RawJson>;
 // Called exactly once per call, possibly later (settings).
 using Respond = std::function<void(Reply)>;
 
@@ -25,6 +31,7 @@ struct MethodContext {
     daemon::Api& api;
     ClientState& client;
     const std::function<ServerStats()>& stats;
+    StatusCache& status_cache;
 };
 
 using Handler = void (*)(MethodContext& context, const nlohmann::json& params, Respond respond);

@@ -56,10 +56,13 @@ json optional_client(const std::optional<daemon::ClientInfo>& client) {
 
 }  // namespace
 
-json status_json(const daemon::Status& status, const ServerStats& stats,
-                 const ClientState& client) {
+json client_status_json(const ClientState& client) {
     json you = client_json(client.info);
     you["dropped"] = client.dropped;
+    return you;
+}
+
+json shared_status_json(const daemon::Status& status, const ServerStats& stats) {
     return {{"api_version", kApiVersion},
             {"daemon_version", kVersion},
             {"link", {{"state", daemon::to_string(status.link)}, {"reason", status.link_reason}}},
@@ -74,8 +77,7 @@ json status_json(const daemon::Status& status, const ServerStats& stats,
             {"dropped_notifications", stats.dropped_notifications},
             {"motion", motion_json(status.motion)},
             {"controller", optional_client(status.controller)},
-            {"recording", daemon::to_string(status.recording)},
-            {"client", std::move(you)}};
+            {"recording", daemon::to_string(status.recording)}};
 }
 
 json controller_json(const std::optional<daemon::ClientInfo>& holder,

@@ -10,8 +10,10 @@
 
 namespace gport::ipc::detail {
 
-nlohmann::json status_json(const daemon::Status& status, const ServerStats& stats,
-                           const ClientState& client);
+// The status result without its `client` member: the same for every caller.
+nlohmann::json shared_status_json(const daemon::Status& status, const ServerStats& stats);
+// The status result's `client` member: the caller's own.
+nlohmann::json client_status_json(const ClientState& client);
 nlohmann::json controller_json(const std::optional<daemon::ClientInfo>& holder,
                                const daemon::ClientInfo& caller);
 nlohmann::json settings_json(const daemon::Settings& settings);

@@ -179,6 +179,7 @@ void Server::on_accept(stream_protocol::socket socket) {
     SessionHost& host = *this;
     auto session = std::make_shared<Session>(std::move(socket), *info, host);
     sessions_.emplace(info->id, session);
+    dispatcher_->invalidate_status();  // status counts the clients
     log_->debug("client {} connected: pid {} uid {} gid {}", info->id, info->pid, info->uid,
                 info->gid);
     session->start();
@@ -187,6 +188,7 @@ void Server::on_accept(stream_protocol::socket socket) {
 void Server::session_closed(const Session& session) {
     const auto info = session.info();
     log_->debug("client {} (pid {}) disconnected", info.id, info.pid);
+    dispatcher_->invalidate_status();
     if (walking_ > 0) {
         closed_ids_.push_back(info.id);
     } else {
@@ -236,10 +238,12 @@ void Server::on_attitude(const daemon::AttitudeSample& sample) {
 }
 
 void Server::on_link(const daemon::LinkEvent& event) {
+    dispatcher_->invalidate_status();
     publish_event(&Subscriptions::link, [&] { return link_line(event); });
 }
 
 void Server::on_motion(const daemon::MotionEvent& event) {
+    dispatcher_->invalidate_status();
     publish_event(&Subscriptions::motion, [&] { return motion_line(event); });
 }
 

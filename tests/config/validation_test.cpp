@@ -36,6 +36,7 @@ const Range kRanges[] = {
     {"link", "reconnect_max_ms", 10, 600000, R"("reconnect_initial_ms": 10, )"},
     {"requests", "timeout_ms", 10, 10000},
     {"requests", "retries", 0, 10},
+    {"realtime", "priority", 0, 99},
 };
 
 std::string one_key(const Range& r, const std::string& value) {

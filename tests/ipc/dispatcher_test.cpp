@@ -285,6 +285,7 @@ TEST_F(DispatcherTest, RecordRefusesBadParamsBeforeTheCore) {
 TEST_F(DispatcherTest, StatusSaysTheAssumedRecordingState) {
     EXPECT_EQ(call("status")["result"]["recording"], "unknown");
     api_.status_value.recording = daemon::RecordingState::kOn;
+    dispatcher_.invalidate_status();  // what the server does on the core's events
     EXPECT_EQ(call("status")["result"]["recording"], "on");
 }
 

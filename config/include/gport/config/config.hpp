@@ -61,6 +61,14 @@ struct AccessConfig {  // "access"
     std::vector<gid_t> control_gids;  // "control_gids"
 };
 
+// Real-time scheduling, applied once at start (like chronyd's -P and -m);
+// refusal is a warning, never fatal (docs/configuration.md, "realtime").
+constexpr int kMaxRealtimePriority = 99;
+struct RealtimeConfig {        // "realtime"
+    int priority = 0;          // "priority": 0 = normal scheduling, 1-99 = SCHED_FIFO
+    bool lock_memory = false;  // "lock_memory": mlockall(MCL_CURRENT | MCL_FUTURE)
+};
+
 struct LogConfig {               // "log"
     std::string level = "info";  // "level": trace, debug, info, warn, error, critical, off
 };
@@ -126,6 +134,7 @@ struct Config {
     RequestConfig requests;
     AccessConfig access;
     LogConfig log;
+    RealtimeConfig realtime;
     LimitsConfig limits;
     FailsafeConfig failsafe;
     MotionConfig motion;

@@ -24,6 +24,7 @@
 #include <string_view>
 
 #include "gport/daemon/api.hpp"
+#include "gport/ipc/status_cache.hpp"
 
 namespace gport::ipc {
 
@@ -96,15 +97,25 @@ using ReplySink = std::function<void(std::string line)>;
 
 class Dispatcher {
   public:
-    Dispatcher(daemon::Api& api, std::function<ServerStats()> stats);
+    // `status_max_age`: how old the cached part of status may get (tests
+    // pass other ages; the server uses the default).
+    Dispatcher(daemon::Api& api, std::function<ServerStats()> stats,
+               StatusCache::Clock::duration status_max_age = StatusCache::kMaxAge);
 
     // Handles one line (without its '\n'). Replies go to `sink`, zero or
     // more times: never for notifications, once for a request or a batch.
     void handle_line(std::string_view line, ClientState& client, const ReplySink& sink);
 
+    // The cached part of `status` (status_cache.hpp). Requests other than
+    // status invalidate it themselves; the transport calls this when a
+    // client connects or leaves and on link and motion events.
+    void invalidate_status() { status_cache_.invalidate(); }
+    const StatusCache& status_cache() const { return status_cache_; }
+
   private:
     daemon::Api& api_;
     std::function<ServerStats()> stats_;
+    StatusCache status_cache_;
 };
 
 // Builds an error reply line ("id" null), for the transport's own errors:
