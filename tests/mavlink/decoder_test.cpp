@@ -76,7 +76,7 @@ Bytes signed_frame(const gm::Message& m) {
     Bytes f = frame_of(m);
     f[2] = gm::kIncompatSigned;
     const gm::MessageInfo* info = gm::find_message(gm::id_of(m));
-    f.resize(f.size() - 2);
+    f.erase(f.end() - 2, f.end());  // the checksum, recomputed below
     std::uint16_t crc = gm::crc_calculate(std::span(f).subspan(1));
     crc = gm::crc_accumulate(info->crc_extra, crc);
     f.push_back(static_cast<std::uint8_t>(crc & 0xFF));
