@@ -41,13 +41,14 @@ soname=$(objdump -p "$libdir/libgport-client.so.1" | awk '$1 == "SONAME" { print
 flags=$(PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config --cflags --libs gport-client) \
     || fail "pkg-config does not know gport-client"
 # shellcheck disable=SC2086  # the flags are words
-"$cxx" -std=c++17 "$source/main.cpp" $flags -Wl,-rpath,"$libdir" -o "$work/pc-consumer" \
+"$cxx" -std=c++17 ${CONSUMER_FLAGS:-} "$source/main.cpp" $flags -Wl,-rpath,"$libdir" -o "$work/pc-consumer" \
     || fail "building with pkg-config flags ($flags) failed"
 "$work/pc-consumer" "$work/no-gportd.sock" || fail "the pkg-config program did not run"
 
 # 2. find_package.
 "$cmake" -S "$source" -B "$work/cmake-build" -DCMAKE_PREFIX_PATH="$prefix" \
-    -DCMAKE_BUILD_RPATH="$libdir" >"$work/configure.log" 2>&1 \
+    -DCMAKE_BUILD_RPATH="$libdir" -DCMAKE_CXX_FLAGS="${CONSUMER_FLAGS:-}" \
+    -DCMAKE_EXE_LINKER_FLAGS="${CONSUMER_FLAGS:-}" >"$work/configure.log" 2>&1 \
     || { cat "$work/configure.log" >&2; fail "find_package(gport-client) failed"; }
 "$cmake" --build "$work/cmake-build" >"$work/build.log" 2>&1 \
     || { cat "$work/build.log" >&2; fail "building with find_package failed"; }
