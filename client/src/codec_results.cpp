@@ -42,6 +42,12 @@ std::optional<Axes> optional_axes(const json& object, const char* key) {
     return axes(*it);
 }
 
+// A motion's target: `target`, or `angle` from a daemon that sends only that.
+std::optional<Axes> target_of(const json& object) {
+    auto target = optional_axes(object, "target");
+    return target ? target : optional_axes(object, "angle");
+}
+
 std::optional<Peer> peer(const json& object, const char* key) {
     const auto it = object.find(key);
     if (it == object.end() || !it->is_object()) {
@@ -118,10 +124,7 @@ std::optional<Motion> motion(const json& status) {
     motion.mode = m.value("mode", std::string());
     motion.owner = peer(m, "owner");
     motion.speed = optional_axes(m, "speed");
-    motion.target = optional_axes(m, "target");
-    if (!motion.target) {
-        motion.target = optional_axes(m, "angle");
-    }
+    motion.target = target_of(m);
     motion.time_left_ms = optional_of<std::int64_t>(m, "time_left_ms");
     motion.elapsed_ms = optional_of<std::int64_t>(m, "elapsed_ms");
     return motion;
@@ -235,10 +238,7 @@ std::optional<Notification> notification(const json& message) {
             e.mode = params.value("mode", std::string());
             e.owner = peer(params, "owner");
             e.speed = optional_axes(params, "speed");
-            e.target = optional_axes(params, "target");
-            if (!e.target) {
-                e.target = optional_axes(params, "angle");
-            }
+            e.target = target_of(params);
             e.duration_ms = optional_of<std::int64_t>(params, "duration_ms");
             e.reason = optional_of<std::string>(params, "reason");
             e.braked = strings(params, "braked");
