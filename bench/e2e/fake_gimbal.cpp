@@ -170,7 +170,9 @@ void FakeGimbal::read_loop() {
             }
             if (const auto* control = std::get_if<proto::Control>(&*message);
                 control != nullptr && control->mode == proto::ControlMode::kSpeed) {
-                control_.push_back({t, control->speed != proto::Axes{}});
+                const bool moving = control->speed != proto::Axes{};
+                control_.push_back({t, moving});
+                ++(moving ? speeds_seen_ : stops_seen_);
             }
         });
     }

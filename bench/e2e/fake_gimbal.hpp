@@ -61,6 +61,10 @@ class FakeGimbal {
     // Stops the reader; afterwards control_frames() is stable.
     void stop_reader();
     const std::vector<ControlStamp>& control_frames() const { return control_; }
+    // Speed frames read so far, zero (stops) and non-zero: safe from any
+    // thread while the reader runs (the stop probe waits on them).
+    std::uint64_t stops_seen() const { return stops_seen_.load(); }
+    std::uint64_t speeds_seen() const { return speeds_seen_.load(); }
 
   private:
     void write_loop(double rate_hz, std::size_t max_frames);
@@ -77,6 +81,8 @@ class FakeGimbal {
     std::atomic<bool> realtime_{false};
     std::atomic<bool> reading_{true};
     std::vector<ControlStamp> control_;
+    std::atomic<std::uint64_t> stops_seen_{0};
+    std::atomic<std::uint64_t> speeds_seen_{0};
     std::thread writer_;
     std::thread reader_;
 };

@@ -19,6 +19,7 @@
 #include "options.hpp"
 #include "posix.hpp"
 #include "report.hpp"
+#include "stop_probe.hpp"
 
 namespace gport::bench {
 namespace {
@@ -93,13 +94,18 @@ CellResult run_cell(const Options& options, const std::string& dir) {
         {{"id", 2}, {"method", "speed"}, {"params", {{"yaw", 5.0}, {"duration_ms", duration_ms}}}});
 
     const auto frames = static_cast<std::size_t>(options.rate_hz * options.seconds);
+    StopProbe probe(daemon_options.socket, gimbal, options.stops, options.seconds);
     r.load_start = load_average();
     const auto before = sample_process(daemon.pid());
     const auto t0 = now_ns();
     gimbal.start_stream(options.rate_hz, frames);
     hub.start_flood();
+    if (options.stops > 0) {
+        probe.start();
+    }
     hub.run_for(static_cast<int>(options.seconds * 1000) + 20);
     const auto t1 = now_ns();
+    probe.join();
     const auto after = sample_process(daemon.pid());
     hub.stop_flood();
     hub.run_for(300);  // lines still on their way
@@ -124,7 +130,11 @@ CellResult run_cell(const Options& options, const std::string& dir) {
     r.realtime_priority = options.realtime_priority;
     r.delivery = delivery_of(hub.subscribers(), r.frames_written);
     r.latency = latency_of(hub.subscribers(), gimbal.write_times());
-    r.keepalive = keepalive_of(gimbal.control_frames(), t0, t1, 1000.0 / options.keepalive_hz);
+    r.keepalive = keepalive_of(gimbal.control_frames(), t0, t1, 1000.0 / options.keepalive_hz,
+                               probe.motion_starts());
+    r.stops = stops_of(probe.samples(), gimbal.control_frames());
+    r.stops.per_cause = options.stops;
+    r.stops.error = probe.error();
     r.flood_replies_per_s = static_cast<double>(hub.flood_replies()) / wall;
     return r;
 }
@@ -140,7 +150,7 @@ int run(const Options& options) {
     if (!options.no_header) {
         std::cout << table_header();
     }
-    std::cout << table_row(result) << std::flush;
+    std::cout << table_row(result) << stop_table(result.stops) << std::flush;
     if (!options.json_path.empty()) {
         std::ofstream out(options.json_path);
         out << to_json(result).dump(2) << "\n";
@@ -154,6 +164,14 @@ int run(const Options& options) {
     if (d.missing > d.reported_dropped || d.out_of_order != 0) {
         std::cerr << "bench_e2e: " << d.missing << " lines missing but " << d.reported_dropped
                   << " reported dropped, " << d.out_of_order << " out of order\n";
+        return 1;
+    }
+    // A stop that never reached the pty fails the run; a slow one does not.
+    const auto& s = result.stops;
+    if (!s.error.empty() || s.request.lost + s.disconnect.lost != 0) {
+        std::cerr << "bench_e2e: stop probe: " << s.request.lost << " `stop` and "
+                  << s.disconnect.lost << " disconnect stops never reached the pty"
+                  << (s.error.empty() ? "" : "; " + s.error) << "\n";
         return 1;
     }
     return result.daemon_exit == 0 ? 0 : 1;

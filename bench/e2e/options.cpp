@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "stop_probe.hpp"
+
 #ifndef GPORT_BENCH_GPORTD
 #define GPORT_BENCH_GPORTD "gportd"
 #endif
@@ -41,6 +43,12 @@ std::string usage() {
            "                     (the product's option; a warning in its log when refused)\n"
            "  --daemon-fifo      run gportd SCHED_FIFO (needs root or CAP_SYS_NICE): shows how\n"
            "                     much of a delay is waiting for a CPU on a loaded machine\n"
+           "  --stops N          N motions ended by `stop` and N by closing the owner's\n"
+           "                     connection, spread over the run; reports the delay from each\n"
+           "                     cause to the zero speed on the pty (count, lost, p50, p99,\n"
+           "                     max per cause); a stop that never reaches the pty fails the\n"
+           "                     run, a slow one never does. 0-1000, at most 12.5 per\n"
+           "                     second of --seconds\n"
            "  -h, --help         this text\n";
 }
 
@@ -83,6 +91,9 @@ std::optional<Options> parse_options(int argc, char** argv) {
         } else if (arg == "--seconds") {
             n = number(arg, value, 1, 600);
             o.seconds = n.value_or(0);
+        } else if (arg == "--stops") {
+            n = number(arg, value, 0, 1000);
+            o.stops = static_cast<int>(n.value_or(0));
         } else if (arg == "--gportd") {
             o.gportd = value;
         } else if (arg == "--json") {
@@ -94,6 +105,14 @@ std::optional<Options> parse_options(int argc, char** argv) {
         if (!n) {
             return std::nullopt;
         }
+    }
+    // Each motion's cycle needs kMinStopCycleMs (start, move, stop, settle).
+    if (2.0 * o.stops * kMinStopCycleMs > o.seconds * 1000) {
+        std::fprintf(stderr,
+                     "bench_e2e: --stops %d needs %g s at least (%g ms per motion, two causes); "
+                     "raise --seconds or lower --stops\n",
+                     o.stops, 2.0 * o.stops * kMinStopCycleMs / 1000, kMinStopCycleMs);
+        return std::nullopt;
     }
     return o;
 }

@@ -17,6 +17,7 @@ struct Options {
     bool no_header = false;     // print only the table row
     int realtime_priority = 0;  // gportd's own realtime.priority (+ lock_memory); 0 = off
     bool daemon_fifo = false;   // run gportd SCHED_FIFO (diagnosis of scheduling delays)
+    int stops = 0;              // stop probe: motions ended by each cause (0 = off)
     bool help = false;
 };
 

@@ -73,7 +73,12 @@ LatencyStats latency_of(const std::vector<Subscriber>& subscribers,
 }
 
 KeepaliveStats keepalive_of(const std::vector<ControlStamp>& frames, std::int64_t from_ns,
-                            std::int64_t to_ns, double period_ms) {
+                            std::int64_t to_ns, double period_ms,
+                            const std::vector<std::int64_t>& motion_starts) {
+    const auto restarted = [&](std::int64_t from, std::int64_t to) {
+        const auto at = std::upper_bound(motion_starts.begin(), motion_starts.end(), from);
+        return at != motion_starts.end() && *at < to;
+    };
     std::vector<double> deviations;
     std::int64_t previous = 0;
     for (const auto& f : frames) {
@@ -81,7 +86,7 @@ KeepaliveStats keepalive_of(const std::vector<ControlStamp>& frames, std::int64_
             previous = 0;  // a stop, or outside the window: no gap to measure
             continue;
         }
-        if (previous != 0) {
+        if (previous != 0 && !restarted(previous, f.t_ns)) {
             deviations.push_back(
                 std::abs(static_cast<double>(f.t_ns - previous) / 1e6 - period_ms));
         }
@@ -170,6 +175,7 @@ nlohmann::json to_json(const CellResult& r) {
           {"exit_status", r.daemon_exit},
           {"counters", r.daemon_counters}}},
         {"flood_replies_per_s", r.flood_replies_per_s},
+        {"stops", to_json(r.stops)},
     };
 }
 

@@ -9,6 +9,7 @@
 
 #include "clients.hpp"
 #include "fake_gimbal.hpp"
+#include "stop_report.hpp"
 
 namespace gport::bench {
 
@@ -61,6 +62,7 @@ struct CellResult {
     long rss_kib = 0;
     long hwm_kib = 0;
     double flood_replies_per_s = 0;
+    StopReport stops;                // --stops: the stop probe's figures
     nlohmann::json daemon_counters;  // the daemon's status counters at the end
     int daemon_exit = -1;            // exit status after SIGTERM
 };
@@ -68,9 +70,12 @@ struct CellResult {
 DeliveryStats delivery_of(const std::vector<Subscriber>& subscribers, std::uint32_t frames_written);
 LatencyStats latency_of(const std::vector<Subscriber>& subscribers,
                         const std::vector<std::int64_t>& write_times);
-// Keepalive gaps between speed frames stamped within [from_ns, to_ns].
+// Keepalive gaps between speed frames stamped within [from_ns, to_ns]. A gap
+// across one of `motion_starts` (sorted) ends at a new motion's first frame
+// and is not counted.
 KeepaliveStats keepalive_of(const std::vector<ControlStamp>& frames, std::int64_t from_ns,
-                            std::int64_t to_ns, double period_ms);
+                            std::int64_t to_ns, double period_ms,
+                            const std::vector<std::int64_t>& motion_starts = {});
 
 std::string table_header();
 std::string table_row(const CellResult& r);
