@@ -34,6 +34,9 @@ GPORT_PACKAGES=(
   # this script installs gpsd it turns that off (USBAUTO="false" in
   # /etc/default/gpsd, read by gpsdctl@.service; nothing is masked).
   gpsd
+  # liburing for bench/fanout_bench (io_uring against sendmsg for one
+  # frame's fan-out, docs/performance.md); gportd itself does not use it.
+  liburing-dev
 )
 
 # Packages that count as present when their command is, whoever installed it

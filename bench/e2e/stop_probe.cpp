@@ -71,7 +71,8 @@ void StopProbe::run() {
     fd_.reset();
 }
 
-// One motion: start it, let it run to the middle of the cycle, end it (even
+// One motion: start it, let it run for three quarters of the cycle (long
+// enough for a keepalive at 10 Hz once cycles reach 133 ms), end it (even
 // cycles by `stop`, odd ones by closing), and wait for the zero speed.
 void StopProbe::cycle(int index, std::int64_t start_ns, std::int64_t period_ns) {
     sleep_until(start_ns);
@@ -80,7 +81,7 @@ void StopProbe::cycle(int index, std::int64_t start_ns, std::int64_t period_ns) 
         pending_.clear();
     }
     start_motion();
-    sleep_until(start_ns + period_ns / 2);
+    sleep_until(start_ns + period_ns * 3 / 4);
     end_motion(index % 2 == 0 ? StopCause::kStopRequest : StopCause::kDisconnect);
 }
 
