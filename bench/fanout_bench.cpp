@@ -3,14 +3,14 @@
 // IORING_OP_SEND entries given to the kernel with one io_uring_submit().
 // One epoll thread reads every socket, as N subscribers would. It alternates
 // the two ways in the same run and prints the writer's CPU per send (user and
-// system), measured as the process's CPU minus the reader thread's (io_uring's
+// system together), measured as the process's CPU minus the reader thread's (io_uring's
 // kernel workers are threads of the process, so their time counts for the
 // writer). docs/performance.md, "io_uring batching (measured, not adopted)".
 //
 //   fanout_bench [--seconds S] [--pairs P]
 #include <liburing.h>
+#include <pthread.h>
 #include <sys/epoll.h>
-#include <sys/resource.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -41,19 +41,11 @@ std::int64_t now_ns() {
     return std::int64_t{t.tv_sec} * 1'000'000'000 + t.tv_nsec;
 }
 
-double seconds_of(const timeval& t) {
-    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) / 1e6;
-}
-
-struct Cpu {
-    double user = 0;
-    double system = 0;
-};
-
-Cpu cpu_of(int who) {
-    rusage u{};
-    ::getrusage(who, &u);
-    return {seconds_of(u.ru_utime), seconds_of(u.ru_stime)};
+// CPU seconds on a CPU-time clock (a thread's or the process's).
+double cpu_seconds(clockid_t clock) {
+    timespec t{};
+    ::clock_gettime(clock, &t);
+    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) / 1e9;
 }
 
 void fail(const std::string& what) {
@@ -87,7 +79,7 @@ class Sockets {
     std::vector<std::pair<int, int>> pairs_;
 };
 
-// One epoll thread that drains every reader socket and keeps its own CPU.
+// One epoll thread that drains every reader socket.
 class Reader {
   public:
     explicit Reader(const Sockets& sockets) : epoll_(::epoll_create1(EPOLL_CLOEXEC)) {
@@ -107,8 +99,12 @@ class Reader {
     Reader(const Reader&) = delete;
     Reader& operator=(const Reader&) = delete;
 
-    Cpu cpu() const { return {user_.load(), system_.load()}; }
-    std::uint64_t bytes() const { return bytes_.load(); }
+    // The reader thread's CPU seconds so far.
+    double cpu() {
+        clockid_t clock{};
+        ::pthread_getcpuclockid(thread_.native_handle(), &clock);
+        return cpu_seconds(clock);
+    }
 
   private:
     void run() {
@@ -119,20 +115,13 @@ class Reader {
             for (int i = 0; i < n; ++i) {
                 ssize_t r = 0;
                 while ((r = ::read(events[i].data.fd, buffer, sizeof(buffer))) > 0) {
-                    bytes_ += static_cast<std::uint64_t>(r);
                 }
             }
-            const auto c = cpu_of(RUSAGE_THREAD);
-            user_ = c.user;
-            system_ = c.system;
         }
     }
 
     int epoll_;
     std::atomic<bool> running_{true};
-    std::atomic<double> user_{0};
-    std::atomic<double> system_{0};
-    std::atomic<std::uint64_t> bytes_{0};
     std::thread thread_;
 };
 
@@ -187,10 +176,15 @@ class Ring {
     io_uring ring_{};
 };
 
+// Per send, in µs: the writer's CPU (the process's minus the reader's, so
+// that io_uring's kernel workers count), and the part of it that other
+// threads than the writing one (io-wq workers) spent. getrusage's user and
+// system split is sampled at the tick, too coarse here: the sends' cost is
+// almost all system time (docs/performance.md, "Profile").
 struct Trial {
-    double user_us_per_send = 0;
-    double system_us_per_send = 0;
-    double reader_us_per_send = 0;
+    double writer_us = 0;
+    double workers_us = 0;
+    double reader_us = 0;
     double writer_core_percent = 0;
     std::uint64_t failed = 0;
 };
@@ -202,7 +196,8 @@ Trial run_trial(int n, double rate, double seconds, Send&& send) {
     Reader reader(sockets);
     const auto period = static_cast<std::int64_t>(1e9 / rate);
     const auto frames = static_cast<std::int64_t>(rate * seconds);
-    const auto process0 = cpu_of(RUSAGE_SELF);
+    const auto process0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID);
+    const auto writer0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
     const auto reader0 = reader.cpu();
     const auto t0 = now_ns();
     Trial t;
@@ -214,25 +209,24 @@ Trial run_trial(int n, double rate, double seconds, Send&& send) {
         t.failed += send(sockets);
     }
     const double wall = static_cast<double>(now_ns() - t0) / 1e9;
+    const auto writer1 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
     std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the reader catches up
-    const auto process1 = cpu_of(RUSAGE_SELF);
+    const auto process1 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID);
     const auto reader1 = reader.cpu();
-    const double sends = static_cast<double>(frames) * n;
-    const double reader_user = reader1.user - reader0.user;
-    const double reader_system = reader1.system - reader0.system;
-    t.user_us_per_send = (process1.user - process0.user - reader_user) * 1e6 / sends;
-    t.system_us_per_send = (process1.system - process0.system - reader_system) * 1e6 / sends;
-    t.reader_us_per_send = (reader_user + reader_system) * 1e6 / sends;
-    t.writer_core_percent = (t.user_us_per_send + t.system_us_per_send) * sends / wall / 1e4;
+    const double per_send = 1e6 / (static_cast<double>(frames) * n);
+    const double thread = writer1 - writer0;
+    t.reader_us = (reader1 - reader0) * per_send;
+    t.writer_us = (process1 - process0) * per_send - t.reader_us;
+    t.workers_us = t.writer_us - thread * per_send;
+    t.writer_core_percent = t.writer_us / per_send / wall * 100;
     return t;
 }
 
 void print(const char* how, int n, double rate, int pair, const Trial& t) {
     std::printf(
-        "%4d x %4.0f/s | pair %d | %-8s | writer %6.3f us/send (user %5.3f, sys %5.3f) "
-        "| %5.1f %% of a core | reader %5.3f us/send | failed %llu\n",
-        n, rate, pair, how, t.user_us_per_send + t.system_us_per_send, t.user_us_per_send,
-        t.system_us_per_send, t.writer_core_percent, t.reader_us_per_send,
+        "%4d x %4.0f/s | pair %d | %-8s | writer %6.3f us/send (user %5.3f, sys %5.3f, "
+        "workers %6.3f) | %5.1f %% of a core | reader %5.3f us/send | failed %llu\n",
+        n, rate, pair, how, t.writer_us, t.workers_us, t.writer_core_percent, t.reader_us,
         static_cast<unsigned long long>(t.failed));
     std::fflush(stdout);
 }
@@ -247,8 +241,8 @@ void run_cell(int n, double rate, double seconds, int pairs) {
         const auto b =
             run_trial(n, rate, seconds, [&](const Sockets& s) { return ring.send_batch(s); });
         print("io_uring", n, rate, p, b);
-        each += a.user_us_per_send + a.system_us_per_send;
-        batch += b.user_us_per_send + b.system_us_per_send;
+        each += a.writer_us;
+        batch += b.writer_us;
     }
     std::printf("%4d x %4.0f/s | io_uring / sendmsg writer CPU per send: %.2f\n\n", n, rate,
                 batch / each);
