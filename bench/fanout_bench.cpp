@@ -224,8 +224,8 @@ Trial run_trial(int n, double rate, double seconds, Send&& send) {
 
 void print(const char* how, int n, double rate, int pair, const Trial& t) {
     std::printf(
-        "%4d x %4.0f/s | pair %d | %-8s | writer %6.3f us/send (user %5.3f, sys %5.3f, "
-        "workers %6.3f) | %5.1f %% of a core | reader %5.3f us/send | failed %llu\n",
+        "%4d x %4.0f/s | pair %d | %-8s | writer %6.3f us/send (io-wq workers "
+        "%5.3f) | %5.1f %% of a core | reader %5.3f us/send | failed %llu\n",
         n, rate, pair, how, t.writer_us, t.workers_us, t.writer_core_percent, t.reader_us,
         static_cast<unsigned long long>(t.failed));
     std::fflush(stdout);
