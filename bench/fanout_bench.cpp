@@ -28,7 +28,7 @@
 
 namespace {
 
-// An attitude notification as gportd sends it, about this long.
+// An attitude notification about as long as gportd's (214 bytes).
 const std::string kLine =
     R"({"jsonrpc":"2.0","method":"attitude","params":{"imu":{"roll":1.23,"pitch":-4.56,)"
     R"("yaw":78.9},"hall":{"roll":-19.21,"pitch":-0.16,"yaw":4.66},"rates":null,)"
