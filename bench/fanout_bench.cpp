@@ -279,6 +279,15 @@ int main(int argc, char** argv) {
             return arg == "-h" || arg == "--help" ? 0 : 64;
         }
     }
+    // A kernel or container may refuse io_uring (ENOSYS, EPERM with
+    // kernel.io_uring_disabled or a seccomp filter): nothing to compare.
+    io_uring probe{};
+    if (const int rc = ::io_uring_queue_init(8, &probe, 0); rc < 0) {
+        std::fprintf(stderr, "fanout_bench: io_uring is not available here (%s); skipped\n",
+                     std::strerror(-rc));
+        return 77;
+    }
+    ::io_uring_queue_exit(&probe);
     try {
         run_cell(100, 500, seconds, pairs);
         run_cell(50, 50, seconds, pairs);
