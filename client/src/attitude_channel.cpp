@@ -77,6 +77,13 @@ AttitudeChannel::Impl::~Impl() {
 }
 
 std::optional<AttitudeSample> AttitudeChannel::Impl::take() {
+    if (from_first && reader.published() > 0) {
+        from_first = false;
+        if (auto first = reader.read(1)) {
+            cursor = 1;
+            return to_attitude(*first, missed.load(std::memory_order_relaxed));
+        }
+    }
     std::uint64_t lost = missed.load(std::memory_order_relaxed);
     auto sample = reader.next(cursor, lost);
     missed.store(lost, std::memory_order_relaxed);
@@ -104,7 +111,9 @@ std::optional<AttitudeSample> AttitudeChannel::Impl::next(std::chrono::milliseco
 }
 
 RingWaker::RingWaker(const base::RingReader& reader)
-    : word_(reader.wake_word()), eventfd_(::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK)) {
+    : word_(reader.wake_word()),
+      seen_(word_.load(std::memory_order_acquire)),
+      eventfd_(::eventfd(1, EFD_CLOEXEC | EFD_NONBLOCK)) {
     if (eventfd_ < 0) {
         throw Error(
             ErrorCode::kTransport,
@@ -128,7 +137,7 @@ void RingWaker::reset() noexcept {
 }
 
 void RingWaker::run() {
-    std::uint32_t seen = word_.load(std::memory_order_acquire);
+    std::uint32_t seen = seen_;
     while (!stop_.load(std::memory_order_acquire)) {
         base::futex_wait(word_, seen, kWakerSlice);
         const std::uint32_t now = word_.load(std::memory_order_acquire);

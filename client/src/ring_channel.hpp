@@ -32,19 +32,25 @@ struct AttitudeChannel::Impl {
     // The next sample without waiting (see base::RingReader::next).
     std::optional<AttitudeSample> take();
     std::optional<AttitudeSample> next(std::chrono::milliseconds timeout);
-    // From now on, take() gives only samples published after this call.
-    void skip_to_newest() { cursor = reader.published(); }
+    // From now on, take() gives only samples published after this call,
+    // each of them (from sample 1 when none was published yet).
+    void skip_to_newest() {
+        cursor = reader.published();
+        from_first = cursor == 0;
+    }
 
     const void* memory;
     std::size_t size;
     base::RingReader reader;
     std::uint64_t cursor = 0;
+    bool from_first = false;  // cursor 0 means "the newest" to RingReader
     std::atomic<std::uint64_t> missed{0};
 };
 
 // One thread per channel that sleeps on the ring's futex word and makes an
 // eventfd readable whenever the word changed (a sample, or the close). The
 // consumer polls fd(), calls reset() and then takes every sample there is.
+// The eventfd starts readable, so the consumer looks once after making it.
 // Costs the client one thread and one wake per sample; gportd does not know.
 class RingWaker {
   public:
@@ -60,6 +66,7 @@ class RingWaker {
     void run();
 
     const std::atomic<std::uint32_t>& word_;
+    std::uint32_t seen_;
     int eventfd_ = -1;
     std::atomic<bool> stop_{false};
     std::thread thread_;
