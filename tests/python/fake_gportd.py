@@ -40,8 +40,8 @@ class RingBlock:
         n = self.published + 1
         slot = ch.HEADER_SIZE + ((n - 1) % self.slots) * ch.SLOT_SIZE
         struct.pack_into("=Q", self.map, slot, 2 * n - 1)
-        words = (seq, 1.7e9 + seq / 100, seq / 10, -2.5, 45.0, 0.5, -2.25, 44.75)
-        words += (1 if rates else 0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0)
+        words: tuple[float, ...] = (seq, 1.7e9 + seq / 100, seq / 10, -2.5, 45.0, 0.5, -2.25)
+        words += (44.75, 1 if rates else 0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0)
         _SLOT_WORDS.pack_into(self.map, slot + 8, *words)
         struct.pack_into("=Q", self.map, slot, 2 * n)
         struct.pack_into("=Q", self.map, 32, n)
@@ -59,7 +59,7 @@ class RingBlock:
     def _bump(self) -> None:
         wake = struct.unpack_from("=I", self.map, 24)[0]
         struct.pack_into("=I", self.map, 24, (wake + 1) & 0xFFFFFFFF)
-        if ch.futex_available():
+        if ch._SYS_FUTEX is not None:
             ch._libc.syscall(
                 ctypes.c_long(ch._SYS_FUTEX),
                 ctypes.c_void_p(self.address + 24),

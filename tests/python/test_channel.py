@@ -174,7 +174,11 @@ def test_attitude_stream_from_shared_memory(server: FakeServer, block: RingBlock
     server.offers.append(block)
     with gport.Client(server.path) as client:
         stream = client.attitude_stream(shared_memory=True, timeout=5)
-        threading.Timer(0.05, lambda: [block.publish(n) for n in (1, 2, 3)]).start()
+        def publish() -> None:
+            for n in (1, 2, 3):
+                block.publish(n)
+
+        threading.Timer(0.05, publish).start()
         seqs = [next(stream).seq for _ in range(3)]
         stream.close()
         assert seqs == [1, 2, 3]
