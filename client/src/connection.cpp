@@ -14,6 +14,7 @@
 #include "connect_error.hpp"
 #include "descriptors.hpp"
 #include "gport/client/error.hpp"
+#include "ring_channel.hpp"
 
 namespace gport::client {
 namespace {
@@ -80,6 +81,24 @@ void Connection::close() noexcept {
     }
     close_descriptors();
     closed_ = true;
+}
+
+AttitudeChannel Connection::attitude_channel(
+    const std::function<void(const nlohmann::json&)>& on_notification) {
+    const auto reply = call("attitude_channel", nlohmann::json::object(), on_notification);
+    if (!reply) {
+        throw Error(ErrorCode::kTransport, "the connection to gportd was lost");
+    }
+    if (const auto error = reply->find("error"); error != reply->end()) {
+        throw Error(error->value("code", static_cast<int>(ErrorCode::kBadReply)),
+                    error->value("message", std::string("gportd refused attitude_channel")));
+    }
+    const int fd = take_descriptor();
+    if (fd < 0) {
+        throw Error(ErrorCode::kBadReply,
+                    "attitude channel: gportd's reply carried no file descriptor");
+    }
+    return AttitudeChannel::Impl::adopt(fd);
 }
 
 int Connection::take_descriptor() noexcept {

@@ -19,6 +19,7 @@
 #include <optional>
 #include <string>
 
+#include "gport/client/attitude_channel.hpp"
 #include "gport/client/export.hpp"
 
 namespace gport::client {
@@ -48,6 +49,13 @@ class GPORT_CLIENT_API Connection {
     // `on_notification`. Empty when the connection closed or was interrupted.
     std::optional<nlohmann::json> call(
         const std::string& method, const nlohmann::json& params,
+        const std::function<void(const nlohmann::json&)>& on_notification = {});
+
+    // Calls `attitude_channel` and maps the descriptor of its reply
+    // (AttitudeChannel); throws Error: the daemon's, kBadReply for a block
+    // that fails its checks or a reply without a descriptor, kTransport
+    // when the connection is lost.
+    AttitudeChannel attitude_channel(
         const std::function<void(const nlohmann::json&)>& on_notification = {});
 
     // The oldest received descriptor not yet claimed (the caller owns it),
