@@ -1,10 +1,13 @@
 // The shared-memory attitude channel end to end: libgport-client against the
 // real gportd on gport-sim (a separate process on a pty) or --simulate.
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <csignal>
 #include <filesystem>
 #include <map>
 
 #include "client_fixture.hpp"
+#include "gport/client/async_client.hpp"
 
 namespace gport::testing {
 namespace {
@@ -106,6 +109,44 @@ TEST(AttitudeChannelDaemon, OpeningAndClosingChannelsLeaksNoDescriptor) {
         EXPECT_TRUE(next_of<gc::AttitudeSample>(client));
     }
     EXPECT_EQ(open_descriptors(), before);
+}
+
+TEST(AttitudeChannelDaemon, AsyncClientDeliversRingSamplesAndSocketEvents) {
+    TempDir dir;
+    DaemonProcess daemon(dir, {"--simulate"});
+    { auto ready = connect_when_ready(daemon.socket()); }
+    boost::asio::io_context io;
+    gc::AsyncClient client(io);
+    boost::asio::steady_timer guard(io, 20s);
+    guard.async_wait([&](auto) { client.close(); });
+    std::vector<std::uint64_t> seqs;
+    bool motion = false;
+    client.on_notification([&](const gc::Notification& n) {
+        if (const auto* a = std::get_if<gc::AttitudeSample>(&n)) {
+            seqs.push_back(a->seq);
+            if (seqs.size() == 3) {
+                client.async_speed({.yaw = 5}, {.duration = 1000ms}, [](auto, auto) {});
+            }
+        } else if (std::holds_alternative<gc::MotionEvent>(n)) {
+            motion = true;
+        }
+        if (motion && seqs.size() >= 3) {
+            client.close();
+            guard.cancel();
+        }
+    });
+    client.async_connect(daemon.socket(), [&](std::optional<gc::Error> error) {
+        ASSERT_FALSE(error);
+        client.async_subscribe(
+            {"attitude", "motion"}, gc::SubscribeOptions{{}, true},
+            [](std::optional<gc::Error> e, gc::Subscription) { ASSERT_FALSE(e) << e->what(); });
+    });
+    io.run();
+    ASSERT_GE(seqs.size(), 3U);
+    for (std::size_t i = 1; i < seqs.size(); ++i) {
+        EXPECT_GT(seqs[i], seqs[i - 1]);
+    }
+    EXPECT_TRUE(motion) << "no motion event from the socket";
 }
 
 }  // namespace
