@@ -39,7 +39,11 @@ def test_ring_samples_match_the_socket_notifications_of_the_same_seq(
             sample = attitude(on_socket)
             seen[sample.seq] = sample
         assert ring[0].rates is not None  # the 24-byte frames' rates come too
-        for sample in ring:
+        # A socket subscriber may lose samples on a loaded machine (counted
+        # in `dropped`); every one it has must match the ring's.
+        common = [sample for sample in ring if sample.seq in seen]
+        assert len(common) >= 3, f"ring {[s.seq for s in ring]}, socket {sorted(seen)}"
+        for sample in common:
             twin = seen[sample.seq]
             assert (sample.t, sample.imu, sample.hall) == (twin.t, twin.imu, twin.hall)
             assert sample.rates == twin.rates
