@@ -90,6 +90,12 @@ def test_the_channel_closes_with_the_daemon_and_reconnect_reopens_it(daemon: Dae
 def test_opening_and_closing_channels_leaks_no_descriptor(daemon: Daemon) -> None:
     with daemon.client() as warm:
         assert link_up(warm)
+        status = warm.status()
+        assert status.client is not None and not status.client.attitude_channel
+        warm.attitude_channel().close()
+        status = warm.status()
+        assert status.client is not None and status.client.attitude_channel
+        assert status.attitude_channel_clients == 1
     before = open_descriptors()
     for _ in range(5):
         with daemon.client() as client:
