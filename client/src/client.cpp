@@ -29,6 +29,9 @@ struct Client::Impl {
             throw Error(ErrorCode::kTransport,
                         "the connection to gportd was lost during " + method);
         }
+        if (callback) {
+            drain_ring(false);  // ring samples reach the callback during calls too
+        }
         return codec::result_of(*reply);
     }
 

@@ -213,7 +213,7 @@ TEST(AttitudeChannel, TransparentSubscriptionDeliversRingSamplesAndSocketNotific
     ASSERT_TRUE(n);
     ASSERT_TRUE(std::holds_alternative<gc::LinkEvent>(*n));
     EXPECT_EQ(std::get<gc::LinkEvent>(*n).state, "stale");
-    // A sample while a call is in flight comes after it, through the callback.
+    // With a callback, ring samples reach it from dispatch() and from calls.
     std::vector<std::uint64_t> seen;
     client.on_notification([&](const gc::Notification& m) {
         if (const auto* a = std::get_if<gc::AttitudeSample>(&m)) {
@@ -226,9 +226,12 @@ TEST(AttitudeChannel, TransparentSubscriptionDeliversRingSamplesAndSocketNotific
         client.dispatch(50ms);
     }
     EXPECT_EQ(seen, (std::vector<std::uint64_t>{3, 4}));
+    block.publish(5);
+    client.subscribe({"motion"});  // any call
+    EXPECT_EQ(seen, (std::vector<std::uint64_t>{3, 4, 5}));
     client.unsubscribe({"attitude"});
     seen.clear();
-    block.publish(5);
+    block.publish(6);
     client.dispatch(100ms);
     EXPECT_TRUE(seen.empty());
 }
