@@ -101,14 +101,15 @@ class FakeServer:
                 return
             with self._lock:
                 self._conn = conn
-            with conn, conn.makefile("rb") as lines:
-                try:
+            try:
+                with conn.makefile("rb") as lines:
                     for line in lines:
                         self._answer(json.loads(line))
-                except OSError:
-                    pass
-            with self._lock:
+            except OSError:
+                pass
+            with self._lock:  # forgotten before it is closed: drop() never sees it closed
                 self._conn = None
+            conn.close()
 
     def _answer(self, request: dict[str, Any]) -> None:
         method = request["method"]
