@@ -45,7 +45,7 @@ _gportctl() {
     case $command in
         "") arguments=$commands ;;
         watch)
-            options="--rate -n --count --for"
+            options="--rate --shared-memory -n --count --for"
             arguments="attitude link motion"
             ;;
         speed) options="--roll --pitch --yaw --for --lease --clamp" ;;

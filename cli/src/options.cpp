@@ -45,6 +45,7 @@ struct Values {
     bool clamp = false, wait = false, force = false;
     std::vector<std::string> topics;
     double rate = 0;
+    bool shared_memory = false;  // watch
     long count = 0;
     std::string state;  // record on|off
     int dead_zone = 0, follow_speed = 0;
@@ -141,6 +142,8 @@ class Parser {
         sub->add_option("--rate", v_.rate, "at most HZ attitude samples a second (the newest)")
             ->type_name("HZ")
             ->check(args::number_in(ipc::kMinRateHz, ipc::kMaxRateHz, "a rate in Hz"));
+        sub->add_flag("--shared-memory", v_.shared_memory,
+                      "attitude from gportd's shared-memory channel (every sample)");
         sub->add_option("-n,--count", v_.count, "exit 0 after COUNT events")
             ->type_name("COUNT")
             ->check(args::integer_in(1, std::numeric_limits<int>::max()));
@@ -149,7 +152,9 @@ class Parser {
             ->check(args::duration_in(1ms, kMaxDuration));
         sub->footer(
             "Prints each event as it arrives until Ctrl-C (exit 0), COUNT events or\n"
-            "DURATION. --rate limits attitude, always delivering the newest sample.\n");
+            "DURATION. --rate limits attitude, always delivering the newest sample.\n"
+            "--shared-memory reads attitude from the shared-memory channel instead of\n"
+            "the socket (every sample, the same output; not with --rate).\n");
     }
 
     void add_speed() {
@@ -300,9 +305,15 @@ class Parser {
         }
         inv.params["topics"] = inv.topics;
         if (sub.count("--rate") > 0) {
+            if (v_.shared_memory) {
+                throw UsageError{
+                    "watch: --rate and --shared-memory cannot be combined (the shared-memory "
+                    "channel offers every sample)"};
+            }
             inv.rate_hz = v_.rate;
             inv.params["max_rate_hz"] = v_.rate;
         }
+        inv.shared_memory = v_.shared_memory;
         if (sub.count("--count") > 0) {
             inv.count = v_.count;
         }

@@ -4,11 +4,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <thread>
 
 #include "gport/cli/monitor.hpp"
 #include "gport/cli/output.hpp"
 #include "gport/cli/progress.hpp"
+#include "gport/client/attitude_channel.hpp"
 #include "gport/client/connection.hpp"
 #include "gport/client/error.hpp"
 
@@ -25,6 +27,9 @@ constexpr auto kResendEvery = 200ms;
 constexpr auto kResendDuration = 500ms;
 // speed --for shows its progress this often (attitude samples asked for).
 constexpr double kProgressHz = 2.0;
+// watch --shared-memory waits on the ring at most this long before looking
+// at the socket again.
+constexpr auto kRingSlice = 20ms;
 
 class Runner {
   public:
@@ -108,9 +113,26 @@ class Runner {
 
     // Until Ctrl-C, or -n COUNT events, or --for DURATION (exit 0 for all three).
     int watch() {
-        json result;
-        if (const int status = call("subscribe", inv_.params, result); status != kExitOk) {
-            return status;
+        json params = inv_.params;
+        std::optional<client::AttitudeChannel> ring;
+        if (inv_.shared_memory) {
+            auto& topics = params["topics"];
+            const auto before = topics.size();
+            topics.erase(std::remove(topics.begin(), topics.end(), "attitude"), topics.end());
+            if (topics.size() != before) {
+                if (auto status = open_ring(ring); status != kExitOk) {
+                    return status;
+                }
+            }
+        }
+        json result = {{"topics", json::array()}};
+        if (!params["topics"].empty()) {
+            if (const int status = call("subscribe", params, result); status != kExitOk) {
+                return status;
+            }
+        }
+        if (ring) {
+            result["topics"] = inv_.topics;  // as gportd would list them
         }
         if (!inv_.json) {
             print(result);
@@ -121,24 +143,73 @@ class Runner {
         long seen = 0;
         json message;
         while (!inv_.count || seen < *inv_.count) {
-            switch (timed ? conn_.read(message, until(deadline)) : conn_.read(message)) {
-                case Connection::ReadStatus::kMessage:
-                    if (!message.contains("id")) {
-                        notification(message);
-                        ++seen;
-                    }
-                    break;
-                case Connection::ReadStatus::kInterrupted:
-                    return kExitOk;
-                case Connection::ReadStatus::kTimeout:
+            if (ring && !ring->closed()) {
+                // The socket's events first, without waiting; then the ring,
+                // waiting on its futex at most kRingSlice for a sample (so
+                // link and motion events wait at most that long).
+                auto status = conn_.read(message, 0ms);
+                if (status == Connection::ReadStatus::kTimeout) {
                     if (timed && std::chrono::steady_clock::now() >= deadline) {
                         return kExitOk;
                     }
-                    break;
-                case Connection::ReadStatus::kClosed:
-                    err_ << "gportctl: the daemon closed the connection\n";
-                    return kExitUnavailable;
+                    if (auto sample = ring->next(timed ? std::min(kRingSlice, until(deadline))
+                                                       : kRingSlice)) {
+                        notification(attitude_notification(*sample));
+                        ++seen;
+                    }
+                    continue;
+                }
+                if (auto done = handle_read(status, message, seen)) {
+                    return *done;
+                }
+                continue;
             }
+            const auto status = timed ? conn_.read(message, until(deadline)) : conn_.read(message);
+            if (status == Connection::ReadStatus::kTimeout) {
+                if (timed && std::chrono::steady_clock::now() >= deadline) {
+                    return kExitOk;
+                }
+                continue;
+            }
+            if (auto done = handle_read(status, message, seen)) {
+                return *done;
+            }
+        }
+        return kExitOk;
+    }
+
+    // watch: a read's outcome other than a timeout; the exit status when it ends the watch.
+    std::optional<int> handle_read(Connection::ReadStatus status, const json& message, long& seen) {
+        switch (status) {
+            case Connection::ReadStatus::kMessage:
+                if (!message.contains("id")) {
+                    notification(message);
+                    ++seen;
+                }
+                return std::nullopt;
+            case Connection::ReadStatus::kInterrupted:
+                return kExitOk;
+            case Connection::ReadStatus::kClosed:
+                err_ << "gportctl: the daemon closed the connection\n";
+                return kExitUnavailable;
+            default:
+                return std::nullopt;
+        }
+    }
+
+    int open_ring(std::optional<client::AttitudeChannel>& ring) {
+        try {
+            ring = conn_.attitude_channel([this](const json& n) { notification(n); });
+        } catch (const client::Error& e) {
+            if (e.transport()) {
+                if (conn_.interrupted()) {
+                    return kExitInterrupted;
+                }
+                err_ << "gportctl: the daemon closed the connection\n";
+                return kExitUnavailable;
+            }
+            err_ << "gportctl: " << e.message() << "\n";
+            return kExitError;
         }
         return kExitOk;
     }
@@ -197,6 +268,8 @@ class Runner {
                     return kExitUnavailable;
                 case Connection::ReadStatus::kTimeout:
                     return kExitOk;
+                case Connection::ReadStatus::kWoken:
+                    break;  // nothing watched here
             }
         }
         return kExitOk;

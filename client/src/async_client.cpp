@@ -4,16 +4,24 @@
 // is the blocking client's (codec.hpp).
 #include "gport/client/async_client.hpp"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <boost/asio/local/stream_protocol.hpp>
+#include <boost/asio/posix/stream_descriptor.hpp>
 #include <boost/asio/post.hpp>
-#include <boost/asio/read_until.hpp>
 #include <boost/asio/write.hpp>
+#include <cerrno>
+#include <cstring>
 #include <deque>
+#include <iterator>
 #include <map>
 #include <utility>
 
 #include "codec.hpp"
 #include "connect_error.hpp"
+#include "descriptors.hpp"
+#include "ring_channel.hpp"
 
 namespace gport::client {
 
@@ -83,25 +91,130 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
             });
     }
 
+    // Waits for the socket to be readable, then one recvmsg (the bytes and
+    // any descriptor gportd attached) and the complete lines.
     void read(std::uint64_t generation) {
-        asio::async_read_until(
-            socket, asio::dynamic_buffer(input), '\n',
-            [self = shared_from_this(), generation](boost::system::error_code ec, std::size_t n) {
-                if (generation != self->current) {
-                    return;
-                }
-                if (ec) {
-                    self->lost(ec == asio::error::eof ? std::string("gportd closed the connection")
-                                                      : "lost gportd: " + ec.message());
-                    return;
-                }
-                const std::string line = self->input.substr(0, n - 1);
-                self->input.erase(0, n);
-                self->handle(line);
-                if (generation == self->current) {
-                    self->read(generation);
-                }
-            });
+        socket.async_wait(Socket::wait_read,
+                          [self = shared_from_this(), generation](boost::system::error_code ec) {
+                              if (generation != self->current) {
+                                  return;
+                              }
+                              if (ec) {
+                                  self->lost("lost gportd: " + ec.message());
+                                  return;
+                              }
+                              if (auto why = self->receive()) {
+                                  self->lost(*why);
+                                  return;
+                              }
+                              for (auto nl = self->input.find('\n');
+                                   generation == self->current && nl != std::string::npos;
+                                   nl = self->input.find('\n')) {
+                                  const std::string line = self->input.substr(0, nl);
+                                  self->input.erase(0, nl + 1);
+                                  self->handle(line);
+                              }
+                              if (generation == self->current) {
+                                  self->read(generation);
+                              }
+                          });
+    }
+
+    // Why the connection is lost, if it is.
+    std::optional<std::string> receive() {
+        char chunk[65536];
+        const auto n = detail::receive(socket.native_handle(), chunk, sizeof(chunk), descriptors,
+                                       MSG_DONTWAIT);
+        if (n < 0) {
+            if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
+                return std::nullopt;
+            }
+            return std::string("lost gportd: ") + std::strerror(errno);
+        }
+        if (n == 0) {
+            return std::string("gportd closed the connection");
+        }
+        input.append(chunk, static_cast<std::size_t>(n));
+        return std::nullopt;
+    }
+
+    int take_descriptor() {
+        if (descriptors.empty()) {
+            return -1;
+        }
+        const int fd = descriptors.front();
+        descriptors.pop_front();
+        return fd;
+    }
+
+    // ---- the shared-memory attitude channel ---------------------------------
+    void open_channel(Handler<AttitudeChannel> done) {
+        std::weak_ptr<Impl> weak = weak_from_this();
+        call("attitude_channel", json::object(),
+             [weak, done = std::move(done)](std::optional<Error> error, const json& reply) {
+                 AttitudeChannel channel;
+                 if (!error) {
+                     try {
+                         codec::result_of(reply);
+                         const auto self = weak.lock();
+                         const int fd = self ? self->take_descriptor() : -1;
+                         if (fd < 0) {
+                             throw Error(ErrorCode::kBadReply,
+                                         "attitude channel: gportd's reply carried no file "
+                                         "descriptor");
+                         }
+                         channel = AttitudeChannel::Impl::adopt(fd);
+                     } catch (const Error& e) {
+                         error = e;
+                     }
+                 }
+                 done(std::move(error), std::move(channel));
+             });
+    }
+
+    // Attitude from the ring from now on: the waker's eventfd on the loop.
+    void start_ring(AttitudeChannel channel) {
+        stop_ring();
+        channel.impl()->skip_to_newest();
+        waker = std::make_unique<RingWaker>(channel.impl()->reader);
+        ring = std::move(channel);
+        ring_wait = std::make_unique<asio::posix::stream_descriptor>(io, ::dup(waker->fd()));
+        wait_ring(ring_generation);
+    }
+
+    void wait_ring(std::uint64_t generation) {
+        std::weak_ptr<Impl> weak = weak_from_this();
+        ring_wait->async_wait(asio::posix::stream_descriptor::wait_read,
+                              [weak, generation](boost::system::error_code ec) {
+                                  const auto self = weak.lock();
+                                  if (!self || ec || generation != self->ring_generation) {
+                                      return;
+                                  }
+                                  self->drain_ring(generation);
+                                  if (generation == self->ring_generation) {
+                                      self->wait_ring(generation);
+                                  }
+                              });
+    }
+
+    void drain_ring(std::uint64_t generation) {
+        waker->reset();
+        while (generation == ring_generation) {
+            auto sample = ring->impl()->take();
+            if (!sample) {
+                return;
+            }
+            if (on_notification) {
+                on_notification(Notification(std::move(*sample)));
+            }
+        }
+    }
+
+    void stop_ring() {
+        ++ring_generation;
+        ring_wait.reset();  // a pending wait completes with operation_aborted
+        waker.reset();
+        ring.reset();
     }
 
     void handle(const std::string& line) {
@@ -163,6 +276,10 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         socket.close(ignored);
         outbox.clear();
         input.clear();
+        for (const int fd : std::exchange(descriptors, {})) {
+            ::close(fd);
+        }
+        stop_ring();
         fail_pending(Error(ErrorCode::kTransport, why));
     }
 
@@ -183,6 +300,12 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     bool open = false;
     std::function<void(const Notification&)> on_notification;
     std::function<void(const Error&)> on_disconnect;
+    std::deque<int> descriptors;  // received, not yet claimed by an attitude_channel reply
+    // Transparent shared-memory attitude (async_subscribe with shared_memory).
+    std::optional<AttitudeChannel> ring;
+    std::unique_ptr<RingWaker> waker;
+    std::unique_ptr<asio::posix::stream_descriptor> ring_wait;
+    std::uint64_t ring_generation = 0;
 };
 
 namespace {
@@ -293,8 +416,52 @@ void AsyncClient::async_subscribe(const std::vector<std::string>& topics,
                 typed(std::move(handler), codec::subscription));
 }
 
+void AsyncClient::async_subscribe(const std::vector<std::string>& topics,
+                                  const SubscribeOptions& options, Handler<Subscription> handler) {
+    const bool attitude = std::find(topics.begin(), topics.end(), "attitude") != topics.end();
+    if (!options.shared_memory || !attitude) {
+        async_subscribe(topics, options.max_rate_hz, std::move(handler));
+        return;
+    }
+    std::vector<std::string> rest;
+    std::copy_if(topics.begin(), topics.end(), std::back_inserter(rest),
+                 [](const std::string& t) { return t != "attitude"; });
+    std::weak_ptr<Impl> weak = impl_;
+    impl_->open_channel([weak, rest, handler = std::move(handler)](std::optional<Error> error,
+                                                                   AttitudeChannel channel) {
+        const auto self = weak.lock();
+        if (!error && !self) {
+            error = Error(ErrorCode::kTransport, "the client was destroyed");
+        }
+        if (error) {
+            handler(std::move(error), Subscription{});
+            return;
+        }
+        self->start_ring(std::move(channel));
+        Handler<Subscription> finish = [handler](std::optional<Error> e, Subscription s) {
+            if (!e) {
+                s.topics.emplace_back("attitude");
+            }
+            handler(std::move(e), std::move(s));
+        };
+        if (rest.empty()) {
+            finish(std::nullopt, Subscription{});
+            return;
+        }
+        self->call("subscribe", codec::subscribe_params(rest, std::nullopt),
+                   typed(std::move(finish), codec::subscription));
+    });
+}
+
+void AsyncClient::async_attitude_channel(Handler<AttitudeChannel> handler) {
+    impl_->open_channel(std::move(handler));
+}
+
 void AsyncClient::async_unsubscribe(const std::vector<std::string>& topics,
                                     Handler<Subscription> handler) {
+    if (topics.empty() || std::find(topics.begin(), topics.end(), "attitude") != topics.end()) {
+        impl_->stop_ring();
+    }
     impl_->call("unsubscribe", codec::unsubscribe_params(topics),
                 typed(std::move(handler), codec::subscription));
 }

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cstdlib>
 #include <deque>
+#include <iterator>
 #include <utility>
 
 #include "codec.hpp"
 #include "gport/client/connection.hpp"
+#include "ring_channel.hpp"
 
 namespace gport::client {
 
@@ -26,6 +28,9 @@ struct Client::Impl {
             connection.close();
             throw Error(ErrorCode::kTransport,
                         "the connection to gportd was lost during " + method);
+        }
+        if (callback) {
+            drain_ring(false);  // ring samples reach the callback during calls too
         }
         return codec::result_of(*reply);
     }
@@ -50,31 +55,86 @@ struct Client::Impl {
         }
     }
 
-    // Reads one message within the timeout; false when none came.
-    bool read_one(std::optional<Milliseconds> timeout, bool queue_only) {
+    // Reads one message (or the ring's new samples) within the timeout;
+    // returns how many notifications came.
+    std::size_t read_one(std::optional<Milliseconds> timeout, bool queue_only) {
         if (connection.closed()) {
             throw Error(ErrorCode::kTransport, "not connected to gportd (connect again)");
         }
         json message;
         const auto status = connection.read(message, timeout);
         if (status == Connection::ReadStatus::kClosed) {
+            stop_ring();
             connection.close();
             throw Error(ErrorCode::kTransport, "gportd closed the connection");
         }
+        if (status == Connection::ReadStatus::kWoken) {
+            return drain_ring(queue_only);
+        }
         if (status != Connection::ReadStatus::kMessage) {
-            return false;
+            return 0;
         }
         if (!message.contains("id")) {
             take(message, queue_only);
         } else if (message["id"].is_null()) {
             codec::result_of(message);  // a refusal before close (e.g. -32004 idle): throws
         }
-        return true;
+        return 1;
+    }
+
+    // ---- the shared-memory attitude channel ---------------------------------
+    AttitudeChannel open_channel() {
+        call("attitude_channel");
+        const int fd = connection.take_descriptor();
+        if (fd < 0) {
+            throw Error(ErrorCode::kBadReply,
+                        "attitude channel: gportd's reply carried no file descriptor");
+        }
+        return AttitudeChannel::Impl::adopt(fd);
+    }
+
+    // Attitude from the ring from now on, woken through the connection's poll.
+    void start_ring() {
+        if (ring) {
+            return;
+        }
+        auto channel = open_channel();
+        channel.impl()->skip_to_newest();
+        waker = std::make_unique<RingWaker>(channel.impl()->reader);
+        ring = std::move(channel);
+        connection.watch(waker->fd());
+    }
+
+    void stop_ring() noexcept {
+        connection.watch(-1);
+        waker.reset();
+        ring.reset();
+    }
+
+    std::size_t drain_ring(bool queue_only) {
+        if (!ring) {
+            return 0;
+        }
+        waker->reset();
+        std::size_t count = 0;
+        while (auto sample = ring->impl()->take()) {
+            ++count;
+            if (callback && !queue_only) {
+                callback(Notification(std::move(*sample)));
+            } else {
+                queue.push_back(Notification(std::move(*sample)));
+            }
+        }
+        return count;
     }
 
     Connection connection;
     std::deque<Notification> queue;
     std::function<void(const Notification&)> callback;
+    // Transparent shared-memory attitude (subscribe with shared_memory); the
+    // waker goes before the mapping it reads.
+    std::optional<AttitudeChannel> ring;
+    std::unique_ptr<RingWaker> waker;
 };
 
 std::string Client::default_socket() {
@@ -164,8 +224,36 @@ Subscription Client::subscribe(const std::vector<std::string>& topics,
         impl().call("subscribe", codec::subscribe_params(topics, max_rate_hz)));
 }
 
+Subscription Client::subscribe(const std::vector<std::string>& topics,
+                               const SubscribeOptions& options) {
+    const bool attitude = std::find(topics.begin(), topics.end(), "attitude") != topics.end();
+    if (!options.shared_memory || !attitude) {
+        return subscribe(topics, options.max_rate_hz);
+    }
+    auto& impl = this->impl();
+    std::vector<std::string> rest;
+    std::copy_if(topics.begin(), topics.end(), std::back_inserter(rest),
+                 [](const std::string& t) { return t != "attitude"; });
+    Subscription result;
+    if (!rest.empty()) {
+        result = codec::subscription(
+            impl.call("subscribe", codec::subscribe_params(rest, std::nullopt)));
+    }
+    impl.start_ring();
+    result.topics.emplace_back("attitude");
+    return result;
+}
+
 Subscription Client::unsubscribe(const std::vector<std::string>& topics) {
-    return codec::subscription(impl().call("unsubscribe", codec::unsubscribe_params(topics)));
+    auto& impl = this->impl();
+    if (topics.empty() || std::find(topics.begin(), topics.end(), "attitude") != topics.end()) {
+        impl.stop_ring();
+    }
+    return codec::subscription(impl.call("unsubscribe", codec::unsubscribe_params(topics)));
+}
+
+AttitudeChannel Client::attitude_channel() {
+    return impl().open_channel();
 }
 
 std::optional<Notification> Client::next_notification(std::optional<Milliseconds> timeout) {
@@ -210,12 +298,13 @@ std::size_t Client::dispatch(Milliseconds duration) {
         if (left.count() <= 0) {
             return count;
         }
-        count += impl.read_one(left, false) ? 1 : 0;
+        count += impl.read_one(left, false);
     }
 }
 
 void Client::close() {
     if (impl_) {
+        impl_->stop_ring();
         impl_->connection.close();
     }
 }

@@ -12,7 +12,9 @@
 #include <utility>
 
 #include "connect_error.hpp"
+#include "descriptors.hpp"
 #include "gport/client/error.hpp"
+#include "ring_channel.hpp"
 
 namespace gport::client {
 namespace {
@@ -50,18 +52,20 @@ Connection::Connection(Connection&& other) noexcept
       fd_(std::exchange(other.fd_, -1)),
       next_id_(other.next_id_),
       buffer_(std::move(other.buffer_)),
-      closed_(other.closed_) {}
+      closed_(other.closed_),
+      descriptors_(std::exchange(other.descriptors_, {})),
+      watched_(std::exchange(other.watched_, -1)) {}
 
 Connection& Connection::operator=(Connection&& other) noexcept {
     if (this != &other) {
-        if (fd_ >= 0) {
-            ::close(fd_);
-        }
+        close();
         interrupted = std::move(other.interrupted);
         fd_ = std::exchange(other.fd_, -1);
         next_id_ = other.next_id_;
         buffer_ = std::move(other.buffer_);
         closed_ = other.closed_;
+        descriptors_ = std::exchange(other.descriptors_, {});
+        watched_ = std::exchange(other.watched_, -1);
     }
     return *this;
 }
@@ -75,7 +79,42 @@ void Connection::close() noexcept {
         ::close(fd_);
         fd_ = -1;
     }
+    close_descriptors();
     closed_ = true;
+}
+
+AttitudeChannel Connection::attitude_channel(
+    const std::function<void(const nlohmann::json&)>& on_notification) {
+    const auto reply = call("attitude_channel", nlohmann::json::object(), on_notification);
+    if (!reply) {
+        throw Error(ErrorCode::kTransport, "the connection to gportd was lost");
+    }
+    if (const auto error = reply->find("error"); error != reply->end()) {
+        throw Error(error->value("code", static_cast<int>(ErrorCode::kBadReply)),
+                    error->value("message", std::string("gportd refused attitude_channel")));
+    }
+    const int fd = take_descriptor();
+    if (fd < 0) {
+        throw Error(ErrorCode::kBadReply,
+                    "attitude channel: gportd's reply carried no file descriptor");
+    }
+    return AttitudeChannel::Impl::adopt(fd);
+}
+
+int Connection::take_descriptor() noexcept {
+    if (descriptors_.empty()) {
+        return -1;
+    }
+    const int fd = descriptors_.front();
+    descriptors_.pop_front();
+    return fd;
+}
+
+void Connection::close_descriptors() noexcept {
+    for (const int fd : descriptors_) {
+        ::close(fd);
+    }
+    descriptors_.clear();
 }
 
 std::optional<int> Connection::send(const std::string& method, const nlohmann::json& params) {
@@ -103,7 +142,7 @@ std::optional<int> Connection::send(const std::string& method, const nlohmann::j
     return id;
 }
 
-void Connection::fill(std::optional<std::chrono::steady_clock::time_point> deadline) {
+bool Connection::fill(std::optional<std::chrono::steady_clock::time_point> deadline) {
     int wait = kPollSliceMs;
     if (deadline) {
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -111,12 +150,20 @@ void Connection::fill(std::optional<std::chrono::steady_clock::time_point> deadl
                               .count();
         wait = static_cast<int>(std::clamp<long long>(left, 0, kPollSliceMs));
     }
-    pollfd p{fd_, POLLIN, 0};
-    if (::poll(&p, 1, wait) <= 0) {
-        return;  // nothing yet (or EINTR): the caller checks the clock and signals
+    pollfd p[2] = {{fd_, POLLIN, 0}, {watched_, POLLIN, 0}};
+    if (::poll(p, watched_ >= 0 ? 2 : 1, wait) <= 0) {
+        return true;  // nothing yet (or EINTR): the caller checks the clock and signals
     }
+    if ((p[0].revents & (POLLIN | POLLHUP | POLLERR)) != 0) {
+        receive();
+    }
+    return (p[1].revents & POLLIN) == 0;
+}
+
+// One recvmsg: the bytes go to the buffer, the descriptors to the FIFO.
+void Connection::receive() {
     char chunk[65536];
-    const auto n = ::recv(fd_, chunk, sizeof(chunk), 0);
+    const auto n = detail::receive(fd_, chunk, sizeof(chunk), descriptors_);
     if (n < 0 && errno == EINTR) {
         return;
     }
@@ -153,7 +200,9 @@ Connection::ReadStatus Connection::read(nlohmann::json& message,
         if (polled && deadline && std::chrono::steady_clock::now() >= *deadline) {
             return ReadStatus::kTimeout;
         }
-        fill(deadline);
+        if (!fill(deadline)) {
+            return ReadStatus::kWoken;
+        }
         polled = true;
     }
 }
@@ -165,16 +214,21 @@ std::optional<nlohmann::json> Connection::call(
     if (!id) {
         return std::nullopt;
     }
+    // The watched descriptor is for the caller's own reads: not polled here
+    // (it would stay readable until the caller drains it).
+    const int watched = std::exchange(watched_, -1);
     nlohmann::json message;
     while (read(message) == ReadStatus::kMessage) {
         if (message.contains("id")) {
             if (message["id"] == *id || message["id"].is_null()) {
+                watched_ = watched;
                 return message;  // null id: the daemon refused us (e.g. too many clients)
             }
         } else if (on_notification) {
             on_notification(message);
         }
     }
+    watched_ = watched;
     return std::nullopt;
 }
 

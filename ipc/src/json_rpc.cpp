@@ -22,9 +22,9 @@ using detail::Reply;
 using detail::RpcError;
 using nlohmann::json;
 
-// A JSON-RPC reply object, serialized (no newline); `done` receives it, or is
-// not called at all for a notification.
-using ReplyDone = std::function<void(std::string)>;
+// A JSON-RPC reply object, serialized (no newline), with the descriptors that
+// go with it; `done` receives it, or is not called at all for a notification.
+using ReplyDone = std::function<void(std::string, std::size_t descriptors)>;
 
 std::string dump(const json& value) {
     return detail::json_text(value);
@@ -44,6 +44,8 @@ std::string reply_object(const json& id, Reply reply) {
     std::string out = "{\"id\":" + dump(id) + ",\"jsonrpc\":\"2.0\",\"result\":";
     if (auto* raw = std::get_if<detail::RawJson>(&reply)) {
         out += raw->text;
+    } else if (auto* channel = std::get_if<detail::ChannelResult>(&reply)) {
+        out += dump(channel->result);
     } else {
         out += dump(std::get<json>(reply));
     }
@@ -134,13 +136,13 @@ void run_method(detail::Handler handler, detail::MethodContext& context, const j
         respond(RpcError{rpc_error::kInvalidParams, e.what()});
     } catch (const std::exception& e) {
         // A bug, not bad input: report it rather than drop the connection.
-        respond(RpcError{-32603, fmt::format("internal error: {}", e.what())});
+        respond(RpcError{rpc_error::kInternal, fmt::format("internal error: {}", e.what())});
     }
 }
 
 void run_request(const json& request, detail::MethodContext& context, const ReplyDone& done) {
     if (auto error = envelope_error(request)) {
-        done(dump(*error));
+        done(dump(*error), 0);
         return;
     }
     const auto id_it = request.find("id");
@@ -148,7 +150,9 @@ void run_request(const json& request, detail::MethodContext& context, const Repl
     const json id = notification ? json(nullptr) : *id_it;
     detail::Respond respond = [done, id, notification](Reply reply) {
         if (!notification) {
-            done(reply_object(id, std::move(reply)));
+            const std::size_t descriptors =
+                std::holds_alternative<detail::ChannelResult>(reply) ? 1 : 0;
+            done(reply_object(id, std::move(reply)), descriptors);
         }
     };
     if (!context.client.rate.take(std::chrono::steady_clock::now())) {
@@ -172,11 +176,13 @@ void run_request(const json& request, detail::MethodContext& context, const Repl
 // the last (possibly asynchronous) member has answered.
 class Batch {
   public:
-    Batch(std::size_t members, ReplySink sink) : replies_(members), sink_(std::move(sink)) {}
+    Batch(std::size_t members, LineSink sink) : replies_(members), sink_(std::move(sink)) {}
 
     ReplyDone slot(std::size_t index, const std::shared_ptr<Batch>& self) {
         ++outstanding_;
-        return [self, index](std::string reply) { self->fill(index, std::move(reply)); };
+        return [self, index](std::string reply, std::size_t descriptors) {
+            self->fill(index, std::move(reply), descriptors);
+        };
     }
 
     // Called after every member has been dispatched; members that were
@@ -187,8 +193,9 @@ class Batch {
     }
 
   private:
-    void fill(std::size_t index, std::string reply) {
+    void fill(std::size_t index, std::string reply, std::size_t descriptors) {
         replies_[index] = std::move(reply);
+        descriptors_ += descriptors;
         --outstanding_;
         finish_if_done();
     }
@@ -206,12 +213,13 @@ class Batch {
             }
         }
         if (!out.empty()) {
-            sink_(out + "]\n");
+            sink_(ReplyLine{out + "]\n", descriptors_});
         }
     }
 
     std::vector<std::string> replies_;  // empty: a notification's slot
-    ReplySink sink_;
+    LineSink sink_;
+    std::size_t descriptors_ = 0;  // attitude_channel results among the replies
     std::size_t outstanding_ = 0;
     bool dispatched_ = false;
     bool sent_ = false;
@@ -280,12 +288,17 @@ Dispatcher::Dispatcher(daemon::Api& api, std::function<ServerStats()> stats,
     : api_(api), stats_(std::move(stats)), status_cache_(status_max_age) {}
 
 void Dispatcher::handle_line(std::string_view line, ClientState& client, const ReplySink& sink) {
+    handle_line(line, client, LineSink([sink](ReplyLine reply) { sink(std::move(reply.text)); }));
+}
+
+void Dispatcher::handle_line(std::string_view line, ClientState& client, const LineSink& sink) {
     // Whatever is logged while the request runs (here, in the core, in the
     // reply's delivery) carries the client's journal fields.
     const daemon::ClientLogScope scope(client.info);
     if (nested_deeper_than(line, kMaxDepth)) {
-        sink(error_line(rpc_error::kParse,
-                        fmt::format("parse error: nesting deeper than {} levels", kMaxDepth)));
+        sink(ReplyLine{error_line(rpc_error::kParse, fmt::format("parse error: nesting deeper "
+                                                                 "than {} levels",
+                                                                 kMaxDepth))});
         return;
     }
     json request;
@@ -293,34 +306,34 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const R
         request = json::parse(line);
     } catch (const json::exception& e) {
         // parse_error, but also out_of_range for a number too large for a double.
-        sink(error_line(rpc_error::kParse, fmt::format("parse error: {}", e.what())));
+        sink(ReplyLine{error_line(rpc_error::kParse, fmt::format("parse error: {}", e.what()))});
         return;
     }
-    detail::MethodContext context{api_, client, stats_, status_cache_};
+    detail::MethodContext context{api_, client, stats_, status_cache_, channel_host_};
     // A reply may come after this returns (settings): it keeps a copy of the
     // sink, and of who asked, so its delivery is logged with the client's
     // fields too (the groups are not needed for that).
     const daemon::ClientInfo asker{
         client.info.id, client.info.pid, client.info.uid, client.info.gid, {}};
     if (!request.is_array()) {
-        run_request(request, context, [sink, asker](std::string reply) {
+        run_request(request, context, [sink, asker](std::string reply, std::size_t descriptors) {
             const daemon::ClientLogScope reply_scope(asker);
-            sink(std::move(reply) + '\n');
+            sink(ReplyLine{std::move(reply) + '\n', descriptors});
         });
         return;
     }
     if (request.empty() || request.size() > kMaxBatch) {
-        sink(error_line(rpc_error::kInvalidRequest,
-                        fmt::format("a batch must hold 1 to {} requests", kMaxBatch)));
+        sink(ReplyLine{error_line(rpc_error::kInvalidRequest,
+                                  fmt::format("a batch must hold 1 to {} requests", kMaxBatch))});
         return;
     }
-    auto batch = std::make_shared<Batch>(request.size(), [sink, asker](std::string reply) {
+    auto batch = std::make_shared<Batch>(request.size(), [sink, asker](ReplyLine reply) {
         const daemon::ClientLogScope reply_scope(asker);
         sink(std::move(reply));
     });
     for (std::size_t i = 0; i < request.size(); ++i) {
         if (is_notification(request[i])) {
-            run_request(request[i], context, [](const std::string&) {});
+            run_request(request[i], context, [](const std::string&, std::size_t) {});
         } else {
             run_request(request[i], context, batch->slot(i, batch));
         }

@@ -156,6 +156,26 @@ void unsubscribe(MethodContext& c, const json& params, Respond respond) {
     respond(subscriptions_json(subs));
 }
 
+// The shared-memory attitude channel: the transport sends its descriptor
+// with this reply line.
+void attitude_channel(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({});
+    if (c.channel == nullptr) {
+        respond(RpcError{rpc_error::kInternal, "attitude channel unavailable: not served here"});
+        return;
+    }
+    auto opened = c.channel->open_attitude_channel(c.client);
+    if (auto* error = std::get_if<std::string>(&opened)) {
+        respond(RpcError{rpc_error::kInternal, "attitude channel unavailable: " + *error});
+        return;
+    }
+    const auto& info = std::get<ChannelInfo>(opened);
+    respond(ChannelResult{json{{"version", info.version},
+                               {"slots", info.slots},
+                               {"size", info.size},
+                               {"published", info.published}}});
+}
+
 // ---- motion and camera ------------------------------------------------------------
 
 void speed(MethodContext& c, const json& params, Respond respond) {
@@ -299,6 +319,7 @@ constexpr std::array kMethods{
     Entry{"attitude", attitude},
     Entry{"subscribe", subscribe},
     Entry{"unsubscribe", unsubscribe},
+    Entry{"attitude_channel", attitude_channel},
     Entry{"speed", speed},
     Entry{"stop", stop},
     Entry{"angle", angle},

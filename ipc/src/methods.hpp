@@ -22,8 +22,13 @@ struct RawJson {
     std::string text;
 };
 
+// A result whose reply line carries the attitude channel's descriptor.
+struct ChannelResult {
+    nlohmann::json result;
+};
+
 // A method's answer: its result, or an error.
-using Reply = std::variant<nlohmann::json, RpcError, RawJson>;
+using Reply = std::variant<nlohmann::json, RpcError, RawJson, ChannelResult>;
 // Called exactly once per call, possibly later (settings).
 using Respond = std::function<void(Reply)>;
 
@@ -32,6 +37,7 @@ struct MethodContext {
     ClientState& client;
     const std::function<ServerStats()>& stats;
     StatusCache& status_cache;
+    ChannelHost* channel;  // nullptr: the attitude channel is not served
 };
 
 using Handler = void (*)(MethodContext& context, const nlohmann::json& params, Respond respond);

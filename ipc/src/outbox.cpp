@@ -25,19 +25,19 @@ bool Outbox::drop_oldest_attitude() {
     return true;
 }
 
-void Outbox::append(Line line, bool attitude) {
+void Outbox::append(Line line, bool attitude, std::size_t descriptors) {
     bytes_ += line->size();
     attitude_bytes_ += attitude ? line->size() : 0;
-    queue_.push_back({std::move(line), attitude});
+    queue_.push_back({std::move(line), attitude, descriptors});
 }
 
-bool Outbox::push(Line line) {
+bool Outbox::push(Line line, std::size_t descriptors) {
     while (!fits(line->size())) {
         if (!drop_oldest_attitude()) {
             return false;
         }
     }
-    append(std::move(line), false);
+    append(std::move(line), false, descriptors);
     return true;
 }
 
@@ -64,13 +64,28 @@ std::size_t Outbox::drop_attitude() {
 }
 
 void Outbox::take(std::vector<Line>& out, std::size_t max_lines) {
-    while (!queue_.empty() && max_lines-- > 0) {
-        const auto size = queue_.front().line->size();
-        bytes_ -= size;
-        attitude_bytes_ -= queue_.front().attitude ? size : 0;
-        out.push_back(std::move(queue_.front().line));
-        queue_.pop_front();
+    while (!queue_.empty() && queue_.front().descriptors == 0 && max_lines-- > 0) {
+        out.push_back(pop_front());
     }
+}
+
+std::size_t Outbox::front_descriptors() const {
+    return queue_.empty() ? 0 : queue_.front().descriptors;
+}
+
+Line Outbox::pop_front() {
+    const auto size = queue_.front().line->size();
+    bytes_ -= size;
+    attitude_bytes_ -= queue_.front().attitude ? size : 0;
+    Line line = std::move(queue_.front().line);
+    queue_.pop_front();
+    return line;
+}
+
+void Outbox::replace_front(Line line) {
+    Entry& front = queue_.front();
+    bytes_ = bytes_ - front.line->size() + line->size();
+    front = Entry{std::move(line), false, 0};
 }
 
 }  // namespace gport::ipc

@@ -59,6 +59,7 @@ json optional_client(const std::optional<daemon::ClientInfo>& client) {
 json client_status_json(const ClientState& client) {
     json you = client_json(client.info);
     you["dropped"] = client.dropped;
+    you["attitude_channel"] = client.attitude_channel;
     return you;
 }
 
@@ -74,6 +75,7 @@ json shared_status_json(const daemon::Status& status, const ServerStats& stats) 
              status.attitude_age ? json(status.attitude_age->count()) : json(nullptr)},
             {"counters", counters_json(status.counters, stats.dropped_notifications)},
             {"clients", stats.clients},
+            {"attitude_channel_clients", stats.attitude_channel_clients},
             {"dropped_notifications", stats.dropped_notifications},
             {"motion", motion_json(status.motion)},
             {"controller", optional_client(status.controller)},

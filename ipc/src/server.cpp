@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "attitude_channel.hpp"
 #include "gport/daemon/client_log.hpp"
 #include "gport/ipc/event_json.hpp"
 #include "gport/ipc/json_rpc.hpp"
@@ -58,13 +59,18 @@ Server::Server(asio::io_context& io, daemon::Api& api, config::SocketConfig conf
       log_(std::move(log)),
       listen_fd_(listen_fd),
       acceptor_(io),
-      dispatcher_(std::make_unique<Dispatcher>(api,
-                                               [this] {
-                                                   return ServerStats{clients(), dropped_total_};
-                                               })),
+      dispatcher_(std::make_unique<Dispatcher>(
+          api,
+          [this] {
+              return ServerStats{clients(), dropped_total_, channel_clients_};
+          })),
+      channel_(std::make_unique<detail::AttitudeChannel>()),
       max_clients_(config_.max_clients),
       trim_timer_(io),
-      accept_pause_(io) {}
+      accept_pause_(io) {
+    ChannelHost& channel_host = *this;
+    dispatcher_->set_channel_host(&channel_host);
+}
 
 Server::~Server() {
     close();
@@ -126,6 +132,7 @@ void Server::close() {
         return;
     }
     closed_ = true;
+    channel_->close();  // before the sockets: readers learn of it from the ring
     if (started_) {
         api_.set_observer(nullptr);
     }
@@ -189,6 +196,9 @@ void Server::session_closed(const Session& session) {
     const auto info = session.info();
     log_->debug("client {} (pid {}) disconnected", info.id, info.pid);
     dispatcher_->invalidate_status();
+    if (session.opened_attitude_channel()) {
+        --channel_clients_;  // its mapping stays its own; it is no longer woken
+    }
     if (walking_ > 0) {
         closed_ids_.push_back(info.id);
     } else {
@@ -223,9 +233,36 @@ bool Server::holds_control_or_motion(const daemon::ClientInfo& client) const {
     return is(status.controller) || (status.motion && is(status.motion->owner));
 }
 
+// ---- the attitude channel -------------------------------------------------------------
+
+std::variant<ChannelInfo, std::string> Server::open_attitude_channel(ClientState& client) {
+    if (closed_) {
+        return std::string("gportd is stopping");
+    }
+    if (auto error = channel_->open()) {
+        log_->warn("client {} (pid {}): attitude channel unavailable: {}", client.info.id,
+                   client.info.pid, *error);
+        return *error;
+    }
+    if (!client.attitude_channel) {
+        client.attitude_channel = true;
+        ++channel_clients_;
+    }
+    return ChannelInfo{base::kRingVersion, detail::AttitudeChannel::kSlots,
+                       detail::AttitudeChannel::kBytes, channel_->published()};
+}
+
+int Server::attitude_channel_fd() const {
+    return channel_->fd();
+}
+
 // ---- events -------------------------------------------------------------------------
 
 void Server::on_attitude(const daemon::AttitudeSample& sample) {
+    channel_->publish(sample);
+    if (channel_clients_ > 0) {
+        channel_->wake();
+    }
     Line line;  // built on first use: nothing is encoded when nobody listens
     for_each_session([&](Session& session) {
         if (session.subscriptions().attitude) {

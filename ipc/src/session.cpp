@@ -175,9 +175,9 @@ void Session::handle_line(std::string_view line) {
             self->request_done();
         }
     });
-    host_.dispatcher().handle_line(line, state_, [weak, pending](std::string reply) {
+    host_.dispatcher().handle_line(line, state_, [weak, pending](ReplyLine reply) {
         if (auto self = weak.lock()) {
-            self->reply(std::move(reply));
+            self->reply(std::move(reply.text), reply.descriptors);
         }
         pending->finish();
     });
@@ -286,11 +286,12 @@ void Session::on_idle_timer() {
                     timeout.count()));
 }
 
-// Quiet is fine for a client that listens, waits for an answer, holds
-// control or owns a motion: closing it would stop the gimbal or lose data.
+// Quiet is fine for a client that listens (on the socket or through the
+// attitude channel), waits for an answer, holds control or owns a motion:
+// closing it would stop the gimbal or lose data.
 bool Session::busy() const {
     const auto& s = state_.subscriptions;
-    return s.attitude || s.link || s.motion || outstanding_ > 0 ||
+    return s.attitude || s.link || s.motion || state_.attitude_channel || outstanding_ > 0 ||
            host_.holds_control_or_motion(state_.info);
 }
 

@@ -53,13 +53,16 @@ class Session : public std::enable_shared_from_this<Session> {
 
     const daemon::ClientInfo& info() const { return state_.info; }
     const Subscriptions& subscriptions() const { return state_.subscriptions; }
+    bool opened_attitude_channel() const { return state_.attitude_channel; }
     bool closed() const { return closed_; }
     // The client sent EOF and the deadman has already run for it.
     bool hung_up() const { return hung_up_; }
 
     void deliver_attitude(const Line& line);
     void deliver_event(const Line& line);  // link or motion: never dropped
-    void reply(std::string line);
+    // `descriptors`: copies of the attitude channel's descriptor sent with
+    // the line's first byte (session_descriptors.cpp).
+    void reply(std::string line, std::size_t descriptors = 0);
 
   private:
     // ---- input (session.cpp) ----
@@ -89,6 +92,10 @@ class Session : public std::enable_shared_from_this<Session> {
     void finish_if_done();
     void overflow();
     void sync_budget();
+
+    // ---- descriptors (session_descriptors.cpp) ----
+    bool send_with_descriptors();
+    void wait_writable();
 
     Socket socket_;
     SessionHost& host_;

@@ -22,11 +22,11 @@ constexpr std::size_t kLinesPerWrite = 64;
 
 // ---- queueing ---------------------------------------------------------------------
 
-void Session::reply(std::string line) {
+void Session::reply(std::string line, std::size_t descriptors) {
     if (closed_) {
         return;
     }
-    if (!outbox_.push(std::make_shared<const std::string>(std::move(line)))) {
+    if (!outbox_.push(std::make_shared<const std::string>(std::move(line)), descriptors)) {
         overflow();
         return;
     }
@@ -125,6 +125,12 @@ void Session::flush() {
 // socket to drain, with one async_write in flight.
 void Session::write_queued() {
     while (!outbox_.empty()) {
+        if (outbox_.front_descriptors() > 0) {
+            if (!send_with_descriptors()) {
+                return;  // waiting for the socket, writing the rest, or closed
+            }
+            continue;
+        }
         in_flight_.clear();
         outbox_.take(in_flight_, kLinesPerWrite);
         buffers_.clear();

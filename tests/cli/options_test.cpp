@@ -134,6 +134,15 @@ TEST(Options, WatchTopicsAndRate) {
     EXPECT_THAT(refusal({"watch", "--rate", "1e-9"}), HasSubstr("from 0.01 to 1000"));
 }
 
+TEST(Options, WatchFromSharedMemory) {
+    EXPECT_FALSE(parse({"watch"}).shared_memory);
+    auto shared = parse({"watch", "attitude", "--shared-memory"});
+    EXPECT_TRUE(shared.shared_memory);
+    EXPECT_EQ(shared.params, json({{"topics", {"attitude"}}}));
+    EXPECT_THAT(refusal({"watch", "--shared-memory", "--rate", "5"}),
+                HasSubstr("--rate and --shared-memory cannot be combined"));
+}
+
 TEST(Options, HelpAndUsageErrors) {
     EXPECT_TRUE(parse({"--help"}).help);
     EXPECT_THAT(parse({"--help"}).text, HasSubstr("130 interrupted"));

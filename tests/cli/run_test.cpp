@@ -202,6 +202,35 @@ TEST_F(RunTest, WatchPrintsEventsUntilInterrupted) {
     EXPECT_THAT(ran.out, HasSubstr("link      stale (no attitude for 500 ms)"));
 }
 
+TEST_F(RunTest, WatchFromSharedMemoryPrintsWhatTheSocketWould) {
+    const auto publish = [&](std::uint64_t seq) {
+        h_.on_io([&] {
+            daemon::AttitudeSample sample;
+            sample.seq = seq;
+            sample.attitude.hall = {0, 0, 4500};
+            h_.api.observer->on_attitude(sample);
+        });
+    };
+    bool published = false;
+    std::size_t seen = 0;
+    auto ran = run({"watch", "attitude", "link", "--shared-memory"}, [&] {
+        if (!published && printed("watching")) {  // the channel is open
+            published = true;
+            publish(78);
+            h_.on_io([&] {
+                h_.api.observer->on_link({daemon::LinkState::kStale, "no attitude for 500 ms"});
+            });
+            return false;
+        }
+        return (printed("attitude  seq 78") && printed("link      stale")) || ++seen > 200;
+    });
+    EXPECT_EQ(ran.status, kExitOk) << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("watching attitude, link"));
+    EXPECT_THAT(ran.out, HasSubstr("attitude  seq 78"));
+    EXPECT_THAT(ran.out, HasSubstr("yaw 45.00"));
+    EXPECT_THAT(ran.out, HasSubstr("link      stale (no attitude for 500 ms)"));
+}
+
 TEST_F(RunTest, SpeedWithoutDurationKeepsAliveThenStops) {
     auto ran = run({"speed", "--yaw", "20"}, [&] {
         auto so_far = calls();

@@ -11,8 +11,10 @@ asyncio. Both speak gportd's JSON-RPC over its Unix socket (default
 """
 
 from .aio import AsyncClient
+from .channel import AttitudeChannel
 from .client import Client
 from .errors import (
+    BadChannel,
     Busy,
     ConnectionLost,
     GportError,
@@ -62,7 +64,9 @@ __all__ = [
     "AsyncClient",
     "AsyncMovement",
     "Attitude",
+    "AttitudeChannel",
     "Axes",
+    "BadChannel",
     "Busy",
     "CenterResult",
     "Client",

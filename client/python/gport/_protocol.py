@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import array
 import json
 import os
+import socket
 from collections import deque
 from dataclasses import dataclass
 from typing import Any, Iterable, Mapping
@@ -18,6 +20,75 @@ TOPICS = ("attitude", "link", "motion")
 INBOX_LIMIT = 1024
 # Longest line accepted from the daemon.
 LINE_LIMIT = 16 * 1024 * 1024
+
+
+# Descriptors accepted per recvmsg (gportd sends one per attitude_channel
+# reply); the kernel closes any beyond.
+MAX_DESCRIPTORS = 8
+_CONTROL_SPACE = socket.CMSG_SPACE(MAX_DESCRIPTORS * array.array("i").itemsize)
+CHANNEL_METHOD = "attitude_channel"
+
+
+def receive(sock: socket.socket, size: int = 65536) -> tuple[bytes, list[int]]:
+    """One recvmsg (MSG_CMSG_CLOEXEC): the bytes and the descriptors that
+    came with them (SCM_RIGHTS), in order. Empty bytes: the peer closed."""
+    data, ancillary, _flags, _address = sock.recvmsg(
+        size, _CONTROL_SPACE, socket.MSG_CMSG_CLOEXEC
+    )
+    fds: list[int] = []
+    for level, kind, payload in ancillary:
+        if level == socket.SOL_SOCKET and kind == socket.SCM_RIGHTS:
+            numbers = array.array("i")
+            numbers.frombytes(payload[: len(payload) - len(payload) % numbers.itemsize])
+            fds.extend(numbers)
+    return data, fds
+
+
+class LineBuffer:
+    """Splits the bytes read into lines (without the newline)."""
+
+    def __init__(self) -> None:
+        self._data = bytearray()
+
+    def feed(self, data: bytes) -> list[bytes]:
+        self._data += data
+        if b"\n" not in data:
+            if len(self._data) > LINE_LIMIT:
+                raise ValueError(f"a line from the daemon is longer than {LINE_LIMIT} bytes")
+            return []
+        *lines, rest = self._data.split(b"\n")
+        self._data = bytearray(rest)
+        return [bytes(line) for line in lines]
+
+
+class Descriptors:
+    """Descriptors received on one connection, in arrival order, until an
+    ``attitude_channel`` reply claims the first unclaimed one; close() closes
+    what nobody claimed (not thread-safe)."""
+
+    def __init__(self) -> None:
+        self._fds: deque[int] = deque()
+
+    def extend(self, fds: Iterable[int]) -> None:
+        self._fds.extend(fds)
+
+    def claim(self) -> int | None:
+        return self._fds.popleft() if self._fds else None
+
+    def __len__(self) -> int:
+        return len(self._fds)
+
+    def close(self) -> None:
+        while self._fds:
+            close_quietly(self._fds.popleft())
+
+
+def close_quietly(fd: int | None) -> None:
+    if fd is not None:
+        try:
+            os.close(fd)
+        except OSError:
+            pass
 
 
 def socket_path(path: str | os.PathLike[str] | None) -> str:

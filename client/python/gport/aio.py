@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import asyncio
+import os
+import socket
 import time
 from contextlib import asynccontextmanager
 from typing import Any, AsyncGenerator, AsyncIterator, Iterable, Mapping
 
 from . import _protocol as p
-from .errors import ConnectionLost, GportError, Timeout
+from .channel import AttitudeChannel, RingPump
+from .errors import BadChannel, ConnectionLost, GportError, Timeout
 from .moving import AsyncMovement, quietly_async
 from .results import (
     AngleResult,
@@ -53,8 +56,14 @@ class AsyncClient:
         self._changed = asyncio.Event()
         self._subscribed: dict[str, float | None] = {}
         self._next_id = 0
-        self._writer: asyncio.StreamWriter | None = None
-        self._reader_task: asyncio.Task[None] | None = None
+        self._sock: socket.socket | None = None
+        self._lines = p.LineBuffer()
+        self._fds = p.Descriptors()
+        self._send_lock: asyncio.Lock | None = None
+        # attitude_channel requests in flight -> the descriptor their reply claimed
+        self._claims: dict[int, int | None] = {}
+        self._pump: RingPump | None = None
+        self._shared_attitude = False
         self._alive = False
         self._refused: GportError | None = None
 
@@ -66,23 +75,55 @@ class AsyncClient:
 
     # ---- connection -------------------------------------------------------
     async def connect(self) -> None:
+        """Connects. The socket is read by a reader callback (loop.add_reader)
+        with recvmsg, which also receives the descriptor of attitude_channel
+        replies (StreamReader and loop.sock_recv drop ancillary data)."""
+        loop = asyncio.get_running_loop()
+        sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        sock.setblocking(False)
         try:
-            reader, writer = await asyncio.open_unix_connection(self.path, limit=p.LINE_LIMIT)
+            await loop.sock_connect(sock, self.path)
         except OSError as error:
+            sock.close()
             raise ConnectionLost(f"cannot connect to {self.path}: {error.strerror}") from error
-        self._writer, self._alive, self._refused = writer, True, None
-        self._reader_task = asyncio.create_task(self._read(reader, writer))
+        self._sock, self._alive, self._refused = sock, True, None
+        self._lines, self._fds = p.LineBuffer(), p.Descriptors()
+        self._send_lock = asyncio.Lock()
+        loop.add_reader(sock.fileno(), self._readable, sock)
 
-    async def _read(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+    def _readable(self, sock: socket.socket) -> None:
+        if sock is not self._sock:
+            return
         try:
-            while line := await reader.readline():
-                self._dispatch(p.decode(line))
-        except (OSError, ValueError):
+            data, fds = p.receive(sock)
+        except (BlockingIOError, InterruptedError):
+            return
+        except OSError:
+            data, fds = b"", []
+        self._fds.extend(fds)
+        try:
+            lines = self._lines.feed(data) if data else None
+        except ValueError:
+            lines = None
+        if lines is None:
+            self._detach(sock)
+            self._lost()
+            return
+        for line in lines:
+            if sock is not self._sock:
+                return  # a handler closed the connection
+            self._dispatch(p.decode(line))
+
+    def _detach(self, sock: socket.socket) -> None:
+        """Stops reading ``sock`` and closes it and the unclaimed descriptors."""
+        if self._sock is sock:
+            self._sock = None
+        try:
+            asyncio.get_running_loop().remove_reader(sock.fileno())
+        except (RuntimeError, ValueError):
             pass
-        finally:
-            if self._writer is writer:
-                self._lost()
-                writer.close()
+        sock.close()
+        self._fds.close()
 
     def _lost(self) -> None:
         self._alive = False
@@ -90,13 +131,20 @@ class AsyncClient:
             if not future.done():
                 future.set_exception(ConnectionLost(p.closed_message(self._refused)))
         self._pending.clear()
+        for fd in self._claims.values():
+            p.close_quietly(fd)
+        self._claims.clear()
         self._changed.set()
 
     def _dispatch(self, message: p.Message) -> None:
         if isinstance(message, p.Reply):
+            if message.id in self._claims:  # its descriptor came with its first byte
+                self._claims[message.id] = self._fds.claim()
             future = self._pending.pop(message.id, None)
             if future is not None and not future.done():
                 future.set_result(message)
+            else:
+                p.close_quietly(self._claims.pop(message.id, None))
         elif isinstance(message, p.Pushed):
             self._inbox.put(message.topic, message.item)
             self._changed.set()
@@ -109,16 +157,11 @@ class AsyncClient:
 
     async def close(self) -> None:
         """Closes the connection: the daemon stops this client's motion and releases control."""
-        writer, self._writer = self._writer, None
+        self._stop_ring()
+        sock = self._sock
         self._lost()
-        if writer is not None:
-            writer.close()
-            try:
-                await writer.wait_closed()
-            except OSError:
-                pass
-        if self._reader_task is not None:
-            await asyncio.gather(self._reader_task, return_exceptions=True)
+        if sock is not None:
+            self._detach(sock)
 
     async def reconnect(self, retry_for: float = 5.0) -> None:
         """As gport.Client.reconnect: a new connection, the same subscriptions."""
@@ -134,6 +177,8 @@ class AsyncClient:
                 await asyncio.sleep(0.05)
         self._inbox.clear()
         topics = dict(self._subscribed)
+        if self._shared_attitude:
+            await self._start_ring()
         if "attitude" in topics:
             await self.subscribe("attitude", max_rate_hz=topics.pop("attitude"))
         if topics:
@@ -153,29 +198,54 @@ class AsyncClient:
     ) -> Any:
         """Any method by name; returns the decoded ``result`` or raises GportError."""
         limit: float | None = self.timeout if timeout is _DEFAULT else timeout
-        if not self._alive or self._writer is None:
+        return (await self._request(method, params, limit))[0]
+
+    async def _request(
+        self, method: str, params: Mapping[str, Any] | None, limit: float | None
+    ) -> tuple[Any, int | None]:
+        """The result and, for attitude_channel, the descriptor its reply carried."""
+        sock, lock = self._sock, self._send_lock
+        if not self._alive or sock is None or lock is None:
             raise ConnectionLost(p.closed_message(self._refused))
         self._next_id += 1
         request_id = self._next_id
         future: asyncio.Future[p.Reply] = asyncio.get_running_loop().create_future()
         self._pending[request_id] = future
+        if method == p.CHANNEL_METHOD:
+            self._claims[request_id] = None
         try:
-            self._writer.write(p.encode(request_id, method, params))
-            await self._writer.drain()
+            async with lock:  # whole lines: one sendall at a time
+                await asyncio.get_running_loop().sock_sendall(
+                    sock, p.encode(request_id, method, params)
+                )
         except OSError as error:
             self._pending.pop(request_id, None)
+            self._claims.pop(request_id, None)
             raise ConnectionLost(f"cannot send to {self.path}: {error.strerror}") from error
         try:
             reply = await asyncio.wait_for(future, limit)
         except asyncio.TimeoutError:
+            # The claim stays: a late reply's descriptor is closed by _dispatch.
             self._pending.pop(request_id, None)
             raise Timeout(f"no reply to {method} within {limit} s") from None
+        fd = self._claims.pop(request_id, None)
         if reply.error is not None:
+            p.close_quietly(fd)
             raise reply.error
-        return reply.result
+        return reply.result, fd
 
     async def status(self) -> Status:
         return parse_status(await self.call("status"))
+
+    async def attitude_channel(self) -> AttitudeChannel:
+        """As gport.Client.attitude_channel: gportd's shared-memory attitude channel."""
+        _result, fd = await self._request(p.CHANNEL_METHOD, None, self.timeout)
+        if fd is None:
+            raise BadChannel("attitude channel: the daemon's reply carried no file descriptor")
+        try:
+            return AttitudeChannel(fd)
+        finally:
+            os.close(fd)
 
     async def attitude(self) -> Attitude:
         return parse_attitude(await self.call("attitude"))
@@ -245,9 +315,24 @@ class AsyncClient:
         return parse_settings(await self.call("set_settings", params))
 
     async def subscribe(
-        self, topics: str | Iterable[str], max_rate_hz: float | None = None
+        self,
+        topics: str | Iterable[str],
+        max_rate_hz: float | None = None,
+        *,
+        shared_memory: bool = False,
     ) -> Subscription:
+        """As gport.Client.subscribe. With ``shared_memory=True`` a thread
+        sleeps on the channel's futex and hands each sample to this event
+        loop (call_soon_threadsafe), which queues it like a socket one."""
         wanted = p.topic_list(topics)
+        if shared_memory and "attitude" in wanted:
+            rest = [t for t in wanted if t != "attitude"]
+            result = Subscription((), None)
+            if rest:
+                result = await self.subscribe(rest)
+            await self._start_ring()
+            self._shared_attitude = True
+            return Subscription((*result.topics, "attitude"), None)
         raw = await self.call("subscribe", p.subscribe_params(wanted, max_rate_hz))
         result = parse_subscription(raw)
         for topic in result.topics:
@@ -257,11 +342,35 @@ class AsyncClient:
         return result
 
     async def unsubscribe(self, topics: str | Iterable[str] | None = None) -> Subscription:
+        if topics is None or "attitude" in p.topic_list(topics):
+            self._shared_attitude = False
+            self._stop_ring()
         params = None if topics is None else {"topics": p.topic_list(topics)}
         result = parse_subscription(await self.call("unsubscribe", params))
         self._subscribed = {t: self._subscribed.get(t) for t in result.topics}
         self._inbox.clear(None if topics is None else p.topic_list(topics))
         return result
+
+    async def _start_ring(self) -> None:
+        if self._pump is not None:
+            return
+        channel = await self.attitude_channel()
+        loop = asyncio.get_running_loop()
+
+        def deliver(sample: Attitude) -> None:
+            loop.call_soon_threadsafe(self._ring_sample, sample)
+
+        self._pump = RingPump(channel, deliver)
+
+    def _ring_sample(self, sample: Attitude) -> None:
+        if self._pump is not None:
+            self._inbox.put("attitude", sample)
+            self._changed.set()
+
+    def _stop_ring(self) -> None:
+        pump, self._pump = self._pump, None
+        if pump is not None:
+            pump.stop()  # wakes the thread at once: a short join
 
     # ---- notifications ----------------------------------------------------
     async def next_notification(
@@ -294,10 +403,14 @@ class AsyncClient:
                 yield item
 
     async def attitude_stream(
-        self, rate: float | None = 10.0, timeout: float | None = None
+        self,
+        rate: float | None = 10.0,
+        timeout: float | None = None,
+        *,
+        shared_memory: bool = False,
     ) -> AsyncGenerator[Attitude, None]:
         """``async for sample in client.attitude_stream(rate=10):``; as gport.Client's."""
-        await self.subscribe("attitude", max_rate_hz=rate)
+        await self.subscribe("attitude", max_rate_hz=rate, shared_memory=shared_memory)
         try:
             while True:
                 item = await self.next_notification(("attitude",), timeout)

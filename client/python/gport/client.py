@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import socket
 import threading
 import time
@@ -9,7 +10,8 @@ from contextlib import contextmanager
 from typing import Any, Generator, Iterable, Iterator, Mapping
 
 from . import _protocol as p
-from .errors import ConnectionLost, GportError, Timeout
+from .channel import AttitudeChannel, RingPump
+from .errors import BadChannel, ConnectionLost, GportError, Timeout
 from .moving import Movement, quietly
 from .results import (
     AngleResult,
@@ -61,6 +63,10 @@ class Client:
         self._reader: threading.Thread | None = None
         self._alive = False
         self._refused: GportError | None = None
+        # attitude_channel requests in flight -> the descriptor their reply claimed
+        self._claims: dict[int, int | None] = {}
+        self._pump: RingPump | None = None
+        self._shared_attitude = False
         self._open()
 
     # ---- connection -------------------------------------------------------
@@ -81,22 +87,33 @@ class Client:
         self._reader.start()
 
     def _read(self, sock: socket.socket) -> None:
+        lines = p.LineBuffer()
+        fds = p.Descriptors()
         try:
-            with sock.makefile("rb") as lines:
-                for line in lines:
-                    self._dispatch(p.decode(line))
+            while True:
+                data, received = p.receive(sock)
+                fds.extend(received)
+                if not data:
+                    break
+                for line in lines.feed(data):
+                    self._dispatch(p.decode(line), fds)
         except (OSError, ValueError):
             pass
+        fds.close()  # none of them was claimed
         with self._cond:
             if self._sock is sock:
                 self._alive = False
             self._cond.notify_all()
 
-    def _dispatch(self, message: p.Message) -> None:
+    def _dispatch(self, message: p.Message, fds: p.Descriptors) -> None:
         with self._cond:
             if isinstance(message, p.Reply):
+                if message.id in self._claims:  # its descriptor came with its first byte
+                    self._claims[message.id] = fds.claim()
                 if message.id in self._pending:
                     self._pending[message.id] = message
+                else:
+                    p.close_quietly(self._claims.pop(message.id, None))
             elif isinstance(message, p.Pushed):
                 self._inbox.put(message.topic, message.item)
             elif isinstance(message, p.Refused):
@@ -113,9 +130,13 @@ class Client:
 
     def close(self) -> None:
         """Closes the connection: the daemon stops this client's motion and releases control."""
+        self._stop_ring()
         with self._cond:
             sock, self._sock, self._alive = self._sock, None, False
             self._pending.clear()
+            for fd in self._claims.values():
+                p.close_quietly(fd)
+            self._claims.clear()
             self._cond.notify_all()
         if sock is not None:
             try:
@@ -143,6 +164,8 @@ class Client:
         with self._cond:
             self._inbox.clear()
             topics = dict(self._subscribed)
+        if self._shared_attitude:
+            self._start_ring()
         if "attitude" in topics:
             self.subscribe("attitude", max_rate_hz=topics.pop("attitude"))
         if topics:
@@ -160,23 +183,30 @@ class Client:
     ) -> Any:
         """Any method by name; returns the decoded ``result`` or raises GportError."""
         limit: float | None = self.timeout if timeout is _DEFAULT else timeout
+        return self._await_reply(self._send(method, params), method, limit)
+
+    def _send(self, method: str, params: Mapping[str, Any] | None) -> int:
         with self._cond:
             if not self._alive or self._sock is None:
                 raise ConnectionLost(p.closed_message(self._refused))
             self._next_id += 1
             request_id, sock = self._next_id, self._sock
             self._pending[request_id] = None
+            if method == p.CHANNEL_METHOD:
+                self._claims[request_id] = None
         try:
             with self._write_lock:
                 sock.sendall(p.encode(request_id, method, params))
         except OSError as error:
             with self._cond:
                 self._pending.pop(request_id, None)
+                self._claims.pop(request_id, None)
             raise ConnectionLost(f"cannot send to {self.path}: {error.strerror}") from error
-        return self._await_reply(request_id, method, limit)
+        return request_id
 
     def _await_reply(self, request_id: int, method: str, limit: float | None) -> Any:
         deadline = None if limit is None else time.monotonic() + limit
+        reply: p.Reply | None = None
         with self._cond:
             try:
                 while True:
@@ -188,6 +218,7 @@ class Client:
                         break
                     self._cond.wait(left)
             finally:  # also when interrupted (Ctrl-C): a late reply is dropped
+                # A late reply's descriptor is closed by _dispatch (claim kept).
                 self._pending.pop(request_id, None)
             if reply is None and not self._alive:
                 raise ConnectionLost(p.closed_message(self._refused))
@@ -199,6 +230,27 @@ class Client:
 
     def status(self) -> Status:
         return parse_status(self.call("status"))
+
+    def attitude_channel(self) -> AttitudeChannel:
+        """Opens gportd's shared-memory attitude channel (docs/api.md): a
+        read-only mapping of its ring of the latest samples. BadChannel when
+        the block fails its checks (the message names why)."""
+        request_id = self._send(p.CHANNEL_METHOD, None)
+        answered = False
+        try:
+            self._await_reply(request_id, p.CHANNEL_METHOD, self.timeout)
+            answered = True
+        finally:
+            with self._cond:
+                fd = self._claims.pop(request_id, None)
+            if not answered:
+                p.close_quietly(fd)
+        if fd is None:
+            raise BadChannel("attitude channel: the daemon's reply carried no file descriptor")
+        try:
+            return AttitudeChannel(fd)
+        finally:
+            os.close(fd)
 
     def attitude(self) -> Attitude:
         return parse_attitude(self.call("attitude"))
@@ -268,11 +320,30 @@ class Client:
         return parse_settings(self.call("set_settings", params))
 
     def subscribe(
-        self, topics: str | Iterable[str], max_rate_hz: float | None = None
+        self,
+        topics: str | Iterable[str],
+        max_rate_hz: float | None = None,
+        *,
+        shared_memory: bool = False,
     ) -> Subscription:
         """Subscribes to ``attitude``, ``link`` and/or ``motion``; read with
-        next_notification(), notifications() or attitude_stream()."""
+        next_notification(), notifications() or attitude_stream().
+
+        ``shared_memory=True``: attitude comes from gportd's shared-memory
+        channel (attitude_channel()) instead of the socket, as the same
+        Attitude notifications (only samples published from now on;
+        ``dropped`` counts skipped ones); a thread of this client sleeps on
+        the channel's futex and queues each sample. ``max_rate_hz`` does not
+        apply to it."""
         wanted = p.topic_list(topics)
+        if shared_memory and "attitude" in wanted:
+            rest = [t for t in wanted if t != "attitude"]
+            result = Subscription((), None)
+            if rest:
+                result = self.subscribe(rest)
+            self._start_ring()
+            self._shared_attitude = True
+            return Subscription((*result.topics, "attitude"), None)
         result = parse_subscription(self.call("subscribe", p.subscribe_params(wanted, max_rate_hz)))
         with self._cond:
             for topic in result.topics:
@@ -282,12 +353,32 @@ class Client:
         return result
 
     def unsubscribe(self, topics: str | Iterable[str] | None = None) -> Subscription:
+        """Ends the topics (None: all), the shared-memory attitude too."""
+        if topics is None or "attitude" in p.topic_list(topics):
+            self._shared_attitude = False
+            self._stop_ring()
         params = None if topics is None else {"topics": p.topic_list(topics)}
         result = parse_subscription(self.call("unsubscribe", params))
         with self._cond:
             self._subscribed = {t: self._subscribed.get(t) for t in result.topics}
             self._inbox.clear(None if topics is None else p.topic_list(topics))
         return result
+
+    def _start_ring(self) -> None:
+        if self._pump is not None:
+            return
+        channel = self.attitude_channel()
+        self._pump = RingPump(channel, self._ring_sample)
+
+    def _ring_sample(self, sample: Attitude) -> None:
+        with self._cond:
+            self._inbox.put("attitude", sample)
+            self._cond.notify_all()
+
+    def _stop_ring(self) -> None:
+        pump, self._pump = self._pump, None
+        if pump is not None:
+            pump.stop()
 
     # ---- notifications ----------------------------------------------------
     def next_notification(
@@ -320,12 +411,18 @@ class Client:
                 yield item
 
     def attitude_stream(
-        self, rate: float | None = 10.0, timeout: float | None = None
+        self,
+        rate: float | None = 10.0,
+        timeout: float | None = None,
+        *,
+        shared_memory: bool = False,
     ) -> Generator[Attitude, None, None]:
         """Subscribes to attitude at ``rate`` Hz (None: every sample) and yields
         the samples; unsubscribes when the loop ends. Other notifications
-        stay queued. ``timeout``: Timeout when no sample comes for that long."""
-        self.subscribe("attitude", max_rate_hz=rate)
+        stay queued. ``timeout``: Timeout when no sample comes for that long.
+        ``shared_memory=True``: from the shared-memory channel (every sample;
+        ``rate`` does not apply), as subscribe()."""
+        self.subscribe("attitude", max_rate_hz=rate, shared_memory=shared_memory)
         try:
             while True:
                 item = self.next_notification(("attitude",), timeout)

@@ -123,3 +123,8 @@ def error_from_reply(error: Mapping[str, Any]) -> GportError:
     if not isinstance(code, int) or isinstance(code, bool):
         return GportError(message, None)
     return _BY_CODE.get(code, GportError)(message, code)
+
+
+class BadChannel(GportError):
+    """The shared-memory attitude channel's block failed its checks (or its
+    reply carried no descriptor): ``message`` names what was wrong."""

@@ -64,9 +64,11 @@ class Peer:
 
 @dataclass(frozen=True)
 class Me(Peer):
-    """The calling client in ``status``, with its own notification drop count."""
+    """The calling client in ``status``, with its own notification drop count
+    and whether it opened the shared-memory attitude channel."""
 
     dropped: int = 0
+    attitude_channel: bool = False
 
 
 @dataclass(frozen=True)
@@ -134,6 +136,7 @@ class Status:
     client: Me | None
     raw: Json = field(default_factory=dict, compare=False, repr=False)
     device_error: str | None = None  # closed: why the last open failed
+    attitude_channel_clients: int = 0  # connected clients that opened the channel
 
 
 @dataclass(frozen=True)
@@ -315,7 +318,14 @@ def _me(raw: Json | None) -> Me | None:
         return None
     peer = _peer(raw)
     assert peer is not None
-    return Me(peer.id, peer.pid, peer.uid, peer.gid, int(raw.get("dropped", 0)))
+    return Me(
+        peer.id,
+        peer.pid,
+        peer.uid,
+        peer.gid,
+        int(raw.get("dropped", 0)),
+        bool(raw.get("attitude_channel", False)),
+    )
 
 
 def parse_status(raw: Json) -> Status:
@@ -336,6 +346,7 @@ def parse_status(raw: Json) -> Status:
         client=_me(raw.get("client")),
         raw=raw,
         device_error=_optional_str(raw.get("device_error")),
+        attitude_channel_clients=int(raw.get("attitude_channel_clients", 0)),
     )
 
 

@@ -35,6 +35,7 @@ struct Invocation {
     std::string text;                 // the help page or version asked for
     std::vector<std::string> topics;  // watch
     std::optional<double> rate_hz;    // watch --rate
+    bool shared_memory = false;       // watch --shared-memory
     std::optional<long> count;        // watch -n: stop after this many events
     std::optional<std::chrono::milliseconds> duration;  // speed --for, watch --for
     bool wait = false;                                  // angle, center --wait

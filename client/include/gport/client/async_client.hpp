@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "gport/client/attitude_channel.hpp"
 #include "gport/client/error.hpp"
 #include "gport/client/export.hpp"
 #include "gport/client/types.hpp"
@@ -66,7 +67,16 @@ class GPORT_CLIENT_API AsyncClient {
     void async_limits(Handler<Limits> handler);
     void async_subscribe(const std::vector<std::string>& topics, std::optional<double> max_rate_hz,
                          Handler<Subscription> handler);
+    // With options.shared_memory and "attitude" among the topics, attitude
+    // comes from the shared-memory channel (as Client::subscribe): a waiter
+    // thread makes an eventfd readable per sample and the io_context's
+    // thread hands the samples to on_notification.
+    void async_subscribe(const std::vector<std::string>& topics, const SubscribeOptions& options,
+                         Handler<Subscription> handler);
+    // No topics: all (also ends the shared-memory attitude delivery).
     void async_unsubscribe(const std::vector<std::string>& topics, Handler<Subscription> handler);
+    // Opens gportd's shared-memory attitude channel (Client::attitude_channel).
+    void async_attitude_channel(Handler<AttitudeChannel> handler);
 
     // Every notification, in arrival order.
     void on_notification(std::function<void(const Notification&)> callback);

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "gport/client/attitude_channel.hpp"
 #include "gport/client/error.hpp"
 #include "gport/client/export.hpp"
 #include "gport/client/types.hpp"
@@ -69,8 +70,20 @@ class GPORT_CLIENT_API Client {
     // topics: "attitude", "link", "motion"; max_rate_hz caps attitude.
     Subscription subscribe(const std::vector<std::string>& topics,
                            std::optional<double> max_rate_hz = std::nullopt);
-    // No topics: all.
+    // With options.shared_memory and "attitude" among the topics, attitude
+    // samples come from the shared-memory channel (opened here) instead of
+    // the socket, as AttitudeSample notifications like the socket's (only
+    // samples published after this call; `dropped` counts the skipped
+    // ones). A waiter thread turns the channel's wakes into a descriptor
+    // that next_notification() and dispatch() poll with the socket.
+    Subscription subscribe(const std::vector<std::string>& topics, const SubscribeOptions& options);
+    // No topics: all (also ends the shared-memory attitude delivery).
     Subscription unsubscribe(const std::vector<std::string>& topics = {});
+
+    // Opens gportd's shared-memory attitude channel (docs/api.md); throws
+    // Error: the daemon's (e.g. -32603 when it cannot make the block), or
+    // kBadReply when the block fails its checks (the message names why).
+    AttitudeChannel attitude_channel();
 
     // The next notification, waiting at most `timeout` (forever when empty);
     // empty on timeout. Throws Error (kTransport) when the connection breaks.

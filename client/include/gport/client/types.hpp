@@ -188,6 +188,15 @@ struct Limits {
     double braking_margin_deg = 0;
 };
 
+// subscribe() with options. shared_memory: attitude comes from gportd's
+// shared-memory attitude channel (AttitudeChannel) instead of the socket,
+// through the same callbacks and next_notification(); max_rate_hz does not
+// apply to it (every sample is offered; a slow reader skips some).
+struct SubscribeOptions {
+    std::optional<double> max_rate_hz{};
+    bool shared_memory = false;
+};
+
 struct Subscription {
     std::vector<std::string> topics{};
     std::optional<double> max_rate_hz{};

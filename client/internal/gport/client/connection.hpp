@@ -3,16 +3,23 @@
 // while waiting for a reply go to a handler; reads give up when
 // `interrupted()` turns true.
 //
+// The socket is read with recvmsg: file descriptors gportd attaches to a
+// reply (SCM_RIGHTS, only with `attitude_channel` results) are kept in
+// arrival order until take_descriptor() claims them; close() closes the
+// unclaimed ones.
+//
 // Internal to the project (not installed): its symbols are exported from
 // libgport-client for gportctl, but its interface may change in any release.
 #pragma once
 
 #include <chrono>
+#include <deque>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
+#include "gport/client/attitude_channel.hpp"
 #include "gport/client/export.hpp"
 
 namespace gport::client {
@@ -31,7 +38,9 @@ class GPORT_CLIENT_API Connection {
     // Sends a request (with a fresh id) and returns the id; empty on a broken connection.
     std::optional<int> send(const std::string& method, const nlohmann::json& params);
 
-    enum class ReadStatus { kMessage, kTimeout, kClosed, kInterrupted };
+    // kWoken: the descriptor given to watch() became readable (before any
+    // message was complete).
+    enum class ReadStatus { kMessage, kTimeout, kClosed, kInterrupted, kWoken };
     // The next message; waits at most `timeout` (forever when empty).
     ReadStatus read(nlohmann::json& message,
                     std::optional<std::chrono::milliseconds> timeout = std::nullopt);
@@ -42,6 +51,22 @@ class GPORT_CLIENT_API Connection {
         const std::string& method, const nlohmann::json& params,
         const std::function<void(const nlohmann::json&)>& on_notification = {});
 
+    // Calls `attitude_channel` and maps the descriptor of its reply
+    // (AttitudeChannel); throws Error: the daemon's, kBadReply for a block
+    // that fails its checks or a reply without a descriptor, kTransport
+    // when the connection is lost.
+    AttitudeChannel attitude_channel(
+        const std::function<void(const nlohmann::json&)>& on_notification = {});
+
+    // The oldest received descriptor not yet claimed (the caller owns it),
+    // or -1 when none waits.
+    int take_descriptor() noexcept;
+    std::size_t unclaimed_descriptors() const noexcept { return descriptors_.size(); }
+
+    // A descriptor (not owned; -1: none) that read() also polls: when it is
+    // readable, read() returns kWoken.
+    void watch(int fd) noexcept { watched_ = fd; }
+
     bool closed() const noexcept { return closed_; }
     void close() noexcept;
 
@@ -50,12 +75,18 @@ class GPORT_CLIENT_API Connection {
 
   private:
     explicit Connection(int fd) : fd_(fd) {}
-    void fill(std::optional<std::chrono::steady_clock::time_point> deadline);
+    // Reads what arrived within the deadline; false when the watched
+    // descriptor is readable.
+    bool fill(std::optional<std::chrono::steady_clock::time_point> deadline);
+    void receive();
+    void close_descriptors() noexcept;
 
     int fd_ = -1;
     int next_id_ = 1;
     std::string buffer_;
     bool closed_ = false;
+    std::deque<int> descriptors_;
+    int watched_ = -1;
 };
 
 }  // namespace gport::client

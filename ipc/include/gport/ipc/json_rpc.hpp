@@ -22,6 +22,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 
 #include "gport/daemon/api.hpp"
 #include "gport/ipc/status_cache.hpp"
@@ -40,6 +41,7 @@ inline constexpr int kNoAnswer = -32002;
 inline constexpr int kBusy = -32003;
 inline constexpr int kServerFull = -32004;  // sent once to a client over max_clients
 inline constexpr int kTooMany = -32005;     // request rate or outstanding requests over a limit
+inline constexpr int kInternal = -32603;    // also: the attitude channel cannot be made
 }  // namespace rpc_error
 
 int to_rpc_code(daemon::ErrorCode code);
@@ -81,19 +83,54 @@ struct RequestRate {
 struct ClientState {
     daemon::ClientInfo info;
     Subscriptions subscriptions;
-    std::uint64_t dropped = 0;  // attitude notifications dropped for this client
-    RequestRate rate;           // socket.max_requests_per_s; batch members count
+    std::uint64_t dropped = 0;      // attitude notifications dropped for this client
+    RequestRate rate;               // socket.max_requests_per_s; batch members count
+    bool attitude_channel = false;  // it opened the shared-memory attitude channel
 };
 
 // Figures only the transport knows, added to the status result.
 struct ServerStats {
     std::size_t clients = 0;
-    std::uint64_t dropped_notifications = 0;  // over all clients since start
+    std::uint64_t dropped_notifications = 0;   // over all clients since start
+    std::size_t attitude_channel_clients = 0;  // connected clients that opened the channel
+};
+
+// The shared-memory attitude channel as the attitude_channel method reports it.
+struct ChannelInfo {
+    std::uint32_t version = 0;
+    std::uint32_t slots = 0;
+    std::size_t size = 0;         // bytes of the block
+    std::uint64_t published = 0;  // n of the newest sample, 0 if none
+};
+
+// What the attitude_channel method needs from the transport, which owns the
+// channel and sends its descriptor with the reply (docs/api.md,
+// "Shared-memory attitude channel").
+class ChannelHost {
+  public:
+    // Makes the channel on first use and counts `client` among its readers
+    // (sets client.attitude_channel); the error says why it cannot be made.
+    virtual std::variant<ChannelInfo, std::string> open_attitude_channel(ClientState& client) = 0;
+
+  protected:
+    ChannelHost() = default;
+    ~ChannelHost() = default;
+    ChannelHost(const ChannelHost&) = default;
+    ChannelHost& operator=(const ChannelHost&) = default;
+};
+
+// A reply line, and how many copies of the attitude channel's descriptor
+// travel with its first byte (one per attitude_channel result in it).
+struct ReplyLine {
+    std::string text;
+    std::size_t descriptors = 0;
 };
 
 // Receives complete reply lines, each ending in '\n'. May be called after
 // handle_line returned (settings requests answer later).
 using ReplySink = std::function<void(std::string line)>;
+// The same, for a transport that passes descriptors (the server's sessions).
+using LineSink = std::function<void(ReplyLine line)>;
 
 class Dispatcher {
   public:
@@ -104,7 +141,13 @@ class Dispatcher {
 
     // Handles one line (without its '\n'). Replies go to `sink`, zero or
     // more times: never for notifications, once for a request or a batch.
+    void handle_line(std::string_view line, ClientState& client, const LineSink& sink);
+    // The text only: a reply's descriptors are not passed on (tests, fuzzing).
     void handle_line(std::string_view line, ClientState& client, const ReplySink& sink);
+
+    // The transport that serves attitude_channel; without one the method
+    // answers -32603.
+    void set_channel_host(ChannelHost* host) { channel_host_ = host; }
 
     // The cached part of `status` (status_cache.hpp). Requests other than
     // status invalidate it themselves; the transport calls this when a
@@ -116,6 +159,7 @@ class Dispatcher {
     daemon::Api& api_;
     std::function<ServerStats()> stats_;
     StatusCache status_cache_;
+    ChannelHost* channel_host_ = nullptr;
 };
 
 // Builds an error reply line ("id" null), for the transport's own errors:

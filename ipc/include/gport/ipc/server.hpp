@@ -27,10 +27,12 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <variant>
 #include <vector>
 
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
+#include "gport/ipc/json_rpc.hpp"
 #include "gport/ipc/session_host.hpp"
 
 namespace gport::ipc {
@@ -38,8 +40,11 @@ namespace gport::ipc {
 class Dispatcher;
 class Session;
 struct Subscriptions;
+namespace detail {
+class AttitudeChannel;
+}
 
-class Server final : public daemon::CoreObserver, private SessionHost {
+class Server final : public daemon::CoreObserver, private SessionHost, private ChannelHost {
   public:
     // `listen_fd`: an already listening socket (systemd socket activation);
     // when given, the path, mode and group of `config` are left to the socket
@@ -56,7 +61,8 @@ class Server final : public daemon::CoreObserver, private SessionHost {
     // Throws std::runtime_error naming the path and the cause.
     void start();
 
-    // Stops accepting, closes every session (client_gone for each), detaches
+    // Closes the attitude channel (its readers see it closed and wake),
+    // stops accepting, closes every session (client_gone for each), detaches
     // from the core and removes the socket file it created. Idempotent; once
     // the pending handlers finish, io.run() returns.
     void close();
@@ -67,11 +73,14 @@ class Server final : public daemon::CoreObserver, private SessionHost {
     std::size_t max_clients() const { return max_clients_; }
     // Bytes queued for all clients together (outboxes and writes in flight).
     std::size_t queued_bytes() const { return queued_bytes_; }
+    // Connected clients that opened the shared-memory attitude channel.
+    std::size_t attitude_channel_clients() const { return channel_clients_; }
 
     // The memory budget across all sessions (SessionHost::account).
     static constexpr std::size_t kQueuedBudget = 8 * 1024 * 1024;
 
-    // CoreObserver: build each notification once, only when someone listens.
+    // CoreObserver: build each notification once, only when someone listens;
+    // every attitude sample also goes into the attitude channel once it exists.
     void on_attitude(const daemon::AttitudeSample& sample) override;
     void on_link(const daemon::LinkEvent& event) override;
     void on_motion(const daemon::MotionEvent& event) override;
@@ -87,6 +96,10 @@ class Server final : public daemon::CoreObserver, private SessionHost {
     void account(std::size_t before, std::size_t after) override;
     bool over_budget() const override { return queued_bytes_ > kQueuedBudget; }
     bool holds_control_or_motion(const daemon::ClientInfo& client) const override;
+    int attitude_channel_fd() const override;
+
+    // ChannelHost: the attitude_channel method.
+    std::variant<ChannelInfo, std::string> open_attitude_channel(ClientState& client) override;
 
     void accept();
     void on_accept_error(const boost::system::error_code& error);
@@ -107,6 +120,8 @@ class Server final : public daemon::CoreObserver, private SessionHost {
     std::optional<int> listen_fd_;
     boost::asio::local::stream_protocol::acceptor acceptor_;
     std::unique_ptr<Dispatcher> dispatcher_;
+    std::unique_ptr<detail::AttitudeChannel> channel_;
+    std::size_t channel_clients_ = 0;  // connected clients that opened it: wakes only then
     std::unordered_map<std::uint64_t, std::shared_ptr<Session>> sessions_;
     // Sessions that closed while the map was being walked; erased afterwards.
     std::vector<std::uint64_t> closed_ids_;

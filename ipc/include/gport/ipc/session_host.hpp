@@ -47,6 +47,10 @@ class SessionHost {
     // A client that holds control or owns a motion is never closed as idle.
     virtual bool holds_control_or_motion(const daemon::ClientInfo& client) const = 0;
 
+    // The shared-memory attitude channel's descriptor, sent with the replies
+    // to attitude_channel (-1 while it does not exist).
+    virtual int attitude_channel_fd() const = 0;
+
   protected:
     SessionHost() = default;
     ~SessionHost() = default;

@@ -1,0 +1,105 @@
+#include "attitude_channel.hpp"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "gport/base/futex.hpp"
+#include "json_common.hpp"
+
+namespace gport::ipc::detail {
+namespace {
+
+constexpr unsigned kSeals = F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL;
+
+std::array<double, 3> degrees_of(const protocol::Axes& axes) {
+    return {degrees(axes.roll), degrees(axes.pitch), degrees(axes.yaw)};
+}
+
+std::string failed(const char* step) {
+    return std::string(step) + ": " + std::strerror(errno);
+}
+
+}  // namespace
+
+base::RingSample ring_sample(const daemon::AttitudeSample& sample) {
+    const auto& a = sample.attitude;
+    base::RingSample out;
+    out.seq = sample.seq;
+    out.t = epoch_seconds(sample.wall);
+    out.imu = degrees_of(a.imu);
+    out.hall = degrees_of(a.hall);
+    if (a.rates) {
+        out.has_rates = true;
+        out.hall_rates = degrees_of(a.rates->hall);
+        out.imu_rates = {degrees(a.rates->imu_x), degrees(a.rates->imu_y), degrees(a.rates->imu_z)};
+    }
+    return out;
+}
+
+AttitudeChannel::~AttitudeChannel() {
+    if (memory_ != nullptr) {
+        ::munmap(memory_, kBytes);
+    }
+    if (fd_ >= 0) {
+        ::close(fd_);
+    }
+}
+
+std::optional<std::string> AttitudeChannel::open() {
+    if (writer_) {
+        return std::nullopt;
+    }
+    const int fd = ::memfd_create("gportd-attitude", MFD_CLOEXEC | MFD_ALLOW_SEALING);
+    if (fd < 0) {
+        return failed("memfd_create");
+    }
+    if (::ftruncate(fd, static_cast<off_t>(kBytes)) != 0) {
+        auto error = failed("ftruncate");
+        ::close(fd);
+        return error;
+    }
+    void* memory = ::mmap(nullptr, kBytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    if (memory == MAP_FAILED) {
+        auto error = failed("mmap");
+        ::close(fd);
+        return error;
+    }
+    base::RingWriter writer(memory, kSlots);  // formats the zero-filled block
+    if (::fcntl(fd, F_ADD_SEALS, kSeals) != 0) {
+        auto error = failed("sealing the memfd");
+        ::munmap(memory, kBytes);
+        ::close(fd);
+        return error;
+    }
+    fd_ = fd;
+    memory_ = memory;
+    writer_.emplace(writer);
+    return std::nullopt;
+}
+
+void AttitudeChannel::publish(const daemon::AttitudeSample& sample) {
+    if (writer_ && !closed_) {
+        writer_->publish(ring_sample(sample));
+    }
+}
+
+void AttitudeChannel::wake() {
+    if (writer_) {
+        base::futex_wake_all(writer_->wake_word());
+    }
+}
+
+void AttitudeChannel::close() {
+    if (!writer_ || closed_) {
+        return;
+    }
+    closed_ = true;
+    writer_->close();
+    wake();
+}
+
+}  // namespace gport::ipc::detail

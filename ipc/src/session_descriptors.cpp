@@ -1,0 +1,119 @@
+// A session's replies that carry the attitude channel's descriptor: each is
+// sent with its own sendmsg, SCM_RIGHTS on its first byte, after every line
+// queued before it (docs/api.md, "Shared-memory attitude channel").
+#include <sys/socket.h>
+
+#include <cerrno>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "gport/ipc/json_rpc.hpp"
+#include "session.hpp"
+
+namespace gport::ipc {
+namespace {
+
+using nlohmann::json;
+
+// The reply to send instead when the descriptor could not be sent: every
+// attitude_channel result in it (the only results with "slots") becomes
+// -32603 with the same id.
+std::string unsent_reply(const std::string& line, const std::string& why) {
+    json reply = json::parse(line, nullptr, false);
+    const json error = {{"code", rpc_error::kInternal},
+                        {"message", "attitude channel unavailable: " + why}};
+    const auto replace = [&error](json& member) {
+        if (member.is_object() && member.contains("result") && member["result"].is_object() &&
+            member["result"].contains("slots")) {
+            member.erase("result");
+            member["error"] = error;
+        }
+    };
+    if (reply.is_array()) {
+        for (auto& member : reply) {
+            replace(member);
+        }
+    } else {
+        replace(reply);
+    }
+    return reply.dump() + '\n';
+}
+
+bool client_gone(int error) {
+    return error == EPIPE || error == ECONNRESET || error == ENOTCONN;
+}
+
+}  // namespace
+
+// Sends the front line with its descriptors. True: all of it went out and
+// the caller writes on. False: the socket is full (a wait is armed and the
+// line stays queued), the rest of the line is being written as a normal
+// write, or the client is gone.
+bool Session::send_with_descriptors() {
+    const Line line = outbox_.front();
+    const int channel = host_.attitude_channel_fd();
+    const std::size_t count = channel < 0 ? 0 : outbox_.front_descriptors();
+    const std::vector<int> fds(count, channel);
+    std::vector<char> control(CMSG_SPACE(sizeof(int) * count));
+    iovec iov{const_cast<char*>(line->data()), line->size()};
+    msghdr message{};
+    message.msg_iov = &iov;
+    message.msg_iovlen = 1;
+    if (count > 0) {
+        message.msg_control = control.data();
+        message.msg_controllen = control.size();
+        cmsghdr* header = CMSG_FIRSTHDR(&message);
+        header->cmsg_level = SOL_SOCKET;
+        header->cmsg_type = SCM_RIGHTS;
+        header->cmsg_len = CMSG_LEN(sizeof(int) * count);
+        std::memcpy(CMSG_DATA(header), fds.data(), sizeof(int) * count);
+    }
+    ssize_t sent = -1;
+    do {
+        sent = ::sendmsg(socket_.native_handle(), &message, MSG_DONTWAIT | MSG_NOSIGNAL);
+    } while (sent < 0 && errno == EINTR);
+    if (sent < 0) {
+        const int error = errno;
+        if (error == EAGAIN || error == EWOULDBLOCK) {
+            wait_writable();
+        } else if (client_gone(error)) {
+            close();
+        } else {  // ETOOMANYREFS, ENOMEM, ENOBUFS...: nothing was sent
+            outbox_.replace_front(
+                std::make_shared<const std::string>(unsent_reply(*line, std::strerror(error))));
+            return true;
+        }
+        return false;
+    }
+    outbox_.pop_front();
+    if (static_cast<std::size_t>(sent) == line->size()) {
+        return true;
+    }
+    in_flight_.assign(1, line);
+    in_flight_bytes_ = line->size();
+    buffers_.assign(1, boost::asio::buffer(*line));
+    write_rest(static_cast<std::size_t>(sent));
+    return false;
+}
+
+// The socket is full: the line stays first in the queue and is sent again
+// once the client has read enough. Nothing else is written meanwhile.
+void Session::wait_writable() {
+    writing_ = true;
+    socket_.async_wait(Socket::wait_write,
+                       [self = shared_from_this()](const boost::system::error_code& error) {
+                           self->writing_ = false;
+                           if (self->closed_) {
+                               return;
+                           }
+                           if (error) {
+                               self->close();
+                               return;
+                           }
+                           self->flush();
+                       });
+}
+
+}  // namespace gport::ipc

@@ -1,0 +1,171 @@
+// Test support: a raw client of gportd's socket that reads with recvmsg and
+// keeps the descriptors that come with the lines (the attitude_channel
+// reply), and a read-only mapping of the shared-memory attitude channel.
+// Header-only; the ipc, integration and benchmark code may all use it.
+#pragma once
+
+#include <poll.h>
+#include <sys/mman.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <deque>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "gport/base/attitude_ring.hpp"
+
+namespace gport::testing {
+
+class DescriptorClient {
+  public:
+    explicit DescriptorClient(const std::string& path) {
+        fd_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+        sockaddr_un address{};
+        address.sun_family = AF_UNIX;
+        std::strncpy(address.sun_path, path.c_str(), sizeof(address.sun_path) - 1);
+        if (::connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0) {
+            ::close(fd_);
+            fd_ = -1;
+        }
+    }
+    ~DescriptorClient() {
+        for (int fd : descriptors_) {
+            ::close(fd);
+        }
+        if (fd_ >= 0) {
+            ::close(fd_);
+        }
+    }
+    DescriptorClient(const DescriptorClient&) = delete;
+    DescriptorClient& operator=(const DescriptorClient&) = delete;
+
+    bool connected() const { return fd_ >= 0; }
+    int socket() const { return fd_; }
+
+    bool send(const std::string& text) {
+        return ::send(fd_, text.data(), text.size(), MSG_NOSIGNAL) ==
+               static_cast<ssize_t>(text.size());
+    }
+
+    // Sends a request and returns its reply, keeping any lines before it.
+    nlohmann::json call(const std::string& method, const nlohmann::json& params = nullptr) {
+        const int id = ++id_;
+        nlohmann::json request = {{"jsonrpc", "2.0"}, {"id", id}, {"method", method}};
+        if (!params.is_null()) {
+            request["params"] = params;
+        }
+        send(request.dump() + "\n");
+        while (auto line = next()) {
+            if (line->contains("id") && (*line)["id"] == id) {
+                return *line;
+            }
+            kept_.push_back(*line);
+        }
+        return nullptr;
+    }
+
+    // The next line, parsed (kept lines first); empty on timeout or EOF.
+    std::optional<nlohmann::json> next(
+        std::chrono::milliseconds timeout = std::chrono::seconds(10)) {
+        if (!kept_.empty()) {
+            auto line = kept_.front();
+            kept_.pop_front();
+            return line;
+        }
+        const auto deadline = std::chrono::steady_clock::now() + timeout;
+        for (;;) {
+            if (auto nl = buffer_.find('\n'); nl != std::string::npos) {
+                auto line = nlohmann::json::parse(buffer_.substr(0, nl));
+                buffer_.erase(0, nl + 1);
+                return line;
+            }
+            if (!fill(deadline)) {
+                return std::nullopt;
+            }
+        }
+    }
+
+    // The first descriptor received and not taken yet, or -1. The caller owns it.
+    int take_descriptor() {
+        if (descriptors_.empty()) {
+            return -1;
+        }
+        const int fd = descriptors_.front();
+        descriptors_.pop_front();
+        return fd;
+    }
+    std::size_t descriptors() const { return descriptors_.size(); }
+
+  private:
+    bool fill(std::chrono::steady_clock::time_point deadline) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+            deadline - std::chrono::steady_clock::now());
+        pollfd p{fd_, POLLIN, 0};
+        if (fd_ < 0 || left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) {
+            return false;
+        }
+        char data[65536];
+        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * 64)];
+        iovec iov{data, sizeof(data)};
+        msghdr message{};
+        message.msg_iov = &iov;
+        message.msg_iovlen = 1;
+        message.msg_control = control;
+        message.msg_controllen = sizeof(control);
+        const auto n = ::recvmsg(fd_, &message, MSG_CMSG_CLOEXEC);
+        if (n <= 0) {
+            return false;
+        }
+        for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
+            if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_RIGHTS) {
+                const std::size_t count = (c->cmsg_len - CMSG_LEN(0)) / sizeof(int);
+                for (std::size_t i = 0; i < count; ++i) {
+                    int fd = -1;
+                    std::memcpy(&fd, CMSG_DATA(c) + i * sizeof(int), sizeof(int));
+                    descriptors_.push_back(fd);
+                }
+            }
+        }
+        buffer_.append(data, static_cast<std::size_t>(n));
+        return true;
+    }
+
+    int fd_ = -1;
+    int id_ = 0;
+    std::string buffer_;
+    std::deque<nlohmann::json> kept_;
+    std::deque<int> descriptors_;
+};
+
+// A read-only, shared mapping of the channel's descriptor.
+class RingMapping {
+  public:
+    RingMapping(int fd, std::size_t size) : size_(size) {
+        void* memory = ::mmap(nullptr, size, PROT_READ, MAP_SHARED, fd, 0);
+        memory_ = memory == MAP_FAILED ? nullptr : memory;
+    }
+    ~RingMapping() {
+        if (memory_ != nullptr) {
+            ::munmap(memory_, size_);
+        }
+    }
+    RingMapping(const RingMapping&) = delete;
+    RingMapping& operator=(const RingMapping&) = delete;
+
+    bool mapped() const { return memory_ != nullptr; }
+    void* memory() const { return memory_; }
+    std::size_t size() const { return size_; }
+    std::optional<std::string> check() const { return base::RingReader::check(memory_, size_); }
+    base::RingReader reader() const { return base::RingReader(memory_); }
+
+  private:
+    void* memory_ = nullptr;
+    std::size_t size_;
+};
+
+}  // namespace gport::testing
