@@ -32,6 +32,9 @@ std::string usage() {
            "\n"
            "  --rate HZ          0x87 frames per second, 1-20000 (default 200)\n"
            "  --subscribers N    attitude subscribers, 0-4000 (default 100)\n"
+           "  --shm N            readers of the shared-memory attitude channel, 0-4000, each on\n"
+           "                     its own thread waiting on the futex (default 0; without\n"
+           "                     --subscribers, --shm makes the socket subscribers 0)\n"
            "  --flood N          clients sending status requests back to back, 0-100 (default 0)\n"
            "  --seconds S        length of the measured stream, 1-600 (default 5)\n"
            "  --gportd PATH      the daemon binary (default: the one built with this bench)\n"
@@ -47,6 +50,7 @@ std::string usage() {
 std::optional<Options> parse_options(int argc, char** argv) {
     Options o;
     o.gportd = GPORT_BENCH_GPORTD;
+    bool subscribers_given = false;
     for (int i = 1; i < argc; ++i) {
         const std::string_view arg = argv[i];
         if (arg == "-h" || arg == "--help") {
@@ -74,6 +78,10 @@ std::optional<Options> parse_options(int argc, char** argv) {
         } else if (arg == "--subscribers") {
             n = number(arg, value, 0, 4000);
             o.subscribers = static_cast<int>(n.value_or(0));
+            subscribers_given = true;
+        } else if (arg == "--shm") {
+            n = number(arg, value, 0, 4000);
+            o.shm_readers = static_cast<int>(n.value_or(0));
         } else if (arg == "--realtime") {
             n = number(arg, value, 1, 99);
             o.realtime_priority = static_cast<int>(n.value_or(0));
@@ -94,6 +102,9 @@ std::optional<Options> parse_options(int argc, char** argv) {
         if (!n) {
             return std::nullopt;
         }
+    }
+    if (o.shm_readers > 0 && !subscribers_given) {
+        o.subscribers = 0;
     }
     return o;
 }

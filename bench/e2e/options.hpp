@@ -9,6 +9,7 @@ namespace gport::bench {
 struct Options {
     double rate_hz = 200;       // 0x87 frames per second written to the pty
     int subscribers = 100;      // clients subscribed to attitude
+    int shm_readers = 0;        // readers of the shared-memory attitude channel (--shm)
     int flooders = 0;           // clients sending status requests back to back
     double seconds = 5;         // length of the measured stream
     double keepalive_hz = 10;   // the daemon's keepalive.rate_hz (default config)
