@@ -21,6 +21,7 @@
 #include "posix.hpp"
 #include "report.hpp"
 #include "shm_readers.hpp"
+#include "socket_readers.hpp"
 
 namespace gport::bench {
 namespace {
@@ -85,10 +86,16 @@ CellResult run_cell(const Options& options, const std::string& dir) {
     std::string pending;
     wait_device_open(*control, pending);
 
-    ClientHub hub;
-    hub.add_subscribers(daemon_options.socket, options.subscribers, 60000);
-    hub.add_flooders(daemon_options.socket, options.flooders);
     const auto frames = static_cast<std::size_t>(options.rate_hz * options.seconds);
+    ClientHub hub;
+    std::unique_ptr<SocketReaders> threaded;
+    if (options.subscriber_threads) {
+        threaded =
+            std::make_unique<SocketReaders>(daemon_options.socket, options.subscribers, frames);
+    } else {
+        hub.add_subscribers(daemon_options.socket, options.subscribers, 60000);
+    }
+    hub.add_flooders(daemon_options.socket, options.flooders);
     std::unique_ptr<ShmReaders> shm;
     if (options.shm_readers > 0) {
         shm = std::make_unique<ShmReaders>(daemon_options.socket, options.shm_readers, frames);
@@ -115,6 +122,10 @@ CellResult run_cell(const Options& options, const std::string& dir) {
     if (shm) {
         shm->stop();
         hub.adopt(shm->take_results());
+    }
+    if (threaded) {
+        threaded->stop();
+        hub.adopt(threaded->take_results());
     }
 
     const auto status = request(*control, pending, {{"id", 3}, {"method", "status"}});

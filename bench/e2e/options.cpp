@@ -35,6 +35,8 @@ std::string usage() {
            "  --shm N            readers of the shared-memory attitude channel, 0-4000, each on\n"
            "                     its own thread waiting on the futex (default 0; without\n"
            "                     --subscribers, --shm makes the socket subscribers 0)\n"
+           "  --subscriber-threads  each socket subscriber reads on its own thread, blocking\n"
+           "                     in read() as separate processes would (default: one epoll loop)\n"
            "  --flood N          clients sending status requests back to back, 0-100 (default 0)\n"
            "  --seconds S        length of the measured stream, 1-600 (default 5)\n"
            "  --gportd PATH      the daemon binary (default: the one built with this bench)\n"
@@ -59,6 +61,10 @@ std::optional<Options> parse_options(int argc, char** argv) {
         }
         if (arg == "--no-header") {
             o.no_header = true;
+            continue;
+        }
+        if (arg == "--subscriber-threads") {
+            o.subscriber_threads = true;
             continue;
         }
         if (arg == "--daemon-fifo") {
