@@ -98,7 +98,8 @@ CellResult run_cell(const Options& options, const std::string& dir) {
     hub.add_flooders(daemon_options.socket, options.flooders);
     std::unique_ptr<ShmReaders> shm;
     if (options.shm_readers > 0) {
-        shm = std::make_unique<ShmReaders>(daemon_options.socket, options.shm_readers, frames);
+        shm = std::make_unique<ShmReaders>(daemon_options.socket, options.shm_readers, frames,
+                                           options.shm_threads);
         shm->start();
     }
 

@@ -35,6 +35,7 @@ std::string usage() {
            "  --shm N            readers of the shared-memory attitude channel, 0-4000, each on\n"
            "                     its own thread waiting on the futex (default 0; without\n"
            "                     --subscribers, --shm makes the socket subscribers 0)\n"
+           "  --shm-threads K    the --shm readers share K threads (default: one each)\n"
            "  --subscriber-threads  each socket subscriber reads on its own thread, blocking\n"
            "                     in read() as separate processes would (default: one epoll loop)\n"
            "  --flood N          clients sending status requests back to back, 0-100 (default 0)\n"
@@ -85,6 +86,9 @@ std::optional<Options> parse_options(int argc, char** argv) {
             n = number(arg, value, 0, 4000);
             o.subscribers = static_cast<int>(n.value_or(0));
             subscribers_given = true;
+        } else if (arg == "--shm-threads") {
+            n = number(arg, value, 1, 4000);
+            o.shm_threads = static_cast<int>(n.value_or(0));
         } else if (arg == "--shm") {
             n = number(arg, value, 0, 4000);
             o.shm_readers = static_cast<int>(n.value_or(0));

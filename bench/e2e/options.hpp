@@ -10,6 +10,7 @@ struct Options {
     double rate_hz = 200;             // 0x87 frames per second written to the pty
     int subscribers = 100;            // clients subscribed to attitude
     int shm_readers = 0;              // readers of the shared-memory attitude channel (--shm)
+    int shm_threads = 0;              // threads they share (--shm-threads); 0 = one each
     bool subscriber_threads = false;  // one thread per socket subscriber (--subscriber-threads)
     int flooders = 0;                 // clients sending status requests back to back
     double seconds = 5;               // length of the measured stream

@@ -77,7 +77,9 @@ struct ShmReaders::Reader {
     Fd socket;  // kept open: a reader that disconnects is no longer woken
     const void* memory = nullptr;
     std::size_t size = 0;
-    Subscriber result;
+    Subscriber result;  // its reported_dropped counts the samples missed
+    std::uint64_t cursor = 0;
+    std::uint32_t last = 0;
     std::atomic<std::uint64_t> wakes{0};
 
     ~Reader() {
@@ -87,7 +89,9 @@ struct ShmReaders::Reader {
     }
 };
 
-ShmReaders::ShmReaders(const std::string& socket, int count, std::size_t expected_samples) {
+ShmReaders::ShmReaders(const std::string& socket, int count, std::size_t expected_samples,
+                       int threads)
+    : thread_count_(threads > 0 && threads < count ? threads : count) {
     for (int i = 0; i < count; ++i) {
         auto reader = std::make_unique<Reader>();
         auto connected = connect_unix_retry(socket, 10000);  // gportd may still be starting
@@ -119,8 +123,12 @@ ShmReaders::~ShmReaders() {
 }
 
 void ShmReaders::start() {
-    for (auto& reader : readers_) {
-        threads_.emplace_back([this, r = reader.get()] { run(*r); });
+    std::vector<std::vector<Reader*>> groups(static_cast<std::size_t>(thread_count_));
+    for (std::size_t i = 0; i < readers_.size(); ++i) {
+        groups[i % groups.size()].push_back(readers_[i].get());
+    }
+    for (auto& group : groups) {
+        threads_.emplace_back([this, group] { run(group); });
     }
 }
 
@@ -132,31 +140,38 @@ void ShmReaders::stop() {
     threads_.clear();
 }
 
-// Takes every new sample, then sleeps on the futex word until the next.
-void ShmReaders::run(Reader& reader) {
+// Takes every new sample of one reader; false once the channel is closed.
+bool ShmReaders::take(Reader& reader) {
     const base::RingReader ring(reader.memory);
-    std::uint64_t cursor = 0;
-    std::uint64_t missed = 0;
-    std::uint32_t last = 0;
     auto& out = reader.result;
+    while (auto sample = ring.next(reader.cursor, out.reported_dropped)) {
+        const auto t = now_ns();
+        const auto counter = counter_of(*sample);
+        out.out_of_order += counter != 0 && counter <= reader.last ? 1 : 0;
+        reader.last = counter != 0 ? counter : reader.last;
+        out.receipts.push_back({counter, t});
+    }
+    return !ring.closed();
+}
+
+// Takes every new sample of its readers, then sleeps on the futex word
+// (the first reader's mapping; all map the same block) until the next.
+void ShmReaders::run(const std::vector<Reader*>& readers) {
+    const base::RingReader ring(readers.front()->memory);
     while (!stop_.load(std::memory_order_relaxed)) {
         const auto seen = ring.wake_word().load(std::memory_order_acquire);
-        while (auto sample = ring.next(cursor, missed)) {
-            const auto t = now_ns();
-            const auto counter = counter_of(*sample);
-            out.out_of_order += counter != 0 && counter <= last ? 1 : 0;
-            last = counter != 0 ? counter : last;
-            out.receipts.push_back({counter, t});
+        bool open = true;
+        for (Reader* reader : readers) {
+            open = take(*reader) && open;
         }
-        if (ring.closed()) {
+        if (!open) {
             break;
         }
         if (base::futex_wait(ring.wake_word(), seen, std::chrono::milliseconds(100)) ==
             base::FutexWait::kWoken) {
-            reader.wakes.fetch_add(1, std::memory_order_relaxed);
+            readers.front()->wakes.fetch_add(1, std::memory_order_relaxed);
         }
     }
-    out.reported_dropped = missed;
 }
 
 std::vector<Subscriber> ShmReaders::take_results() {

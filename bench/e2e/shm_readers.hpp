@@ -1,7 +1,9 @@
 // Readers of gportd's shared-memory attitude channel for the benchmarks
 // (docs/performance.md, "Shared-memory channel"). Each reader has its own
-// connection, receives the memfd with recvmsg, maps it read-only, and runs
-// on its own thread blocking in futex_wait, as separate processes would.
+// connection, receives the memfd with recvmsg and maps it read-only. By
+// default each runs on its own thread blocking in futex_wait, as separate
+// processes would; with `threads` > 0 the readers share that many threads
+// (round robin), so the daemon wakes only that many waiters per sample.
 // Every sample is stamped when it is read, on the clock the socket
 // subscribers use, so both give latencies from the frame's last byte.
 #pragma once
@@ -23,7 +25,7 @@ class ShmReaders {
     // Connects `count` clients and opens the channel on each; throws
     // std::runtime_error naming what failed. `expected_samples` sizes the
     // receipt buffers so no allocation happens while measuring.
-    ShmReaders(const std::string& socket, int count, std::size_t expected_samples);
+    ShmReaders(const std::string& socket, int count, std::size_t expected_samples, int threads = 0);
     ~ShmReaders();
     ShmReaders(const ShmReaders&) = delete;
     ShmReaders& operator=(const ShmReaders&) = delete;
@@ -42,9 +44,11 @@ class ShmReaders {
 
   private:
     struct Reader;
-    void run(Reader& reader);
+    void run(const std::vector<Reader*>& readers);
+    static bool take(Reader& reader);
 
     std::vector<std::unique_ptr<Reader>> readers_;
+    int thread_count_;
     std::vector<std::thread> threads_;
     std::atomic<bool> stop_{false};
 };

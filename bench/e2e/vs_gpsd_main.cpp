@@ -52,6 +52,7 @@ struct Options {
     std::string gpsd = "/usr/sbin/gpsd";
     bool header = true;
     bool gportd_shm = false;  // gportd's watchers read the shared-memory channel
+    int shm_threads = 0;      // threads they share; 0 = one each
 };
 
 const char* const kUsage =
@@ -66,7 +67,8 @@ const char* const kUsage =
     "  --gpsd PATH    gpsd (default /usr/sbin/gpsd)\n"
     "  --no-header    print only the table rows\n"
     "  --gportd-shm   gportd's watchers read its shared-memory attitude channel (one\n"
-    "                 thread each, waiting on the futex) instead of the socket\n";
+    "                 thread each, waiting on the futex) instead of the socket\n"
+    "  --shm-threads K  with --gportd-shm: the watchers share K threads\n";
 
 double number(std::string_view name, const char* text, double low, double high) {
     char* end = nullptr;
@@ -104,6 +106,8 @@ Options parse(int argc, char** argv) {
             o.rate_hz = number(arg, value, 1, 100);  // NMEA time has 10 ms steps
         } else if (arg == "--seconds") {
             o.seconds = number(arg, value, 1, 600);
+        } else if (arg == "--shm-threads") {
+            o.shm_threads = static_cast<int>(number(arg, value, 1, 500));
         } else if (arg == "--gportd") {
             o.gportd = value;
         } else if (arg == "--gpsd") {
@@ -191,7 +195,8 @@ int run(const Options& o) {
     WatchHub hub;
     std::unique_ptr<ShmReaders> shm;
     if (o.gportd_shm) {
-        shm = std::make_unique<ShmReaders>(daemon_options.socket, o.watchers, frames);
+        shm =
+            std::make_unique<ShmReaders>(daemon_options.socket, o.watchers, frames, o.shm_threads);
         shm->start();
     } else {
         hub.add_gportd(daemon_options.socket, o.watchers, 10000);
