@@ -177,6 +177,12 @@ void ClientHub::on_flooder(Flooder& f) {
     }
 }
 
+void ClientHub::adopt(std::vector<Subscriber> measured) {
+    for (auto& s : measured) {
+        subscribers_.push_back(std::move(s));
+    }
+}
+
 std::uint64_t ClientHub::flood_replies() const {
     std::uint64_t total = 0;
     for (const auto& f : flooders_) {

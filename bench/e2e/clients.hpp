@@ -52,6 +52,9 @@ class ClientHub {
     void run_for(int duration_ms);
 
     const std::vector<Subscriber>& subscribers() const { return subscribers_; }
+    // Adds readers measured elsewhere (the shared-memory channel's) to the
+    // subscribers the report counts; they are not served by this hub.
+    void adopt(std::vector<Subscriber> measured);
     const std::vector<Flooder>& flooders() const { return flooders_; }
     std::uint64_t flood_replies() const;
 

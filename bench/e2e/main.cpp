@@ -10,6 +10,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -19,6 +20,8 @@
 #include "options.hpp"
 #include "posix.hpp"
 #include "report.hpp"
+#include "shm_readers.hpp"
+#include "socket_readers.hpp"
 #include "stop_probe.hpp"
 
 namespace gport::bench {
@@ -60,6 +63,7 @@ CellResult run_cell(const Options& options, const std::string& dir) {
     CellResult r;
     r.rate_hz = options.rate_hz;
     r.subscribers = options.subscribers;
+    r.shm_readers = options.shm_readers;
     r.flooders = options.flooders;
     r.seconds = options.seconds;
 
@@ -70,7 +74,7 @@ CellResult run_cell(const Options& options, const std::string& dir) {
     daemon_options.socket = dir + "/gportd.sock";
     daemon_options.config_path = dir + "/gportd.json";
     daemon_options.log_path = dir + "/gportd.log";
-    daemon_options.max_clients = options.subscribers + options.flooders + 16;
+    daemon_options.max_clients = options.subscribers + options.shm_readers + options.flooders + 16;
     daemon_options.realtime = options.daemon_fifo;
     daemon_options.realtime_priority = options.realtime_priority;
     DaemonProcess daemon(daemon_options);
@@ -83,9 +87,22 @@ CellResult run_cell(const Options& options, const std::string& dir) {
     std::string pending;
     wait_device_open(*control, pending);
 
+    const auto frames = static_cast<std::size_t>(options.rate_hz * options.seconds);
     ClientHub hub;
-    hub.add_subscribers(daemon_options.socket, options.subscribers, 60000);
+    std::unique_ptr<SocketReaders> threaded;
+    if (options.subscriber_threads) {
+        threaded =
+            std::make_unique<SocketReaders>(daemon_options.socket, options.subscribers, frames);
+    } else {
+        hub.add_subscribers(daemon_options.socket, options.subscribers, 60000);
+    }
     hub.add_flooders(daemon_options.socket, options.flooders);
+    std::unique_ptr<ShmReaders> shm;
+    if (options.shm_readers > 0) {
+        shm = std::make_unique<ShmReaders>(daemon_options.socket, options.shm_readers, frames,
+                                           options.shm_threads);
+        shm->start();
+    }
 
     // One speed command that outlasts the run: its 10 Hz keepalive is timed.
     const int duration_ms = static_cast<int>(options.seconds * 1000) + 10000;
@@ -93,7 +110,6 @@ CellResult run_cell(const Options& options, const std::string& dir) {
         *control, pending,
         {{"id", 2}, {"method", "speed"}, {"params", {{"yaw", 5.0}, {"duration_ms", duration_ms}}}});
 
-    const auto frames = static_cast<std::size_t>(options.rate_hz * options.seconds);
     StopProbe probe(daemon_options.socket, gimbal, options.stops, options.seconds);
     r.load_start = load_average();
     const auto before = sample_process(daemon.pid());
@@ -110,6 +126,14 @@ CellResult run_cell(const Options& options, const std::string& dir) {
     hub.stop_flood();
     hub.run_for(300);  // lines still on their way
     gimbal.stop_stream();
+    if (shm) {
+        shm->stop();
+        hub.adopt(shm->take_results());
+    }
+    if (threaded) {
+        threaded->stop();
+        hub.adopt(threaded->take_results());
+    }
 
     const auto status = request(*control, pending, {{"id", 3}, {"method", "status"}});
     r.daemon_counters = status.at("result").at("counters");

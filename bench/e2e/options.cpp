@@ -34,6 +34,12 @@ std::string usage() {
            "\n"
            "  --rate HZ          0x87 frames per second, 1-20000 (default 200)\n"
            "  --subscribers N    attitude subscribers, 0-4000 (default 100)\n"
+           "  --shm N            readers of the shared-memory attitude channel, 0-4000, each on\n"
+           "                     its own thread waiting on the futex (default 0; without\n"
+           "                     --subscribers, --shm makes the socket subscribers 0)\n"
+           "  --shm-threads K    the --shm readers share K threads (default: one each)\n"
+           "  --subscriber-threads  each socket subscriber reads on its own thread, blocking\n"
+           "                     in read() as separate processes would (default: one epoll loop)\n"
            "  --flood N          clients sending status requests back to back, 0-100 (default 0)\n"
            "  --seconds S        length of the measured stream, 1-600 (default 5)\n"
            "  --gportd PATH      the daemon binary (default: the one built with this bench)\n"
@@ -55,6 +61,7 @@ std::string usage() {
 std::optional<Options> parse_options(int argc, char** argv) {
     Options o;
     o.gportd = GPORT_BENCH_GPORTD;
+    bool subscribers_given = false;
     for (int i = 1; i < argc; ++i) {
         const std::string_view arg = argv[i];
         if (arg == "-h" || arg == "--help") {
@@ -63,6 +70,10 @@ std::optional<Options> parse_options(int argc, char** argv) {
         }
         if (arg == "--no-header") {
             o.no_header = true;
+            continue;
+        }
+        if (arg == "--subscriber-threads") {
+            o.subscriber_threads = true;
             continue;
         }
         if (arg == "--daemon-fifo") {
@@ -82,6 +93,13 @@ std::optional<Options> parse_options(int argc, char** argv) {
         } else if (arg == "--subscribers") {
             n = number(arg, value, 0, 4000);
             o.subscribers = static_cast<int>(n.value_or(0));
+            subscribers_given = true;
+        } else if (arg == "--shm-threads") {
+            n = number(arg, value, 1, 4000);
+            o.shm_threads = static_cast<int>(n.value_or(0));
+        } else if (arg == "--shm") {
+            n = number(arg, value, 0, 4000);
+            o.shm_readers = static_cast<int>(n.value_or(0));
         } else if (arg == "--realtime") {
             n = number(arg, value, 1, 99);
             o.realtime_priority = static_cast<int>(n.value_or(0));
@@ -113,6 +131,9 @@ std::optional<Options> parse_options(int argc, char** argv) {
                      "raise --seconds or lower --stops\n",
                      o.stops, 2.0 * o.stops * kMinStopCycleMs / 1000, kMinStopCycleMs);
         return std::nullopt;
+    }
+    if (o.shm_readers > 0 && !subscribers_given) {
+        o.subscribers = 0;
     }
     return o;
 }

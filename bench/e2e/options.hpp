@@ -7,17 +7,20 @@
 namespace gport::bench {
 
 struct Options {
-    double rate_hz = 200;       // 0x87 frames per second written to the pty
-    int subscribers = 100;      // clients subscribed to attitude
-    int flooders = 0;           // clients sending status requests back to back
-    double seconds = 5;         // length of the measured stream
-    double keepalive_hz = 10;   // the daemon's keepalive.rate_hz (default config)
-    std::string gportd;         // the daemon binary
-    std::string json_path;      // where to write the JSON summary ("" = nowhere)
-    bool no_header = false;     // print only the table row
-    int realtime_priority = 0;  // gportd's own realtime.priority (+ lock_memory); 0 = off
-    bool daemon_fifo = false;   // run gportd SCHED_FIFO (diagnosis of scheduling delays)
-    int stops = 0;              // stop probe: motions ended by each cause (0 = off)
+    double rate_hz = 200;             // 0x87 frames per second written to the pty
+    int subscribers = 100;            // clients subscribed to attitude
+    int shm_readers = 0;              // readers of the shared-memory attitude channel (--shm)
+    int shm_threads = 0;              // threads they share (--shm-threads); 0 = one each
+    bool subscriber_threads = false;  // one thread per socket subscriber (--subscriber-threads)
+    int flooders = 0;                 // clients sending status requests back to back
+    double seconds = 5;               // length of the measured stream
+    double keepalive_hz = 10;         // the daemon's keepalive.rate_hz (default config)
+    std::string gportd;               // the daemon binary
+    std::string json_path;            // where to write the JSON summary ("" = nowhere)
+    bool no_header = false;           // print only the table row
+    int realtime_priority = 0;        // gportd's own realtime.priority (+ lock_memory); 0 = off
+    bool daemon_fifo = false;         // run gportd SCHED_FIFO (diagnosis of scheduling delays)
+    int stops = 0;                    // stop probe: motions ended by each cause (0 = off)
     bool help = false;
 };
 

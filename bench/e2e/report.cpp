@@ -116,12 +116,14 @@ std::string table_row(const CellResult& r) {
     const double miss =
         d.expected == 0 ? 0.0
                         : 100.0 * static_cast<double>(d.missing) / static_cast<double>(d.expected);
-    const bool streaming = r.subscribers > 0;
+    const bool streaming = r.subscribers + r.shm_readers > 0;
     return fmt::format(
         "{:>5} {:>5} {:>5} | {:>6} {:>9} {:>7} | {:>8} {:>8} {:>8} {:>8} | {:>6.2f} {:>6} {:>6} | "
         "{:>6.2f} {:>6.2f} {:>4} | {:>7.0f} | {}\n",
-        r.rate_hz, r.subscribers, r.flooders, r.frames_written, d.delivered,
-        streaming ? fmt::format("{:.2f}", miss) : "-",
+        r.rate_hz,
+        r.shm_readers > 0 ? fmt::format("{}+{}shm", r.subscribers, r.shm_readers)
+                          : fmt::format("{}", r.subscribers),
+        r.flooders, r.frames_written, d.delivered, streaming ? fmt::format("{:.2f}", miss) : "-",
         streaming ? fmt::format("{:.0f}", r.latency.p50_us) : "-",
         streaming ? fmt::format("{:.0f}", r.latency.p99_us) : "-",
         streaming ? fmt::format("{:.0f}", r.latency.max_us) : "-",
@@ -138,6 +140,7 @@ nlohmann::json to_json(const CellResult& r) {
     return {
         {"rate_hz", r.rate_hz},
         {"subscribers", r.subscribers},
+        {"shm_readers", r.shm_readers},
         {"flooders", r.flooders},
         {"seconds", r.seconds},
         {"loadavg_start", r.load_start},

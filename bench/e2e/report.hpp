@@ -44,6 +44,7 @@ struct DeliveryStats {
 struct CellResult {
     double rate_hz = 0;
     int subscribers = 0;
+    int shm_readers = 0;  // readers of the shared-memory channel, counted as subscribers
     int flooders = 0;
     double seconds = 0;
     std::string load_start;

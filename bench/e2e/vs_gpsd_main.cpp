@@ -7,8 +7,10 @@
 // clients) are read by one epoll loop that stamps every line the same way.
 // Reported per daemon: lines, missing, latency (last byte written → line
 // read) p50/p99/p99.9/max, CPU (utime+stime, % of one core), and the ratios
-// gportd/gpsd. Exits 1 on a wrong count (a gportd line missing, no gpsd line
-// at all), a daemon that died, or gportd not exiting 0 on SIGTERM; never on a
+// gportd/gpsd. With --gportd-shm, gportd's watchers read its shared-memory
+// attitude channel instead (each on its own thread, waiting on the futex;
+// bench/e2e/shm_readers.hpp), timed on the same clock. Exits 1 on a wrong count (a gportd line
+// missing, no gpsd line at all), a daemon that died, or gportd not exiting 0 on SIGTERM; never on a
 // time; 77 (skipped) when gpsd is not installed. See docs/performance.md.
 #include <arpa/inet.h>
 #include <fmt/format.h>
@@ -21,6 +23,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string_view>
 #include <thread>
@@ -29,6 +32,7 @@
 #include "fake_gimbal.hpp"
 #include "nmea.hpp"
 #include "report.hpp"
+#include "shm_readers.hpp"
 #include "watchers.hpp"
 
 #ifndef GPORT_BENCH_GPORTD
@@ -47,6 +51,8 @@ struct Options {
     std::string gportd = GPORT_BENCH_GPORTD;
     std::string gpsd = "/usr/sbin/gpsd";
     bool header = true;
+    bool gportd_shm = false;  // gportd's watchers read the shared-memory channel
+    int shm_threads = 0;      // threads they share; 0 = one each
 };
 
 const char* const kUsage =
@@ -59,7 +65,10 @@ const char* const kUsage =
     "  --seconds S    length of the measured stream, 1-600 (default 5)\n"
     "  --gportd PATH  the daemon binary (default: the one built with this bench)\n"
     "  --gpsd PATH    gpsd (default /usr/sbin/gpsd)\n"
-    "  --no-header    print only the table rows\n";
+    "  --no-header    print only the table rows\n"
+    "  --gportd-shm   gportd's watchers read its shared-memory attitude channel (one\n"
+    "                 thread each, waiting on the futex) instead of the socket\n"
+    "  --shm-threads K  with --gportd-shm: the watchers share K threads\n";
 
 double number(std::string_view name, const char* text, double low, double high) {
     char* end = nullptr;
@@ -83,6 +92,10 @@ Options parse(int argc, char** argv) {
             o.header = false;
             continue;
         }
+        if (arg == "--gportd-shm") {
+            o.gportd_shm = true;
+            continue;
+        }
         if (i + 1 >= argc) {
             throw std::invalid_argument(fmt::format("unknown option or missing value: '{}'", arg));
         }
@@ -93,6 +106,8 @@ Options parse(int argc, char** argv) {
             o.rate_hz = number(arg, value, 1, 100);  // NMEA time has 10 ms steps
         } else if (arg == "--seconds") {
             o.seconds = number(arg, value, 1, 600);
+        } else if (arg == "--shm-threads") {
+            o.shm_threads = static_cast<int>(number(arg, value, 1, 500));
         } else if (arg == "--gportd") {
             o.gportd = value;
         } else if (arg == "--gpsd") {
@@ -176,12 +191,19 @@ int run(const Options& o) {
     DaemonProcess gpsd({o.gpsd, "-N", "-n", "-b", "-S", std::to_string(port), gps.device()},
                        base + "/gpsd.log");
 
+    const auto frames = static_cast<std::size_t>(o.rate_hz * o.seconds);
     WatchHub hub;
-    hub.add_gportd(daemon_options.socket, o.watchers, 10000);
+    std::unique_ptr<ShmReaders> shm;
+    if (o.gportd_shm) {
+        shm =
+            std::make_unique<ShmReaders>(daemon_options.socket, o.watchers, frames, o.shm_threads);
+        shm->start();
+    } else {
+        hub.add_gportd(daemon_options.socket, o.watchers, 10000);
+    }
     hub.add_gpsd(port, o.watchers, 10000);
     hub.wait_ready(10000);
 
-    const auto frames = static_cast<std::size_t>(o.rate_hz * o.seconds);
     const std::string load_start = load_average();
     const auto gportd_before = sample_process(gportd.pid());
     const auto gpsd_before = sample_process(gpsd.pid());
@@ -195,8 +217,14 @@ int run(const Options& o) {
     gimbal.stop_stream();
     gps.stop_stream();
     const std::string load_end = load_average();
+    if (shm) {
+        shm->stop();
+    }
 
-    const auto g = summarise(hub.gportd(), gimbal, gportd_before, gportd_after, o.seconds);
+    const std::vector<Subscriber> shm_results =
+        shm ? shm->take_results() : std::vector<Subscriber>{};
+    const auto g =
+        summarise(shm ? shm_results : hub.gportd(), gimbal, gportd_before, gportd_after, o.seconds);
     const auto d = summarise(hub.gpsd(), gps, gpsd_before, gpsd_after, o.seconds);
     const int gpsd_exit = gpsd.terminate();
     const int gportd_exit = gportd.terminate();
@@ -207,10 +235,11 @@ int run(const Options& o) {
         std::printf(
             "daemon  watch  rate    lines missing     p50     p99   p99.9     max   cpu%%\n");
     }
-    std::printf("%s\n%s\n", row("gportd", o, g).c_str(), row("gpsd", o, d).c_str());
-    std::printf("ratio gportd/gpsd at %d x %.0f Hz: cpu %.2f, p50 %.2f, p99 %.2f (load %s)\n",
-                o.watchers, o.rate_hz, ratio(g.cpu_percent, d.cpu_percent),
-                ratio(g.latency.p50_us, d.latency.p50_us),
+    std::printf("%s\n%s\n", row(o.gportd_shm ? "gportd-shm" : "gportd", o, g).c_str(),
+                row("gpsd", o, d).c_str());
+    std::printf("ratio gportd%s/gpsd at %d x %.0f Hz: cpu %.2f, p50 %.2f, p99 %.2f (load %s)\n",
+                o.gportd_shm ? " (shm)" : "", o.watchers, o.rate_hz,
+                ratio(g.cpu_percent, d.cpu_percent), ratio(g.latency.p50_us, d.latency.p50_us),
                 ratio(g.latency.p99_us, d.latency.p99_us), load_end.c_str());
 
     int status = 0;

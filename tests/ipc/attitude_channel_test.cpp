@@ -129,6 +129,21 @@ TEST(AttitudeChannel, StatusCountsConnectedClientsThatOpenedIt) {
     EXPECT_EQ(watcher.call("status")["result"]["attitude_channel_clients"], 0);
 }
 
+// A client that reads only the ring is listening: the idle timeout leaves it.
+TEST(AttitudeChannel, AReaderOfTheChannelIsNotClosedAsIdle) {
+    config::SocketConfig config;
+    config.idle_timeout = std::chrono::milliseconds(200);
+    ServerHarness h(config);
+    DescriptorClient idle(h.path());
+    DescriptorClient reader(h.path());
+    ASSERT_TRUE(reader.call("attitude_channel").contains("result"));
+    const auto closed = idle.next(std::chrono::seconds(10));  // the idle client's -32004
+    ASSERT_TRUE(closed);
+    EXPECT_EQ((*closed)["error"]["code"], -32004);
+    std::this_thread::sleep_for(std::chrono::milliseconds(800));  // several timeouts
+    EXPECT_TRUE(reader.call("status")["result"].is_object());
+}
+
 TEST(AttitudeChannel, ClosingTheServerClosesTheRingAndWakesItsWaiters) {
     ServerHarness h;
     DescriptorClient client(h.path());

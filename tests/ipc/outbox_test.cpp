@@ -88,5 +88,35 @@ TEST(Outbox, TakeMovesWholeLinesInOrder) {
     EXPECT_EQ(json::parse(*lines[1])["id"], 1);
 }
 
+TEST(Outbox, ALineWithDescriptorsIsNeverTakenIntoABatch) {
+    Outbox box(10);
+    ASSERT_TRUE(box.push(reply(1)));
+    ASSERT_TRUE(box.push(reply(2), 1));
+    ASSERT_TRUE(box.push(reply(3)));
+    std::vector<Line> lines;
+    box.take(lines, 10);
+    ASSERT_EQ(lines.size(), 1u);  // stops before the line with a descriptor
+    EXPECT_EQ(box.front_descriptors(), 1u);
+    lines.clear();
+    box.take(lines, 10);
+    EXPECT_TRUE(lines.empty());
+    EXPECT_EQ(json::parse(*box.pop_front())["id"], 2);
+    EXPECT_EQ(box.front_descriptors(), 0u);
+    box.take(lines, 10);
+    ASSERT_EQ(lines.size(), 1u);
+    EXPECT_EQ(json::parse(*lines[0])["id"], 3);
+    EXPECT_TRUE(box.empty());
+    EXPECT_EQ(box.bytes(), 0u);
+}
+
+TEST(Outbox, ReplacingTheFrontKeepsTheByteCountAndDropsItsDescriptors) {
+    Outbox box(10);
+    ASSERT_TRUE(box.push(reply(1), 2));
+    box.replace_front(std::make_shared<const std::string>("{\"id\":1,\"error\":{}}\n"));
+    EXPECT_EQ(box.front_descriptors(), 0u);
+    EXPECT_EQ(box.bytes(), box.front()->size());
+    EXPECT_EQ(box.reply_bytes(), box.bytes());
+}
+
 }  // namespace
 }  // namespace gport::ipc

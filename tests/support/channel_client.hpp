@@ -100,6 +100,8 @@ class DescriptorClient {
         return fd;
     }
     std::size_t descriptors() const { return descriptors_.size(); }
+    // Reads at most this many bytes per recvmsg (a slow reader).
+    void read_chunk(std::size_t bytes) { chunk_ = bytes < sizeof(data_) ? bytes : sizeof(data_); }
 
   private:
     bool fill(std::chrono::steady_clock::time_point deadline) {
@@ -109,9 +111,8 @@ class DescriptorClient {
         if (fd_ < 0 || left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) {
             return false;
         }
-        char data[65536];
         alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * 64)];
-        iovec iov{data, sizeof(data)};
+        iovec iov{data_, chunk_};
         msghdr message{};
         message.msg_iov = &iov;
         message.msg_iovlen = 1;
@@ -131,12 +132,14 @@ class DescriptorClient {
                 }
             }
         }
-        buffer_.append(data, static_cast<std::size_t>(n));
+        buffer_.append(data_, static_cast<std::size_t>(n));
         return true;
     }
 
     int fd_ = -1;
     int id_ = 0;
+    char data_[65536];
+    std::size_t chunk_ = sizeof(data_);
     std::string buffer_;
     std::deque<nlohmann::json> kept_;
     std::deque<int> descriptors_;

@@ -1,0 +1,194 @@
+#include "shm_readers.hpp"
+
+#include <sys/mman.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "fake_gimbal.hpp"
+#include "gport/base/attitude_ring.hpp"
+#include "gport/base/futex.hpp"
+
+namespace gport::bench {
+namespace {
+
+constexpr std::string_view kOpen = R"({"jsonrpc":"2.0","id":1,"method":"attitude_channel"})"
+                                   "\n";
+
+// The counter the fake gimbal put in the IMU roll and pitch (fake_gimbal.hpp).
+std::uint32_t counter_of(const base::RingSample& sample) {
+    if (sample.imu[0] < 0 || sample.imu[1] < 0) {
+        return 0;
+    }
+    return static_cast<std::uint32_t>(std::lround(sample.imu[0] * 100)) +
+           kCounterBase * static_cast<std::uint32_t>(std::lround(sample.imu[1] * 100));
+}
+
+// Reads the reply line to attitude_channel with recvmsg; returns the
+// descriptor that came with it and the block's size.
+std::pair<Fd, std::size_t> receive_channel(int socket) {
+    std::string text;
+    Fd descriptor;
+    const auto deadline = now_ns() + 10'000'000'000LL;
+    while (text.find('\n') == std::string::npos) {
+        if (now_ns() > deadline) {
+            throw std::runtime_error("attitude_channel: no reply within 10 s");
+        }
+        char data[4096];
+        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * 4)];
+        iovec iov{data, sizeof(data)};
+        msghdr message{};
+        message.msg_iov = &iov;
+        message.msg_iovlen = 1;
+        message.msg_control = control;
+        message.msg_controllen = sizeof(control);
+        const auto n = ::recvmsg(socket, &message, MSG_CMSG_CLOEXEC);
+        if (n < 0 && (errno == EAGAIN || errno == EINTR)) {
+            ::usleep(1000);
+            continue;
+        }
+        if (n <= 0) {
+            throw std::runtime_error("attitude_channel: the connection closed");
+        }
+        for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
+            if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_RIGHTS && !descriptor.valid()) {
+                int fd = -1;
+                std::memcpy(&fd, CMSG_DATA(c), sizeof(int));
+                descriptor.reset(fd);
+            }
+        }
+        text.append(data, static_cast<std::size_t>(n));
+    }
+    const auto reply = nlohmann::json::parse(text.substr(0, text.find('\n')));
+    if (!reply.contains("result") || !descriptor.valid()) {
+        throw std::runtime_error("attitude_channel: " + reply.dump());
+    }
+    return {std::move(descriptor), reply["result"]["size"].get<std::size_t>()};
+}
+
+}  // namespace
+
+struct ShmReaders::Reader {
+    Fd socket;  // kept open: a reader that disconnects is no longer woken
+    const void* memory = nullptr;
+    std::size_t size = 0;
+    Subscriber result;  // its reported_dropped counts the samples missed
+    std::uint64_t cursor = 0;
+    std::uint32_t last = 0;
+    std::atomic<std::uint64_t> wakes{0};
+
+    ~Reader() {
+        if (memory != nullptr) {
+            ::munmap(const_cast<void*>(memory), size);
+        }
+    }
+};
+
+ShmReaders::ShmReaders(const std::string& socket, int count, std::size_t expected_samples,
+                       int threads)
+    : thread_count_(threads > 0 && threads < count ? threads : count) {
+    for (int i = 0; i < count; ++i) {
+        auto reader = std::make_unique<Reader>();
+        auto connected = connect_unix_retry(socket, 10000);  // gportd may still be starting
+        if (!connected) {
+            throw std::runtime_error("shm reader: gportd never listened on " + socket);
+        }
+        reader->socket = std::move(*connected);
+        if (!write_all(reader->socket.get(), kOpen)) {
+            throw std::runtime_error("shm reader " + std::to_string(i) + ": cannot send");
+        }
+        auto [fd, size] = receive_channel(reader->socket.get());
+        void* memory = ::mmap(nullptr, size, PROT_READ, MAP_SHARED, fd.get(), 0);
+        if (memory == MAP_FAILED) {
+            throw std::runtime_error(std::string("mmap of the attitude channel: ") +
+                                     std::strerror(errno));
+        }
+        reader->memory = memory;
+        reader->size = size;
+        if (auto error = base::RingReader::check(memory, size)) {
+            throw std::runtime_error("attitude channel: " + *error);
+        }
+        reader->result.receipts.reserve(expected_samples + 16);
+        readers_.push_back(std::move(reader));
+    }
+}
+
+ShmReaders::~ShmReaders() {
+    stop();
+}
+
+void ShmReaders::start() {
+    std::vector<std::vector<Reader*>> groups(static_cast<std::size_t>(thread_count_));
+    for (std::size_t i = 0; i < readers_.size(); ++i) {
+        groups[i % groups.size()].push_back(readers_[i].get());
+    }
+    for (auto& group : groups) {
+        threads_.emplace_back([this, group] { run(group); });
+    }
+}
+
+void ShmReaders::stop() {
+    stop_ = true;
+    for (auto& thread : threads_) {
+        thread.join();
+    }
+    threads_.clear();
+}
+
+// Takes every new sample of one reader; false once the channel is closed.
+bool ShmReaders::take(Reader& reader) {
+    const base::RingReader ring(reader.memory);
+    auto& out = reader.result;
+    while (auto sample = ring.next(reader.cursor, out.reported_dropped)) {
+        const auto t = now_ns();
+        const auto counter = counter_of(*sample);
+        out.out_of_order += counter != 0 && counter <= reader.last ? 1 : 0;
+        reader.last = counter != 0 ? counter : reader.last;
+        out.receipts.push_back({counter, t});
+    }
+    return !ring.closed();
+}
+
+// Takes every new sample of its readers, then sleeps on the futex word
+// (the first reader's mapping; all map the same block) until the next.
+void ShmReaders::run(const std::vector<Reader*>& readers) {
+    const base::RingReader ring(readers.front()->memory);
+    while (!stop_.load(std::memory_order_relaxed)) {
+        const auto seen = ring.wake_word().load(std::memory_order_acquire);
+        bool open = true;
+        for (Reader* reader : readers) {
+            open = take(*reader) && open;
+        }
+        if (!open) {
+            break;
+        }
+        if (base::futex_wait(ring.wake_word(), seen, std::chrono::milliseconds(100)) ==
+            base::FutexWait::kWoken) {
+            readers.front()->wakes.fetch_add(1, std::memory_order_relaxed);
+        }
+    }
+}
+
+std::vector<Subscriber> ShmReaders::take_results() {
+    std::vector<Subscriber> results;
+    for (auto& reader : readers_) {
+        results.push_back(std::move(reader->result));
+        results.back().subscribed = true;
+    }
+    return results;
+}
+
+std::uint64_t ShmReaders::wakes() const {
+    std::uint64_t total = 0;
+    for (const auto& reader : readers_) {
+        total += reader->wakes.load();
+    }
+    return total;
+}
+
+}  // namespace gport::bench
