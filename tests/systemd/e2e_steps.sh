@@ -202,6 +202,8 @@ check "alice (in gport): gportctl speed --yaw 12 --for 1s is accepted" \
     as_user alice gportctl speed --yaw 12 --for 1s
 check "gport-sim received alice's speed (0x85, yaw 1200 = 12 deg/s)" \
     eventually 5 sim_traced gimbal-sim '"mode":"speed","speed":\[0,0,1200\]'
+check "alice reads attitude through the shared-memory channel under the unit's sandbox (memfd, SCM_RIGHTS, futex)" \
+    timeout 10 setpriv --reuid=alice --regid=alice --init-groups -- gportctl watch attitude --shared-memory --count 5
 out=$(as_user bob gportctl status 2>&1)
 rc=$?
 if [ "$rc" -eq 69 ] && printf '%s' "$out" | grep -qi 'permission denied'; then
