@@ -9,16 +9,13 @@
 #include <string_view>
 
 #include "fake_gimbal.hpp"
+#include "lines.hpp"
 
 namespace gport::bench {
 namespace {
 
 // Epoll keys: subscribers are 0..N-1, flooders are offset by this.
 constexpr std::uint64_t kFlooderKey = 1ULL << 32;
-
-constexpr std::string_view kSubscribe =
-    R"({"jsonrpc":"2.0","id":1,"method":"subscribe","params":{"topics":["attitude"]}})"
-    "\n";
 
 // Reads everything available; calls on_line(line, t) for each whole line,
 // with t the time the read() that completed it returned. False on EOF/error.
@@ -48,11 +45,6 @@ bool drain(int fd, std::string& pending, OnLine&& on_line) {
     }
 }
 
-std::uint64_t dropped_field(std::string_view line) {
-    const auto at = line.find("\"dropped\":");
-    return at == std::string_view::npos ? 0 : std::strtoull(line.data() + at + 10, nullptr, 10);
-}
-
 }  // namespace
 
 ClientHub::ClientHub() : epoll_(::epoll_create1(EPOLL_CLOEXEC)) {
@@ -76,7 +68,7 @@ void ClientHub::add_subscribers(const std::string& socket, int count, int timeou
         auto& s = subscribers_.emplace_back();
         s.fd = connect_unix(socket);
         watch(s.fd.get(), subscribers_.size() - 1);
-        if (!write_all(s.fd.get(), kSubscribe)) {
+        if (!write_all(s.fd.get(), kSubscribeAttitude)) {
             throw std::runtime_error("subscriber " + std::to_string(i) + ": subscribe failed");
         }
     }

@@ -6,21 +6,10 @@
 #include <cmath>
 #include <cstdint>
 
+#include "lines.hpp"
+
 namespace gport::bench {
 namespace {
-
-// The q-quantile (0..1) of `values` by nearest rank; reorders them.
-template <typename T>
-T quantile(std::vector<T>& values, double q) {
-    if (values.empty()) {
-        return T{};
-    }
-    const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(values.size())));
-    const auto index = std::min(values.size() - 1, rank == 0 ? 0 : rank - 1);
-    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index),
-                     values.end());
-    return values[index];
-}
 
 std::string mib(long kib) {
     return fmt::format("{:.1f}", static_cast<double>(kib) / 1024.0);

@@ -11,18 +11,10 @@
 #include <string_view>
 
 #include "fake_gimbal.hpp"
+#include "lines.hpp"
 
 namespace gport::bench {
 namespace {
-
-constexpr std::string_view kSubscribe =
-    R"({"jsonrpc":"2.0","id":1,"method":"subscribe","params":{"topics":["attitude"]}})"
-    "\n";
-
-std::uint64_t dropped_field(std::string_view line) {
-    const auto at = line.find("\"dropped\":");
-    return at == std::string_view::npos ? 0 : std::strtoull(line.data() + at + 10, nullptr, 10);
-}
 
 // Blocking reads that give up after 100 ms, so a stop is noticed.
 void make_blocking(int fd) {
@@ -46,7 +38,7 @@ SocketReaders::SocketReaders(const std::string& socket, int count, std::size_t e
         reader->fd = connect_unix(socket);
         make_blocking(reader->fd.get());
         reader->result.receipts.reserve(expected_lines + 16);
-        if (!write_all(reader->fd.get(), kSubscribe)) {
+        if (!write_all(reader->fd.get(), kSubscribeAttitude)) {
             throw std::runtime_error("socket reader " + std::to_string(i) + ": subscribe failed");
         }
         readers_.push_back(std::move(reader));

@@ -5,17 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lines.hpp"
+
 namespace gport::bench {
 namespace {
-
-// The q-quantile (0..1) by nearest rank; `values` must be sorted.
-double quantile(const std::vector<double>& values, double q) {
-    if (values.empty()) {
-        return 0;
-    }
-    const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(values.size())));
-    return values[std::min(values.size() - 1, rank == 0 ? 0 : rank - 1)];
-}
 
 // The first zero-speed frame stamped at or after `from_ns` and before
 // `until_ns`; 0 when there is none.
@@ -51,10 +44,9 @@ StopStats stats_of(const std::vector<StopSample>& samples, const std::vector<Con
         // the probe may be preempted in between. That counts as no delay.
         ms.push_back(static_cast<double>(std::max<std::int64_t>(0, wire - sample.cause_ns)) / 1e6);
     }
-    std::sort(ms.begin(), ms.end());
+    s.max_ms = ms.empty() ? 0 : *std::max_element(ms.begin(), ms.end());
     s.p50_ms = quantile(ms, 0.50);
     s.p99_ms = quantile(ms, 0.99);
-    s.max_ms = ms.empty() ? 0 : ms.back();
     return s;
 }
 

@@ -16,15 +16,13 @@
 #include <thread>
 
 #include "fake_gimbal.hpp"
+#include "lines.hpp"
 #include "nmea.hpp"
 
 namespace gport::bench {
 namespace {
 
 constexpr std::uint64_t kGpsdKey = std::uint64_t{1} << 32;
-constexpr std::string_view kSubscribe =
-    R"({"jsonrpc":"2.0","id":1,"method":"subscribe","params":{"topics":["attitude"]}})"
-    "\n";
 constexpr std::string_view kWatch = "?WATCH={\"enable\":true,\"json\":true}\n";
 
 // A blocking TCP connect to 127.0.0.1:port, retried while gpsd starts; the
@@ -78,7 +76,7 @@ void WatchHub::add_gportd(const std::string& socket, int count, int timeout_ms) 
         auto& s = gportd_.emplace_back();
         s.fd = std::move(*fd);
         watch(s.fd.get(), gportd_.size() - 1);
-        if (!write_all(s.fd.get(), kSubscribe)) {
+        if (!write_all(s.fd.get(), kSubscribeAttitude)) {
             throw std::runtime_error("gportd watcher " + std::to_string(i) + ": subscribe failed");
         }
     }

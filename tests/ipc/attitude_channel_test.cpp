@@ -19,7 +19,7 @@ using testing::DescriptorClient;
 using testing::RingMapping;
 using testing::ServerHarness;
 
-daemon::AttitudeSample sample(std::uint64_t seq, bool rates) {
+daemon::AttitudeSample channel_sample(std::uint64_t seq, bool rates) {
     daemon::AttitudeSample s;
     s.seq = seq;
     s.wall = daemon::WallTime(std::chrono::microseconds(1'763'770'000'123'456LL));
@@ -32,10 +32,10 @@ daemon::AttitudeSample sample(std::uint64_t seq, bool rates) {
     return s;
 }
 
-void publish(ServerHarness& h, std::uint64_t first, std::uint64_t count, bool rates = false) {
+void publish_samples(ServerHarness& h, std::uint64_t first, std::uint64_t count, bool rates = false) {
     h.on_io([&] {
         for (auto seq = first; seq < first + count; ++seq) {
-            h.api.observer->on_attitude(sample(seq, rates));
+            h.api.observer->on_attitude(channel_sample(seq, rates));
         }
     });
 }
@@ -63,12 +63,12 @@ TEST(AttitudeChannel, TheReplyCarriesOneDescriptorOfTheDescribedBlock) {
 
 TEST(AttitudeChannel, EverySampleIsInTheRingWithTheNotificationsValues) {
     ServerHarness h;
-    publish(h, 1, 5);  // before anyone asked: no block yet, nothing kept
+    publish_samples(h, 1, 5);  // before anyone asked: no block yet, nothing kept
     DescriptorClient client(h.path());
     ASSERT_EQ(client.call("attitude_channel")["result"]["published"], 0);
     RingMapping ring(client.take_descriptor(), base::ring_bytes(64));
-    publish(h, 6, 3);
-    publish(h, 9, 1, true);
+    publish_samples(h, 6, 3);
+    publish_samples(h, 9, 1, true);
     const auto reader = ring.reader();
     ASSERT_EQ(reader.published(), 4u);
     for (std::uint64_t n = 1; n <= 3; ++n) {
@@ -151,7 +151,7 @@ TEST(AttitudeChannel, ClosingTheServerClosesTheRingAndWakesItsWaiters) {
     RingMapping ring(client.take_descriptor(), base::ring_bytes(64));
     const auto reader = ring.reader();
     const auto before = reader.wake_word().load();
-    publish(h, 1, 1);
+    publish_samples(h, 1, 1);
     EXPECT_NE(reader.wake_word().load(), before);  // bumped per sample
     std::atomic<int> waits{0};
     std::thread waiter([&] {
@@ -164,7 +164,7 @@ TEST(AttitudeChannel, ClosingTheServerClosesTheRingAndWakesItsWaiters) {
         }
     });
     while (waits.load() == 0 && !reader.closed()) {
-        publish(h, 2, 1);  // until the waiter has been woken once: it is waiting
+        publish_samples(h, 2, 1);  // until the waiter has been woken once: it is waiting
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
     h.stop();
