@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "harness.hpp"
+#include "unix_connect.hpp"
 
 namespace gport::testing {
 namespace {
@@ -97,13 +98,8 @@ class LimitedDaemon {
 class RawClient {
   public:
     explicit RawClient(const std::string& path) {
-        fd_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-        sockaddr_un address{};
-        address.sun_family = AF_UNIX;
-        std::strncpy(address.sun_path, path.c_str(), sizeof(address.sun_path) - 1);
-        if (::connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0) {
-            ::close(fd_);
-            fd_ = -1;
+        fd_ = connect_unix(path);
+        if (fd_ < 0) {
             return;
         }
         ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) | O_NONBLOCK);

@@ -15,22 +15,15 @@
 #include <string>
 #include <string_view>
 
+#include "unix_connect.hpp"
+
 namespace gport::testing {
 
 using namespace std::chrono_literals;
 
 class TestClient {
   public:
-    explicit TestClient(const std::string& path) {
-        fd_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-        sockaddr_un address{};
-        address.sun_family = AF_UNIX;
-        std::strncpy(address.sun_path, path.c_str(), sizeof(address.sun_path) - 1);
-        if (::connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0) {
-            ::close(fd_);
-            fd_ = -1;
-        }
-    }
+    explicit TestClient(const std::string& path) { fd_ = connect_unix(path); }
     ~TestClient() { disconnect(); }
     TestClient(const TestClient&) = delete;
     TestClient& operator=(const TestClient&) = delete;

@@ -18,21 +18,13 @@
 #include <string>
 
 #include "gport/base/attitude_ring.hpp"
+#include "unix_connect.hpp"
 
 namespace gport::testing {
 
 class DescriptorClient {
   public:
-    explicit DescriptorClient(const std::string& path) {
-        fd_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-        sockaddr_un address{};
-        address.sun_family = AF_UNIX;
-        std::strncpy(address.sun_path, path.c_str(), sizeof(address.sun_path) - 1);
-        if (::connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0) {
-            ::close(fd_);
-            fd_ = -1;
-        }
-    }
+    explicit DescriptorClient(const std::string& path) { fd_ = connect_unix(path); }
     ~DescriptorClient() {
         for (int fd : descriptors_) {
             ::close(fd);
