@@ -66,6 +66,19 @@ TEST(MavlinkMessages, AnAllZeroPayloadKeepsItsFirstByte) {
     EXPECT_EQ(std::get<gm::Heartbeat>(*back).mavlink_version, 0);
 }
 
+// Found by mavlink_fuzz: a sender that truncates even the first byte sends
+// an empty payload. It decodes as all zeros; our encoder sends the one zero
+// byte MAVLink 2 keeps.
+TEST(MavlinkMessages, AnEmptyPayloadDecodesAsZerosAndEncodesBackWithItsFirstByte) {
+    const gm::FrameView v{kHeader, gm::Heartbeat::kId, {}, false};
+    const auto back = gm::decode(v);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_TRUE(gm::same_bits(*back, gm::Message{gm::Heartbeat{.mavlink_version = 0}}));
+    const gm::Frame again = gm::encode(*back, kHeader);
+    EXPECT_EQ(again.payload_size(), 1U);
+    EXPECT_EQ(again.view().payload[0], 0);
+}
+
 TEST(MavlinkMessages, ABasePayloadWithoutExtensionsDecodesWithZeroExtensions) {
     // A sender built before the extensions existed sends the 40 base bytes.
     auto status = gt::sample_attitude_status();
