@@ -32,7 +32,8 @@ daemon::AttitudeSample channel_sample(std::uint64_t seq, bool rates) {
     return s;
 }
 
-void publish_samples(ServerHarness& h, std::uint64_t first, std::uint64_t count, bool rates = false) {
+void publish_samples(ServerHarness& h, std::uint64_t first, std::uint64_t count,
+                     bool rates = false) {
     h.on_io([&] {
         for (auto seq = first; seq < first + count; ++seq) {
             h.api.observer->on_attitude(channel_sample(seq, rates));
