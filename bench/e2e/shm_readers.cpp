@@ -7,11 +7,13 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <deque>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "fake_gimbal.hpp"
 #include "gport/base/attitude_ring.hpp"
+#include "gport/base/descriptors.hpp"
 #include "gport/base/futex.hpp"
 
 namespace gport::bench {
@@ -33,21 +35,14 @@ std::uint32_t counter_of(const base::RingSample& sample) {
 // descriptor that came with it and the block's size.
 std::pair<Fd, std::size_t> receive_channel(int socket) {
     std::string text;
-    Fd descriptor;
+    std::deque<int> received;  // gportd sends exactly one, with the reply
     const auto deadline = now_ns() + 10'000'000'000LL;
     while (text.find('\n') == std::string::npos) {
         if (now_ns() > deadline) {
             throw std::runtime_error("attitude_channel: no reply within 10 s");
         }
         char data[4096];
-        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * 4)];
-        iovec iov{data, sizeof(data)};
-        msghdr message{};
-        message.msg_iov = &iov;
-        message.msg_iovlen = 1;
-        message.msg_control = control;
-        message.msg_controllen = sizeof(control);
-        const auto n = ::recvmsg(socket, &message, MSG_CMSG_CLOEXEC);
+        const auto n = base::receive_with_descriptors(socket, data, sizeof(data), received);
         if (n < 0 && (errno == EAGAIN || errno == EINTR)) {
             ::usleep(1000);
             continue;
@@ -55,15 +50,11 @@ std::pair<Fd, std::size_t> receive_channel(int socket) {
         if (n <= 0) {
             throw std::runtime_error("attitude_channel: the connection closed");
         }
-        for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
-            if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_RIGHTS && !descriptor.valid()) {
-                int fd = -1;
-                std::memcpy(&fd, CMSG_DATA(c), sizeof(int));
-                descriptor.reset(fd);
-            }
-        }
         text.append(data, static_cast<std::size_t>(n));
     }
+    Fd descriptor;
+    descriptor.reset(base::take_descriptor(received));
+    base::close_descriptors(received);
     const auto reply = nlohmann::json::parse(text.substr(0, text.find('\n')));
     if (!reply.contains("result") || !descriptor.valid()) {
         throw std::runtime_error("attitude_channel: " + reply.dump());

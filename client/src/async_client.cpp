@@ -20,7 +20,7 @@
 
 #include "codec.hpp"
 #include "connect_error.hpp"
-#include "descriptors.hpp"
+#include "gport/base/descriptors.hpp"
 #include "ring_channel.hpp"
 
 namespace gport::client {
@@ -123,8 +123,8 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     // Why the connection is lost, if it is.
     std::optional<std::string> receive() {
         char chunk[65536];
-        const auto n = detail::receive(socket.native_handle(), chunk, sizeof(chunk), descriptors,
-                                       MSG_DONTWAIT);
+        const auto n = base::receive_with_descriptors(socket.native_handle(), chunk, sizeof(chunk),
+                                                      descriptors, MSG_DONTWAIT);
         if (n < 0) {
             if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
                 return std::nullopt;
@@ -138,14 +138,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         return std::nullopt;
     }
 
-    int take_descriptor() {
-        if (descriptors.empty()) {
-            return -1;
-        }
-        const int fd = descriptors.front();
-        descriptors.pop_front();
-        return fd;
-    }
+    int take_descriptor() { return base::take_descriptor(descriptors); }
 
     // ---- the shared-memory attitude channel ---------------------------------
     void open_channel(Handler<AttitudeChannel> done) {
@@ -158,11 +151,6 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
                          codec::result_of(reply);
                          const auto self = weak.lock();
                          const int fd = self ? self->take_descriptor() : -1;
-                         if (fd < 0) {
-                             throw Error(ErrorCode::kBadReply,
-                                         "attitude channel: gportd's reply carried no file "
-                                         "descriptor");
-                         }
                          channel = AttitudeChannel::Impl::adopt(fd);
                      } catch (const Error& e) {
                          error = e;
@@ -276,9 +264,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         socket.close(ignored);
         outbox.clear();
         input.clear();
-        for (const int fd : std::exchange(descriptors, {})) {
-            ::close(fd);
-        }
+        base::close_descriptors(descriptors);
         stop_ring();
         fail_pending(Error(ErrorCode::kTransport, why));
     }

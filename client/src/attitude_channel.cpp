@@ -62,6 +62,10 @@ std::unique_ptr<AttitudeChannel::Impl> AttitudeChannel::Impl::map(int fd) {
 }
 
 AttitudeChannel AttitudeChannel::Impl::adopt(int fd) {
+    if (fd < 0) {
+        throw Error(ErrorCode::kBadReply,
+                    "attitude channel: gportd's reply carried no file descriptor");
+    }
     try {
         auto impl = map(fd);
         ::close(fd);

@@ -85,12 +85,7 @@ struct Client::Impl {
     // ---- the shared-memory attitude channel ---------------------------------
     AttitudeChannel open_channel() {
         call("attitude_channel");
-        const int fd = connection.take_descriptor();
-        if (fd < 0) {
-            throw Error(ErrorCode::kBadReply,
-                        "attitude channel: gportd's reply carried no file descriptor");
-        }
-        return AttitudeChannel::Impl::adopt(fd);
+        return AttitudeChannel::Impl::adopt(connection.take_descriptor());
     }
 
     // Attitude from the ring from now on, woken through the connection's poll.

@@ -11,8 +11,9 @@
 #include <system_error>
 #include <utility>
 
+#include "codec.hpp"
 #include "connect_error.hpp"
-#include "descriptors.hpp"
+#include "gport/base/descriptors.hpp"
 #include "gport/client/error.hpp"
 #include "ring_channel.hpp"
 
@@ -89,32 +90,16 @@ AttitudeChannel Connection::attitude_channel(
     if (!reply) {
         throw Error(ErrorCode::kTransport, "the connection to gportd was lost");
     }
-    if (const auto error = reply->find("error"); error != reply->end()) {
-        throw Error(error->value("code", static_cast<int>(ErrorCode::kBadReply)),
-                    error->value("message", std::string("gportd refused attitude_channel")));
-    }
-    const int fd = take_descriptor();
-    if (fd < 0) {
-        throw Error(ErrorCode::kBadReply,
-                    "attitude channel: gportd's reply carried no file descriptor");
-    }
-    return AttitudeChannel::Impl::adopt(fd);
+    codec::result_of(*reply);
+    return AttitudeChannel::Impl::adopt(take_descriptor());
 }
 
 int Connection::take_descriptor() noexcept {
-    if (descriptors_.empty()) {
-        return -1;
-    }
-    const int fd = descriptors_.front();
-    descriptors_.pop_front();
-    return fd;
+    return base::take_descriptor(descriptors_);
 }
 
 void Connection::close_descriptors() noexcept {
-    for (const int fd : descriptors_) {
-        ::close(fd);
-    }
-    descriptors_.clear();
+    base::close_descriptors(descriptors_);
 }
 
 std::optional<int> Connection::send(const std::string& method, const nlohmann::json& params) {
@@ -163,7 +148,7 @@ bool Connection::fill(std::optional<std::chrono::steady_clock::time_point> deadl
 // One recvmsg: the bytes go to the buffer, the descriptors to the FIFO.
 void Connection::receive() {
     char chunk[65536];
-    const auto n = detail::receive(fd_, chunk, sizeof(chunk), descriptors_);
+    const auto n = base::receive_with_descriptors(fd_, chunk, sizeof(chunk), descriptors_);
     if (n < 0 && errno == EINTR) {
         return;
     }

@@ -21,7 +21,8 @@ struct AttitudeChannel::Impl {
     // Maps the memfd read-only and checks it; throws Error (kBadReply)
     // naming the problem. Does not close `fd`.
     static std::unique_ptr<Impl> map(int fd);
-    // Claims the descriptor: maps it, then closes it (also on failure).
+    // Claims the descriptor: maps it, then closes it (also on failure); -1
+    // (the reply carried none) throws Error (kBadReply).
     static AttitudeChannel adopt(int fd);
 
     Impl(const void* block, std::size_t bytes) : memory(block), size(bytes), reader(block) {}

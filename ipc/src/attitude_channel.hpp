@@ -19,11 +19,15 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "gport/base/attitude_ring.hpp"
 #include "gport/daemon/events.hpp"
 
 namespace gport::ipc::detail {
+
+// The start of every -32603 message about the channel.
+inline constexpr std::string_view kUnavailable = "attitude channel unavailable: ";
 
 // A sample as the ring carries it: the attitude notification's values.
 base::RingSample ring_sample(const daemon::AttitudeSample& sample);
@@ -42,7 +46,6 @@ class AttitudeChannel {
     // names the step that failed and why; nothing is kept then, so the next
     // call tries again.
     std::optional<std::string> open();
-    bool is_open() const { return writer_.has_value(); }
 
     // The sealed memfd (-1 before open()); it stays open until destruction.
     int fd() const { return fd_; }

@@ -10,6 +10,7 @@
 #include <memory>
 #include <utility>
 
+#include "attitude_channel.hpp"
 #include "gport/ipc/event_json.hpp"
 #include "json_common.hpp"
 #include "params.hpp"
@@ -161,12 +162,13 @@ void unsubscribe(MethodContext& c, const json& params, Respond respond) {
 void attitude_channel(MethodContext& c, const json& params, Respond respond) {
     Params(params).only({});
     if (c.channel == nullptr) {
-        respond(RpcError{rpc_error::kInternal, "attitude channel unavailable: not served here"});
+        respond(
+            RpcError{rpc_error::kInternal, std::string(detail::kUnavailable) + "not served here"});
         return;
     }
     auto opened = c.channel->open_attitude_channel(c.client);
     if (auto* error = std::get_if<std::string>(&opened)) {
-        respond(RpcError{rpc_error::kInternal, "attitude channel unavailable: " + *error});
+        respond(RpcError{rpc_error::kInternal, std::string(detail::kUnavailable) + *error});
         return;
     }
     const auto& info = std::get<ChannelInfo>(opened);

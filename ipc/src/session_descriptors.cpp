@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "attitude_channel.hpp"
 #include "gport/ipc/json_rpc.hpp"
 #include "session.hpp"
 
@@ -23,7 +24,7 @@ using nlohmann::json;
 std::string unsent_reply(const std::string& line, const std::string& why) {
     json reply = json::parse(line, nullptr, false);
     const json error = {{"code", rpc_error::kInternal},
-                        {"message", "attitude channel unavailable: " + why}};
+                        {"message", std::string(detail::kUnavailable) + why}};
     const auto replace = [&error](json& member) {
         if (member.is_object() && member.contains("result") && member["result"].is_object() &&
             member["result"].contains("slots")) {

@@ -115,6 +115,30 @@ TEST(AttitudeRing, AReaderLappedByTheWriterSkipsAheadAndCountsWhatItMissed) {
     EXPECT_EQ(taken + missed, 21U - 1);  // every sample after the first: taken or missed
 }
 
+// A reader exactly one ring behind wants the slot the writer fills next. If
+// the writer stops half-way through that slot (gportd killed), the reader
+// must skip ahead rather than retry the torn slot for ever.
+TEST(AttitudeRing, AWriterStoppedInsideTheSlotANearlyLappedReaderWantsDoesNotHangIt) {
+    Block block(8);
+    RingWriter writer(block.data(), 8);
+    RingReader reader(block.data());
+    writer.publish(sample(1));
+    std::uint64_t cursor = 0;
+    std::uint64_t missed = 0;
+    ASSERT_EQ(reader.next(cursor, missed)->seq, 1U);
+    for (std::uint64_t i = 2; i <= 9; ++i) {
+        writer.publish(sample(i));
+    }
+    // Sample 10 goes where sample 2 is: begun (odd seq), never finished.
+    auto* slots =
+        reinterpret_cast<RingSlot*>(static_cast<std::byte*>(block.data()) + sizeof(RingHeader));
+    slots[(10 - 1) % 8].seq.store(2 * 10 - 1);
+    const auto taken = reader.next(cursor, missed);
+    ASSERT_TRUE(taken);
+    EXPECT_EQ(taken->seq, 9U - 4);  // half a ring behind the newest
+    EXPECT_EQ(missed, 3U);          // 2, 3 and 4
+}
+
 TEST(AttitudeRing, CheckNamesWhatIsWrongWithABlock) {
     Block block(8);
     RingWriter writer(block.data(), 8);

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "gport/base/attitude_ring.hpp"
+#include "gport/base/descriptors.hpp"
 #include "unix_connect.hpp"
 
 namespace gport::testing {
@@ -26,9 +27,7 @@ class DescriptorClient {
   public:
     explicit DescriptorClient(const std::string& path) { fd_ = connect_unix(path); }
     ~DescriptorClient() {
-        for (int fd : descriptors_) {
-            ::close(fd);
-        }
+        base::close_descriptors(descriptors_);
         if (fd_ >= 0) {
             ::close(fd_);
         }
@@ -83,14 +82,7 @@ class DescriptorClient {
     }
 
     // The first descriptor received and not taken yet, or -1. The caller owns it.
-    int take_descriptor() {
-        if (descriptors_.empty()) {
-            return -1;
-        }
-        const int fd = descriptors_.front();
-        descriptors_.pop_front();
-        return fd;
-    }
+    int take_descriptor() { return base::take_descriptor(descriptors_); }
     std::size_t descriptors() const { return descriptors_.size(); }
     // Reads at most this many bytes per recvmsg (a slow reader).
     void read_chunk(std::size_t bytes) { chunk_ = bytes < sizeof(data_) ? bytes : sizeof(data_); }
@@ -103,26 +95,9 @@ class DescriptorClient {
         if (fd_ < 0 || left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) {
             return false;
         }
-        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * 64)];
-        iovec iov{data_, chunk_};
-        msghdr message{};
-        message.msg_iov = &iov;
-        message.msg_iovlen = 1;
-        message.msg_control = control;
-        message.msg_controllen = sizeof(control);
-        const auto n = ::recvmsg(fd_, &message, MSG_CMSG_CLOEXEC);
+        const auto n = base::receive_with_descriptors(fd_, data_, chunk_, descriptors_);
         if (n <= 0) {
             return false;
-        }
-        for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
-            if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_RIGHTS) {
-                const std::size_t count = (c->cmsg_len - CMSG_LEN(0)) / sizeof(int);
-                for (std::size_t i = 0; i < count; ++i) {
-                    int fd = -1;
-                    std::memcpy(&fd, CMSG_DATA(c) + i * sizeof(int), sizeof(int));
-                    descriptors_.push_back(fd);
-                }
-            }
         }
         buffer_.append(data_, static_cast<std::size_t>(n));
         return true;

@@ -5,7 +5,9 @@ from __future__ import annotations
 import asyncio
 import os
 import socket
+import threading
 import time
+from collections import deque
 from contextlib import asynccontextmanager
 from typing import Any, AsyncGenerator, AsyncIterator, Iterable, Mapping
 
@@ -356,9 +358,21 @@ class AsyncClient:
             return
         channel = await self.attitude_channel()
         loop = asyncio.get_running_loop()
+        # Samples wait here (bounded like the inbox) and one drain at a time
+        # is posted to the loop, so a busy loop never piles up callbacks.
+        waiting: deque[Attitude] = deque(maxlen=p.INBOX_LIMIT)
+        posted = threading.Event()
+
+        def drain() -> None:
+            posted.clear()
+            while waiting:
+                self._ring_sample(waiting.popleft())
 
         def deliver(sample: Attitude) -> None:
-            loop.call_soon_threadsafe(self._ring_sample, sample)
+            waiting.append(sample)
+            if not posted.is_set():
+                posted.set()
+                loop.call_soon_threadsafe(drain)
 
         self._pump = RingPump(channel, deliver)
 

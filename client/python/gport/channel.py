@@ -184,21 +184,25 @@ class AttitudeChannel:
             if first is not None:
                 self._cursor = 1
                 return self._attitude(first)
-        while True:
+        lapped = False
+        for _ in range(4):  # bounded: a writer stopped inside a slot never hangs us
             newest = self._published()
             if newest <= self._cursor:
                 return None
             want = self._cursor + 1
             if self._cursor == 0:
                 want = newest
-            elif newest - self._cursor > self._slots:
-                want = newest - self._slots // 2
+            elif lapped or newest - self._cursor > self._slots:
+                want = max(self._cursor + 1, newest - self._slots // 2)
             words = self._read(want)
             if words is not None:
                 self.missed += 0 if self._cursor == 0 else want - self._cursor - 1
                 self._cursor = want
                 return self._attitude(words)
-            # Overwritten between the two looks: the writer lapped this reader.
+            # Overwritten between the two looks, or being overwritten: the
+            # writer lapped this reader.
+            lapped = True
+        return None
 
     def skip_to_newest(self) -> None:
         """From now on, take() gives only samples published after this call."""

@@ -17,6 +17,7 @@
 // version they do not know.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <bit>
@@ -230,11 +231,13 @@ class RingReader {
 
     // The sample after `cursor` (the ring index of the last one taken, 0 at
     // first), or nothing when none is newer. A reader that starts at 0 begins
-    // with the newest sample. One that fell more than slot_count behind jumps
-    // to half a ring behind the newest; every sample it skips is added to
-    // `missed`.
+    // with the newest sample. One that fell more than slot_count behind, or
+    // whose next sample was overwritten while it looked, jumps to half a ring
+    // behind the newest; every sample it skips is added to `missed`. Bounded:
+    // a writer stopped in the middle of a slot never makes it spin.
     std::optional<RingSample> next(std::uint64_t& cursor, std::uint64_t& missed) const {
-        for (;;) {
+        bool lapped = false;
+        for (int attempt = 0; attempt < 4; ++attempt) {
             const std::uint64_t newest = published();
             if (newest <= cursor) {
                 return std::nullopt;
@@ -242,17 +245,19 @@ class RingReader {
             std::uint64_t want = cursor + 1;
             if (cursor == 0) {
                 want = newest;
-            } else if (newest - cursor > header_->slot_count) {
-                want = newest - header_->slot_count / 2;
+            } else if (lapped || newest - cursor > header_->slot_count) {
+                want = std::max(cursor + 1, newest - header_->slot_count / 2);
             }
             if (auto sample = read(want)) {
                 missed += cursor == 0 ? 0 : want - cursor - 1;
                 cursor = want;
                 return sample;
             }
-            // Overwritten between published() and read(): the writer lapped
-            // this reader; look again from the new head.
+            // Overwritten between published() and read(), or being
+            // overwritten: the writer lapped this reader.
+            lapped = true;
         }
+        return std::nullopt;
     }
 
   private:

@@ -61,7 +61,6 @@ class GPORT_CLIENT_API Connection {
     // The oldest received descriptor not yet claimed (the caller owns it),
     // or -1 when none waits.
     int take_descriptor() noexcept;
-    std::size_t unclaimed_descriptors() const noexcept { return descriptors_.size(); }
 
     // A descriptor (not owned; -1: none) that read() also polls: when it is
     // readable, read() returns kWoken.

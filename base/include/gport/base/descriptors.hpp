@@ -1,0 +1,72 @@
+// recvmsg with SCM_RIGHTS: gportd attaches a file descriptor to
+// `attitude_channel` replies (docs/api.md). The client library's transports,
+// the benchmarks and the tests read the socket with it and keep the
+// descriptors received in arrival order until claimed.
+#pragma once
+
+#include <sys/socket.h>
+#include <sys/types.h>
+#include <sys/uio.h>
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstring>
+#include <deque>
+
+namespace gport::base {
+
+// Descriptors accepted per recvmsg: gportd sends one per `attitude_channel`
+// result with the reply line that carries it, so a batch line carries up to
+// its 32 members' worth, and a Unix stream socket never hands over two lines'
+// descriptors in one read. The kernel would close any beyond (MSG_CTRUNC).
+inline constexpr std::size_t kMaxDescriptors = 32;
+
+// One recvmsg (MSG_CMSG_CLOEXEC | flags) into `data`; the descriptors that
+// came with the bytes are appended to `fds`. Returns recvmsg's result.
+inline ssize_t receive_with_descriptors(int socket, char* data, std::size_t size,
+                                        std::deque<int>& fds, int flags = 0) {
+    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * kMaxDescriptors)];
+    iovec io{data, size};
+    msghdr message{};
+    message.msg_iov = &io;
+    message.msg_iovlen = 1;
+    message.msg_control = control;
+    message.msg_controllen = sizeof(control);
+    const ssize_t n = ::recvmsg(socket, &message, MSG_CMSG_CLOEXEC | flags);
+    if (n < 0) {
+        return n;
+    }
+    for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
+        if (c->cmsg_level != SOL_SOCKET || c->cmsg_type != SCM_RIGHTS) {
+            continue;
+        }
+        const std::size_t count = (c->cmsg_len - CMSG_LEN(0)) / sizeof(int);
+        for (std::size_t i = 0; i < count; ++i) {
+            int fd = -1;
+            std::memcpy(&fd, CMSG_DATA(c) + i * sizeof(int), sizeof(int));
+            fds.push_back(fd);
+        }
+    }
+    return n;
+}
+
+// The first descriptor received and not claimed yet, or -1; the caller
+// owns it.
+inline int take_descriptor(std::deque<int>& fds) noexcept {
+    if (fds.empty()) {
+        return -1;
+    }
+    const int fd = fds.front();
+    fds.pop_front();
+    return fd;
+}
+
+// Closes every descriptor nobody claimed.
+inline void close_descriptors(std::deque<int>& fds) noexcept {
+    for (const int fd : fds) {
+        ::close(fd);
+    }
+    fds.clear();
+}
+
+}  // namespace gport::base
