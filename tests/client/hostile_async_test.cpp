@@ -81,8 +81,10 @@ TEST_F(HostileAsync, LineWithoutEndStopsAtTheLineLimit) {
     ASSERT_TRUE(disconnected.has_value()) << "on_disconnect was called";
     EXPECT_EQ(disconnected->message(), e.message());
     EXPECT_FALSE(client.connected());
-    EXPECT_LT(growth, 64 * 1024) << "KiB of peak RSS growth";
     EXPECT_LT(server.bytes_sent(), 64 * kMiB) << "the client stopped reading at the limit";
+    if (kRssMeasured) {
+        EXPECT_LT(growth, 64 * 1024) << "KiB of peak RSS growth";
+    }
 }
 
 TEST_F(HostileAsync, JsonNestedAMillionDeepEndsTheConnection) {

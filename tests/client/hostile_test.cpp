@@ -50,8 +50,10 @@ TEST(HostileServer, LineWithoutEndStopsAtTheLineLimit) {
     EXPECT_TRUE(e.transport()) << e.what();
     EXPECT_TRUE(mentions(e, "16777216")) << "names the limit: " << e.message();
     EXPECT_FALSE(client.connected());
-    EXPECT_LT(growth, 64 * 1024) << "KiB of peak RSS growth";
     EXPECT_LT(server.bytes_sent(), 64 * kMiB) << "the client stopped reading at the limit";
+    if (kRssMeasured) {
+        EXPECT_LT(growth, 64 * 1024) << "KiB of peak RSS growth";
+    }
 }
 
 TEST(HostileServer, JsonNestedAMillionDeepEndsTheConnection) {
@@ -202,7 +204,8 @@ TEST(HostileServer, AServerThatNeverReadsCannotHoldACall) {
 }
 
 TEST(HostileServer, AFloodNobodyTakesIsBoundedAndCounted) {
-    constexpr std::uint64_t kFlood = 300'000;
+    // Unbounded, 300,000 notifications would hold ~80 MiB.
+    constexpr std::uint64_t kFlood = kRssMeasured ? 300'000 : 20'000;
     HostileServer server([](HostilePeer& peer, const json& request) {
         peer.send_line({{"jsonrpc", "2.0"},
                         {"method", "link"},
@@ -219,13 +222,16 @@ TEST(HostileServer, AFloodNobodyTakesIsBoundedAndCounted) {
         peer.reply(request, {{"sent", true}});
     });
     auto client = gc::Client::connect(server.path());
+    client.set_call_timeout(std::nullopt);  // the flood takes what the machine needs
     const auto before = reset_peak_rss();
     client.photo();
     const auto growth = peak_rss_kib() - before;
     std::printf("flood of %llu notifications: peak RSS grew %llu KiB\n",
                 static_cast<unsigned long long>(kFlood), static_cast<unsigned long long>(growth));
     EXPECT_EQ(client.dropped_notifications(), kFlood - gc::kNotificationQueueLimit);
-    EXPECT_LT(growth, 64 * 1024) << "KiB of peak RSS growth";
+    if (kRssMeasured) {
+        EXPECT_LT(growth, 64 * 1024) << "KiB of peak RSS growth";
+    }
     const auto first = client.next_notification(0ms);
     ASSERT_TRUE(first.has_value());
     EXPECT_TRUE(std::holds_alternative<gc::LinkEvent>(*first))
@@ -241,18 +247,20 @@ TEST(HostileServer, AFloodNobodyTakesIsBoundedAndCounted) {
 // Link events whose reason is a 1 MiB string: at most kLineLimit bytes of
 // them wait, however many came.
 TEST(HostileServer, LongNotificationsAreBoundedInBytesToo) {
+    constexpr std::size_t kEvents = kRssMeasured ? 256 : 32;
     const auto line = json{{"jsonrpc", "2.0"},
                            {"method", "link"},
                            {"params", {{"state", "down"}, {"reason", std::string(kMiB, 'r')}}}}
                           .dump() +
                       "\n";
     HostileServer server([&](HostilePeer& peer, const json& request) {
-        for (int i = 0; i < 256; ++i) {
+        for (std::size_t i = 0; i < kEvents; ++i) {
             peer.send(line);
         }
         peer.reply(request, {{"sent", true}});
     });
     auto client = gc::Client::connect(server.path());
+    client.set_call_timeout(std::nullopt);  // the flood takes what the machine needs
     const auto before = reset_peak_rss();
     client.photo();
     const auto growth = peak_rss_kib() - before;
@@ -260,11 +268,13 @@ TEST(HostileServer, LongNotificationsAreBoundedInBytesToo) {
     while (client.next_notification(0ms)) {
         ++kept;
     }
-    std::printf("256 link events of 1 MiB: %zu kept, peak RSS grew %llu KiB\n", kept,
+    std::printf("%zu link events of 1 MiB: %zu kept, peak RSS grew %llu KiB\n", kEvents, kept,
                 static_cast<unsigned long long>(growth));
     EXPECT_LE(kept, 16U);
-    EXPECT_EQ(client.dropped_notifications(), 256 - kept);
-    EXPECT_LT(growth, 64 * 1024) << "KiB of peak RSS growth (unbounded: 256 MiB)";
+    EXPECT_EQ(client.dropped_notifications(), kEvents - kept);
+    if (kRssMeasured) {
+        EXPECT_LT(growth, 64 * 1024) << "KiB of peak RSS growth (unbounded: 256 MiB)";
+    }
 }
 
 TEST(HostileServer, ALineCutByTheServerClosingIsNotAMessage) {
