@@ -72,7 +72,7 @@ TEST_F(HostileAsync, LineWithoutEndStopsAtTheLineLimit) {
     connect(client, server.path());
     const auto before = reset_peak_rss();
     const auto e = status_error(client);
-    const auto growth = peak_rss_kib() - before;
+    const auto growth = peak_rss_growth_kib(before);
     std::printf("async, 400 MB line: peak RSS grew %llu KiB; the server sent %llu bytes\n",
                 static_cast<unsigned long long>(growth),
                 static_cast<unsigned long long>(server.bytes_sent()));

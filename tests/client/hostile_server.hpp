@@ -198,6 +198,13 @@ inline std::uint64_t reset_peak_rss() {
     return peak_rss_kib();
 }
 
+// How much the peak grew since `before` (reset_peak_rss()); zero when the
+// kernel's per-thread RSS counters, synced in batches, read a little lower.
+inline std::uint64_t peak_rss_growth_kib(std::uint64_t before) {
+    const auto peak = peak_rss_kib();
+    return peak > before ? peak - before : 0;
+}
+
 // An attitude notification as gportd sends it.
 inline nlohmann::json attitude_notification(std::uint64_t seq) {
     const nlohmann::json axes = {{"roll", 0.5}, {"pitch", -2.25}, {"yaw", 44.75}};

@@ -43,7 +43,7 @@ TEST(HostileServer, LineWithoutEndStopsAtTheLineLimit) {
     auto client = gc::Client::connect(server.path());
     const auto before = reset_peak_rss();
     const auto e = error_of([&] { client.status(); });
-    const auto growth = peak_rss_kib() - before;
+    const auto growth = peak_rss_growth_kib(before);
     std::printf("400 MB line: peak RSS grew %llu KiB; the server sent %llu bytes\n",
                 static_cast<unsigned long long>(growth),
                 static_cast<unsigned long long>(server.bytes_sent()));
@@ -225,7 +225,7 @@ TEST(HostileServer, AFloodNobodyTakesIsBoundedAndCounted) {
     client.set_call_timeout(std::nullopt);  // the flood takes what the machine needs
     const auto before = reset_peak_rss();
     client.photo();
-    const auto growth = peak_rss_kib() - before;
+    const auto growth = peak_rss_growth_kib(before);
     std::printf("flood of %llu notifications: peak RSS grew %llu KiB\n",
                 static_cast<unsigned long long>(kFlood), static_cast<unsigned long long>(growth));
     EXPECT_EQ(client.dropped_notifications(), kFlood - gc::kNotificationQueueLimit);
@@ -263,7 +263,7 @@ TEST(HostileServer, LongNotificationsAreBoundedInBytesToo) {
     client.set_call_timeout(std::nullopt);  // the flood takes what the machine needs
     const auto before = reset_peak_rss();
     client.photo();
-    const auto growth = peak_rss_kib() - before;
+    const auto growth = peak_rss_growth_kib(before);
     std::size_t kept = 0;
     while (client.next_notification(0ms)) {
         ++kept;

@@ -339,6 +339,48 @@ def test_async_recursion_error_ends_the_connection(
     asyncio.run(main())
 
 
+def test_async_a_pending_call_and_a_waiting_task_fail_at_once(
+    hostile: Callable[..., Hostile],
+) -> None:
+    def script(peer: Hostile, request: Any) -> None:
+        time.sleep(0.3)  # both waits have begun
+        peer.send(b"not json at all\n")
+
+    server = hostile(script)
+
+    async def main() -> None:
+        client = await gport.AsyncClient.open(server.path, timeout=PATIENT)
+        waiter = asyncio.create_task(client.next_notification(timeout=PATIENT))
+        with pytest.raises(gport.ConnectionLost) as raised:
+            await client.status()
+        assert "not JSON" in raised.value.message
+        with pytest.raises(gport.ConnectionLost):
+            await waiter
+        await client.close()
+
+    asyncio.run(main())
+
+
+def test_async_a_silent_daemon_gives_a_timeout_and_the_connection_stays(
+    hostile: Callable[..., Hostile],
+) -> None:
+    def script(peer: Hostile, request: Any) -> None:
+        if request["method"] == "photo":
+            peer.reply(request, {"sent": True})
+
+    server = hostile(script)
+
+    async def main() -> None:
+        client = await gport.AsyncClient.open(server.path, timeout=0.2)
+        with pytest.raises(gport.Timeout):
+            await client.status()
+        assert client.connected
+        assert await client.call("photo") == {"sent": True}
+        await client.close()
+
+    asyncio.run(main())
+
+
 def test_async_a_line_without_end_stops_at_the_limit(hostile: Callable[..., Hostile]) -> None:
     server = hostile(lambda peer, request: peer.stream(400 * MiB))
 
