@@ -375,6 +375,10 @@ started_after() {
 check "gport-mavlink started after gportd was ready" started_after
 check "the bridge is a client of gportd (status counts it)" \
     eventually 10 sh -c "gportctl --json status | grep -Eq '\"clients\": ?[2-9]'"
+check "the bridge listens on loopback only by default (udpin:127.0.0.1:14560)" \
+    sh -c "grep -q ' 0100007F:38E0 ' /proc/net/udp && ! grep -q ' 00000000:38E0 ' /proc/net/udp"
+check "its StateDirectory (signing timestamp) is /var/lib/gport-mavlink, the bridge's, mode 700" \
+    sh -c "[ \"\$(stat -c '%U %a' /var/lib/gport-mavlink)\" = 'gport-mavlink 700' ]"
 systemctl stop gportd.service
 check "stopping gportd stops gport-mavlink with it" \
     eventually 10 sh -c "! systemctl is-active -q gport-mavlink.service"
