@@ -77,13 +77,13 @@ void Bridge::finish() {
         signing_->close();
     }
     spdlog::info(
-        "mavlink: {} frames taken, {} from untrusted senders ({} senders), {} signed without a "
-        "key, {} undecodable; decoder: {} bad CRC, {} bad length, {} unknown flags, {} MAVLink 1; "
-        "signing: {}; {} frames unsent (no peer yet), {} send failures",
-        counters_.accepted, counters_.untrusted, strangers_.listed() + strangers_.unlisted(),
-        counters_.signed_no_key, counters_.undecodable, d.crc_errors, d.length_errors,
-        d.header_errors, d.v1_frames, signing, transport_ ? transport_->unsent() : 0,
-        transport_ ? transport_->send_failures() : 0);
+        "mavlink: {} frames taken, {} refused by the trust rules ({} senders logged{}), "
+        "{} signed without a key, {} undecodable; decoder: {} bad CRC, {} bad length, {} unknown "
+        "flags, {} MAVLink 1; signing: {}; {} frames unsent (no peer yet), {} send failures",
+        counters_.accepted, counters_.untrusted, strangers_.listed(),
+        strangers_.unlisted() > 0 ? ", more not" : "", counters_.signed_no_key,
+        counters_.undecodable, d.crc_errors, d.length_errors, d.header_errors, d.v1_frames, signing,
+        transport_ ? transport_->unsent() : 0, transport_ ? transport_->send_failures() : 0);
 }
 
 // ---- gportd ---------------------------------------------------------------------
@@ -243,12 +243,12 @@ std::uint32_t Bridge::time_boot_ms() const {
         std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started_).count());
 }
 
-void Bridge::send_heartbeat() {
+void Bridge::send_heartbeat(const Origin& to) {
     Heartbeat hb;
     hb.type = mav_type::kGimbal;
     hb.autopilot = mav_autopilot::kInvalid;
     hb.system_status = system_status(health());
-    send(hb);
+    send(hb, to);
 }
 
 void Bridge::heartbeat_tick() {

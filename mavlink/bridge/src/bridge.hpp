@@ -64,20 +64,27 @@ class Bridge {
     void on_frame(const FrameView& frame);
     bool admitted(const FrameView& frame, const Message& message);
     void refuse(const FrameView& frame, TrustVerdict verdict);
+    // Who sent a command: its header (for the ACK's target) and its origin
+    // (where the reply goes: the request's sender, not whoever is the peer
+    // by the time gportd answers).
+    struct Requester {
+        Header header;
+        Origin origin;
+    };
     void handle(const Header& from, const Message& message);
     void on_heartbeat(const Header& header, const Heartbeat& heartbeat);
-    void on_command(const Header& header, const CommandLong& command);
+    void on_command(const Requester& from, const CommandLong& command);
     void on_set_attitude(const GimbalDeviceSetAttitude& message);
     void on_autopilot_state(const AutopilotStateForGimbalDevice& message);
-    void request_message(const Header& from, const CommandLong& command);
-    void camera(const Header& from, const CommandLong& command);
-    void record(const Header& from, std::uint16_t command, bool on, bool force);
-    // MAVLink out
-    void ack(const Header& to, std::uint16_t command, std::uint8_t result);
-    void send(const Message& message);
+    void request_message(const Requester& from, const CommandLong& command);
+    void camera(const Requester& from, const CommandLong& command);
+    void record(const Requester& from, std::uint16_t command, bool on, bool force);
+    // MAVLink out: to the peer, or (replies) to a requester's origin
+    void ack(const Requester& to, std::uint16_t command, std::uint8_t result);
+    void send(const Message& message, const Origin& to = std::nullopt);
 
     // timers (bridge.cpp)
-    void send_heartbeat();
+    void send_heartbeat(const Origin& to = std::nullopt);
     void heartbeat_tick();
     void attitude_tick();
     Health health() const;

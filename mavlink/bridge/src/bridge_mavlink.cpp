@@ -116,7 +116,7 @@ void Bridge::handle(const Header& from, const Message& message) {
         on_heartbeat(from, *hb);
     } else if (const auto* cmd = std::get_if<CommandLong>(&message)) {
         if (addressed_to(cmd->target_system, cmd->target_component, us, options_.compid)) {
-            on_command(from, *cmd);
+            on_command({from, transport_->origin()}, *cmd);
         }
     } else if (const auto* set = std::get_if<GimbalDeviceSetAttitude>(&message)) {
         if (addressed_to(set->target_system, set->target_component, us, options_.compid)) {
@@ -137,7 +137,7 @@ void Bridge::on_heartbeat(const Header& header, const Heartbeat& heartbeat) {
     }
 }
 
-void Bridge::on_command(const Header& from, const CommandLong& command) {
+void Bridge::on_command(const Requester& from, const CommandLong& command) {
     switch (command.command) {
         case mav_cmd::kRequestMessage:
             request_message(from, command);
@@ -153,20 +153,20 @@ void Bridge::on_command(const Header& from, const CommandLong& command) {
     }
 }
 
-void Bridge::request_message(const Header& from, const CommandLong& command) {
+void Bridge::request_message(const Requester& from, const CommandLong& command) {
     const auto id = static_cast<std::uint32_t>(command.param[0]);
     if (id == GimbalDeviceInformation::kId) {
         ack(from, command.command, mav_result::kAccepted);
-        send(make_information(time_boot_ms(), limits_, options_.invert));
+        send(make_information(time_boot_ms(), limits_, options_.invert), from.origin);
     } else if (id == Heartbeat::kId) {
         ack(from, command.command, mav_result::kAccepted);
-        send_heartbeat();
+        send_heartbeat(from.origin);
     } else {
         ack(from, command.command, mav_result::kDenied);
     }
 }
 
-void Bridge::camera(const Header& from, const CommandLong& command) {
+void Bridge::camera(const Requester& from, const CommandLong& command) {
     if (!connected_) {
         ack(from, command.command, mav_result::kTemporarilyRejected);
         return;
@@ -187,7 +187,7 @@ void Bridge::camera(const Header& from, const CommandLong& command) {
 // record on/off; while gportd's assumed state is unknown it refuses `on`
 // without force (-32602), so the request is repeated once with force: the
 // MAVLink command says which state the user wants.
-void Bridge::record(const Header& from, std::uint16_t cmd, bool on, bool force) {
+void Bridge::record(const Requester& from, std::uint16_t cmd, bool on, bool force) {
     gportd_.async_record(
         on, force,
         [this, from, cmd, on, force](std::optional<client::Error> e, client::RecordResult) {
@@ -218,16 +218,16 @@ void Bridge::on_autopilot_state(const AutopilotStateForGimbalDevice& message) {
     }
 }
 
-void Bridge::ack(const Header& to, std::uint16_t command, std::uint8_t result) {
+void Bridge::ack(const Requester& to, std::uint16_t command, std::uint8_t result) {
     CommandAck a;
     a.command = command;
     a.result = result;
-    a.target_system = to.sysid;
-    a.target_component = to.compid;
-    send(a);
+    a.target_system = to.header.sysid;
+    a.target_component = to.header.compid;
+    send(a, to.origin);
 }
 
-void Bridge::send(const Message& message) {
+void Bridge::send(const Message& message, const Origin& to) {
     // With --sysid auto, before the vehicle is adopted only the heartbeat
     // goes out, under the provisional id 1 (the autopilots' default), so that
     // a udpout or serial peer (mavlink-router) learns of us and starts
@@ -241,7 +241,7 @@ void Bridge::send(const Message& message) {
     if (signing_) {
         signing_->sign(frame);
     }
-    transport_->send(frame.bytes());
+    transport_->send_to(frame.bytes(), to);
 }
 
 }  // namespace gport::mavlink::bridge

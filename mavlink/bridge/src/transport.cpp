@@ -73,6 +73,21 @@ class UdpTransport final : public Transport {
         }
     }
 
+    void send_to(std::span<const std::uint8_t> frame, const Origin& origin) override {
+        if (!listening_ || !origin) {
+            send(frame);
+            return;
+        }
+        boost::system::error_code ec;
+        socket_.send_to(asio::buffer(frame.data(), frame.size()), *origin, 0, ec);
+        if (ec) {
+            ++send_failures_;
+            spdlog::debug("mavlink: send to {} failed: {}", text_of(*origin), ec.message());
+        }
+    }
+
+    Origin origin() const override { return listening_ ? Origin(sender_) : std::nullopt; }
+
     void accept_sender() override {
         if (!listening_ || (peer_ && *peer_ == sender_)) {
             return;

@@ -12,14 +12,20 @@
 #pragma once
 
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/udp.hpp>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 
 #include "gport/mavlink/bridge/options.hpp"
 
 namespace gport::mavlink::bridge {
+
+// Where a chunk came from: its UDP sender for udpin; empty for udpout and
+// serial, whose peer is fixed.
+using Origin = std::optional<boost::asio::ip::udp::endpoint>;
 
 class Transport {
   public:
@@ -34,6 +40,15 @@ class Transport {
     // Sends one frame; dropped (and counted) when there is nobody to send to
     // yet (udpin before the first accepted frame) or the send fails.
     virtual void send(std::span<const std::uint8_t> frame) = 0;
+    // Sends a reply to the origin of an accepted request (udpin: the
+    // request's sender, which may not be the current peer any more); to the
+    // peer when the origin is empty.
+    virtual void send_to(std::span<const std::uint8_t> frame, const Origin& origin) {
+        (void)origin;
+        send(frame);
+    }
+    // The origin of the chunk being delivered (valid during the callback).
+    virtual Origin origin() const { return std::nullopt; }
     // Called while a chunk is delivered, for a frame in it that was
     // accepted: udpin makes its sender the peer; nothing for the others.
     virtual void accept_sender() {}

@@ -125,7 +125,7 @@ async function main() {
   const exit = await bridge.exited;
   check(exit.code === 0, `gport-mavlink exits 0 on SIGTERM (${exit.code} ${exit.signal})`);
   check(bridge.lines.some((l) => /bad quaternion: 999 more/.test(l)), 'the summary counts the 999 other bad quaternions');
-  check(bridge.lines.some((l) => /from untrusted senders/.test(l)), 'the exit line counts the untrusted frames');
+  check(bridge.lines.some((l) => /refused by the trust rules \(16 senders logged, more not\)/.test(l)), 'the exit line counts the untrusted frames');
   figures.push(`gport-mavlink wrote ${bridge.lines.length} lines in all`);
   check(!bridge.lines.some((l) => /^warning: /.test(l)), 'no "warning: " text-only priority prefix');
   for (const p of [rogue, vehicle, gcs, ...extras]) p.close();
