@@ -6,8 +6,9 @@
 // signature rules (with a key; without one, signed frames are dropped: they
 // cannot be checked), the trust rules (trust.hpp: who may command, who is
 // the vehicle), and the addressing (our system and component, or
-// broadcast). Only a frame that passed all three makes its UDP sender the
-// reply peer. What is refused is counted and logged within bounds.
+// broadcast). A frame that passed the first two (it may still be addressed
+// to another component) makes its UDP sender the reply peer. What is
+// refused is counted and logged within bounds.
 #pragma once
 
 #include <boost/asio/io_context.hpp>
