@@ -17,12 +17,12 @@ using ::testing::HasSubstr;
 using testing::HostilePeer;
 using testing::HostileServer;
 
-struct Ran {
+struct HostileRun {
     int status;
     std::string err;
 };
 
-Ran run(const HostileServer& server, std::vector<std::string> args) {
+HostileRun run(const HostileServer& server, std::vector<std::string> args) {
     args.insert(args.begin(), {"--socket", server.path()});
     std::ostringstream out;
     std::ostringstream err;

@@ -17,8 +17,6 @@ namespace asio = boost::asio;
 using nlohmann::json;
 using namespace std::chrono_literals;
 
-constexpr std::uint64_t kMiB = 1024 * 1024;
-
 class HostileAsync : public ::testing::Test {
   protected:
     // Runs the loop until `done` or 60 s (a failure, not a measurement).

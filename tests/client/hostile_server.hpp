@@ -27,6 +27,8 @@
 
 namespace gport::testing {
 
+inline constexpr std::uint64_t kMiB = 1024 * 1024;
+
 // The connection as a script sees it.
 class HostilePeer {
   public:

@@ -20,8 +20,6 @@ namespace gc = gport::client;
 using nlohmann::json;
 using namespace std::chrono_literals;
 
-constexpr std::uint64_t kMiB = 1024 * 1024;
-
 // The Error a call throws (fails the test when it throws none).
 template <typename F>
 gc::Error error_of(F&& call) {
