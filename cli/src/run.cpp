@@ -71,7 +71,7 @@ class Runner {
         }
         if (reply->contains("error")) {
             const auto& error = (*reply)["error"];
-            if (auto usage = option_refusal(error)) {
+            if (auto usage = option_refusal(error, params)) {
                 err_ << "gportctl: " << *usage << "\nTry 'gportctl " << inv_.command
                      << " --help'.\n";
                 return kExitUsage;
@@ -91,21 +91,33 @@ class Runner {
 
     // gportd's keepalive.max_duration_ms is known only to the daemon: its
     // refusal of a duration or lease is a usage error naming the option typed.
-    static std::optional<std::string> option_refusal(const json& error) {
+    // gportd says "duration_ms must be an integer from 1 to 60000
+    // (keepalive.max_duration_ms)"; before 0.1.x's issue 22 its core said
+    // "duration_ms = 120000 is out of range; allowed 1 to 60000".
+    static std::optional<std::string> option_refusal(const json& error, const json& params) {
         const std::string message = error.value("message", "");
         if (error.value("code", 0) != -32602) {
             return std::nullopt;
         }
         for (const auto& [param, option] :
-             {std::pair{"duration_ms = ", "--for"}, std::pair{"lease_ms = ", "--lease"}}) {
-            const auto allowed = message.find("; allowed ");
-            if (message.starts_with(param) && allowed != std::string::npos) {
-                const auto value = message.substr(std::string_view(param).size());
-                return fmt::format(
-                    "{}: {} ms is longer than gportd allows: {} ms "
-                    "(its keepalive.max_duration_ms)",
-                    option, value.substr(0, value.find(' ')), message.substr(allowed + 10));
+             {std::pair{"duration_ms", "--for"}, std::pair{"lease_ms", "--lease"}}) {
+            if (!message.starts_with(param) || !params.contains(param)) {
+                continue;
             }
+            std::string range;
+            if (const auto from = message.find(" must be an integer from ");
+                from != std::string::npos) {
+                range = message.substr(from + 25);
+                range = range.substr(0, range.find(" ("));
+            } else if (const auto allowed = message.find("; allowed ");
+                       allowed != std::string::npos) {
+                range = message.substr(allowed + 10);
+            } else {
+                continue;
+            }
+            return fmt::format(
+                "{}: {} ms is longer than gportd allows: {} ms (its keepalive.max_duration_ms)",
+                option, params[param].dump(), range);
         }
         return std::nullopt;
     }

@@ -151,22 +151,22 @@ TEST_F(RunTest, DaemonErrorsExitOneWithTheCode) {
 }
 
 TEST_F(RunTest, ADurationOverTheDaemonsLimitIsAUsageErrorNamingTheOption) {
-    // The daemon's keepalive.max_duration_ms is known only to it (the core's wording).
-    h_.on_io([&] {
-        h_.api.error = daemon::CommandError{daemon::ErrorCode::kInvalidParams,
-                                            "duration_ms = 120000 is out of range; allowed 1 "
-                                            "to 60000"};
-    });
+    // The daemon's keepalive.max_duration_ms is known only to it.
+    h_.api.max_duration_value = daemon::Millis(60000);
     auto ran = run({"speed", "--yaw", "5", "--for", "2m"});
     EXPECT_EQ(ran.status, kExitUsage);
     EXPECT_THAT(ran.err, HasSubstr("--for: 120000 ms is longer than gportd allows: 1 to 60000 ms "
                                    "(its keepalive.max_duration_ms)"));
+    EXPECT_THAT(run({"speed", "--yaw", "5", "--lease", "90s", "--for", "1s"}).err,
+                HasSubstr("--lease: 90000 ms is longer than gportd allows: 1 to 60000 ms"));
+    // An older gportd's core said it in other words.
+    h_.api.max_duration_value = daemon::Millis(86400000);
     h_.on_io([&] {
         h_.api.error = daemon::CommandError{daemon::ErrorCode::kInvalidParams,
                                             "lease_ms = 90000 is out of range; allowed 1 to 60000"};
     });
     EXPECT_THAT(run({"speed", "--yaw", "5", "--lease", "90s", "--for", "1s"}).err,
-                HasSubstr("--lease: 90000 ms is longer than gportd allows"));
+                HasSubstr("--lease: 90000 ms is longer than gportd allows: 1 to 60000 ms"));
 }
 
 TEST_F(RunTest, SettingsGetAndSet) {
