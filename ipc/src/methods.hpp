@@ -22,9 +22,10 @@ struct RawJson {
     std::string text;
 };
 
-// A result whose reply line carries the attitude channel's descriptor.
+// A result whose reply line may carry the attitude channel's descriptors.
 struct ChannelResult {
     nlohmann::json result;
+    std::size_t descriptors = 0;  // 2 or 0
 };
 
 // A method's answer: its result, or an error.
