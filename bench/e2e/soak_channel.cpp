@@ -1,0 +1,178 @@
+#include "soak_channel.hpp"
+
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <deque>
+#include <stdexcept>
+
+#include "gport/base/descriptors.hpp"
+#include "gport/base/futex.hpp"
+
+namespace gport::bench {
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;
+constexpr int kBatch = 32;
+constexpr std::size_t kMaxProblems = 20;
+
+std::string batch_line() {
+    std::string line = "[";
+    for (int i = 1; i <= kBatch; ++i) {
+        line += i > 1 ? "," : "";
+        line += R"({"jsonrpc":"2.0","id":)";
+        line += std::to_string(i);
+        line += R"(,"method":"attitude_channel"})";
+    }
+    return line + "]\n";
+}
+
+// One attitude_channel on a fresh connection: "" when it got both
+// descriptors and its wake word moved within a second, else what went wrong.
+std::string probe_once(const std::string& socket) {
+    Fd fd = connect_unix(socket);
+    if (!write_all(fd.get(), R"({"jsonrpc":"2.0","id":1,"method":"attitude_channel"})"
+                             "\n")) {
+        return "cannot send";
+    }
+    std::string text;
+    std::deque<int> fds;
+    const auto deadline = now_ns() + 5000 * kMs;
+    while (text.find('\n') == std::string::npos) {
+        char data[4096];
+        const auto n = base::receive_with_descriptors(fd.get(), data, sizeof(data), fds);
+        if (n < 0 && (errno == EAGAIN || errno == EINTR) && now_ns() < deadline) {
+            ::usleep(1000);
+            continue;
+        }
+        if (n <= 0) {
+            base::close_descriptors(fds);
+            return "no reply within 5 s";
+        }
+        text.append(data, static_cast<std::size_t>(n));
+    }
+    const auto reply = nlohmann::json::parse(text.substr(0, text.find('\n')), nullptr, false);
+    if (!reply.is_object() || !reply.contains("result") ||
+        reply["result"].value("descriptors", 0) != 2 || fds.size() != 2) {
+        base::close_descriptors(fds);
+        return "reply " + text.substr(0, text.find('\n')) + " with " + std::to_string(fds.size()) +
+               " descriptor(s)";
+    }
+    void* wake = ::mmap(nullptr, 64, PROT_READ, MAP_SHARED, fds[1], 0);
+    base::close_descriptors(fds);
+    if (wake == MAP_FAILED) {
+        return "cannot map the wake block";
+    }
+    const auto& word =
+        *reinterpret_cast<const std::atomic<std::uint32_t>*>(static_cast<char*>(wake) + 16);
+    const auto seen = word.load();
+    const auto until = now_ns() + 1000 * kMs;
+    while (word.load() == seen && now_ns() < until) {
+        base::futex_wait(word, seen, std::chrono::milliseconds(100));
+    }
+    const bool moved = word.load() != seen;
+    ::munmap(wake, 64);
+    // A silent gimbal (the soak's faults) publishes nothing: not the channel's fault.
+    return moved ? "" : "silent";
+}
+
+}  // namespace
+
+ChannelAttacks::~ChannelAttacks() {
+    finish();
+}
+
+void ChannelAttacks::act(std::int64_t t_ns) {
+    if (!started_) {
+        start(t_ns);
+    }
+    if (t_ns >= next_hoard_ns_) {
+        hoard(t_ns);
+        next_hoard_ns_ = t_ns + 200 * kMs;
+    }
+    if (t_ns >= next_probe_ns_) {
+        probe();
+        next_probe_ns_ = now_ns() + o_.probe_every_ms * kMs;
+    }
+}
+
+void ChannelAttacks::start(std::int64_t t_ns) {
+    started_ = true;
+    next_hoard_ns_ = t_ns + 500 * kMs;
+    next_probe_ns_ = t_ns + 1500 * kMs;
+    try {
+        parkers_.push_back(std::make_unique<ParkAttack>(o_.socket, o_.park_threads, false));
+        parkers_.push_back(std::make_unique<ParkAttack>(o_.socket, o_.park_threads, true));
+    } catch (const std::exception& e) {
+        park_error_ = e.what();
+    }
+}
+
+// (g) Batches of 32 attitude_channel, never read; a connection the daemon
+// closed (or that it stopped reading) is replaced.
+void ChannelAttacks::hoard(std::int64_t) {
+    hoarders_.resize(static_cast<std::size_t>(o_.hoarders));
+    static const std::string line = batch_line();
+    for (auto& fd : hoarders_) {
+        if (!fd.valid()) {
+            try {
+                fd = connect_unix(o_.socket);
+            } catch (const std::runtime_error&) {
+                continue;  // full: later
+            }
+        }
+        if (write_all(fd.get(), line, 0)) {
+            ++batches_;
+        } else {
+            ++hoard_refused_;  // its socket is full: back-pressure, as it should be
+        }
+    }
+}
+
+void ChannelAttacks::probe() {
+    ++probes_;
+    std::string failure;
+    try {
+        failure = probe_once(o_.socket);
+    } catch (const std::exception& e) {
+        failure = e.what();
+    }
+    if (failure.empty() || failure == "silent") {
+        ++probes_ok_;
+    } else if (probe_failures_.size() < kMaxProblems) {
+        probe_failures_.push_back(failure);
+    }
+}
+
+void ChannelAttacks::finish() {
+    parkers_.clear();
+    hoarders_.clear();
+}
+
+std::vector<std::string> ChannelAttacks::problems() const {
+    std::vector<std::string> out;
+    if (!park_error_.empty()) {
+        out.push_back("futex-waiter attack did not start: " + park_error_);
+    }
+    for (const auto& failure : probe_failures_) {
+        out.push_back("attitude_channel probe: " + failure);
+    }
+    if (probes_ == 0) {
+        out.push_back("no attitude_channel probe ran");
+    }
+    return out;
+}
+
+nlohmann::json ChannelAttacks::figures() const {
+    return {{"parked_threads", 2 * o_.park_threads},
+            {"parking_peers", parkers_.size()},
+            {"hoarders", o_.hoarders},
+            {"hoard_batches_written", batches_},
+            {"hoard_batches_refused_by_back_pressure", hoard_refused_},
+            {"channel_probes", probes_},
+            {"channel_probes_ok", probes_ok_}};
+}
+
+}  // namespace gport::bench
