@@ -105,6 +105,7 @@ void ChannelAttacks::start(std::int64_t t_ns) {
     try {
         parkers_.push_back(std::make_unique<ParkAttack>(o_.socket, o_.park_threads, false));
         parkers_.push_back(std::make_unique<ParkAttack>(o_.socket, o_.park_threads, true));
+        parkers_started_ = parkers_.size();
     } catch (const std::exception& e) {
         park_error_ = e.what();
     }
@@ -167,7 +168,7 @@ std::vector<std::string> ChannelAttacks::problems() const {
 
 nlohmann::json ChannelAttacks::figures() const {
     return {{"parked_threads", 2 * o_.park_threads},
-            {"parking_peers", parkers_.size()},
+            {"parking_peers", parkers_started_},
             {"hoarders", o_.hoarders},
             {"hoard_batches_written", batches_},
             {"hoard_batches_refused_by_back_pressure", hoard_refused_},

@@ -46,6 +46,7 @@ class ChannelAttacks {
     ChannelAttackOptions o_;
     bool started_ = false;
     std::vector<std::unique_ptr<ParkAttack>> parkers_;
+    std::size_t parkers_started_ = 0;
     std::string park_error_;
     std::vector<Fd> hoarders_;
     std::int64_t next_hoard_ns_ = 0;

@@ -36,7 +36,7 @@ def announced_descriptors(reply: Reply) -> int:
     if reply.error is not None or not isinstance(result, dict):
         return 0
     count = result.get("descriptors")
-    return count if count in (0, 2) and not isinstance(count, bool) else 0
+    return 2 if count == 2 and not isinstance(count, bool) else 0
 
 
 def receive(sock: socket.socket, size: int = 65536) -> tuple[bytes, list[int]]:
