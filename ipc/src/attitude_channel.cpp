@@ -81,7 +81,8 @@ std::optional<std::string> AttitudeChannel::open() {
     return std::nullopt;
 }
 
-std::variant<std::size_t, std::string> AttitudeChannel::open_for(std::uint64_t client) {
+std::variant<std::size_t, std::string> AttitudeChannel::open_for(std::uint64_t client,
+                                                                 bool deliver) {
     if (auto error = open()) {
         return *error;
     }
@@ -93,8 +94,8 @@ std::variant<std::size_t, std::string> AttitudeChannel::open_for(std::uint64_t c
         }
         it = readers_.emplace(client, Reader{std::move(std::get<0>(made))}).first;
     }
-    if (it->second.delivery != Delivery::kUnsent) {
-        return std::size_t{0};  // on their way, or already there
+    if (!deliver || it->second.delivery != Delivery::kUnsent) {
+        return std::size_t{0};  // a reply nobody sends, or they are on their way or there
     }
     it->second.delivery = Delivery::kQueued;
     return kDescriptors;

@@ -59,9 +59,10 @@ class AttitudeChannel {
 
     // The ring, then connection `client`'s wake block (made on its first
     // request). Returns how many descriptors its reply carries: 2 when they
-    // have not been sent (or queued) on this connection yet, else 0; or
-    // the error when a block could not be made.
-    std::variant<std::size_t, std::string> open_for(std::uint64_t client);
+    // have not been sent (or queued) on this connection yet and the reply
+    // will be sent (`deliver`), else 0; or the error when a block could not
+    // be made.
+    std::variant<std::size_t, std::string> open_for(std::uint64_t client, bool deliver = true);
     // {ring, wake block} for the reply being sent; -1s when `client` has no block.
     std::array<int, 2> descriptors(std::uint64_t client) const;
     // The reply carrying them went out (error 0) or sendmsg refused it

@@ -166,7 +166,9 @@ void run_request(const json& request, detail::MethodContext& context, const Repl
         return;
     }
     auto params = request.find("params");
+    context.notification = notification;
     run_method(handler, context, params == request.end() ? json(nullptr) : *params, respond);
+    context.notification = false;
     if (name != "status") {
         context.status_cache.invalidate();  // what it changed shows in the next status
     }

@@ -166,7 +166,9 @@ void attitude_channel(MethodContext& c, const json& params, Respond respond) {
             RpcError{rpc_error::kInternal, std::string(detail::kUnavailable) + "not served here"});
         return;
     }
-    auto opened = c.channel->open_attitude_channel(c.client);
+    // A notification's reply is never sent: it must not use up the
+    // connection's one set of descriptors.
+    auto opened = c.channel->open_attitude_channel(c.client, !c.notification);
     if (auto* error = std::get_if<std::string>(&opened)) {
         respond(RpcError{rpc_error::kInternal, std::string(detail::kUnavailable) + *error});
         return;

@@ -39,6 +39,8 @@ struct MethodContext {
     const std::function<ServerStats()>& stats;
     StatusCache& status_cache;
     ChannelHost* channel;  // nullptr: the attitude channel is not served
+    // The request running is a notification: its reply is never sent.
+    bool notification = false;
 };
 
 using Handler = void (*)(MethodContext& context, const nlohmann::json& params, Respond respond);

@@ -234,11 +234,12 @@ bool Server::holds_control_or_motion(const daemon::ClientInfo& client) const {
 
 // ---- the attitude channel -------------------------------------------------------------
 
-std::variant<ChannelInfo, std::string> Server::open_attitude_channel(ClientState& client) {
+std::variant<ChannelInfo, std::string> Server::open_attitude_channel(ClientState& client,
+                                                                     bool deliver) {
     if (closed_) {
         return std::string("gportd is stopping");
     }
-    auto opened = channel_->open_for(client.info.id);
+    auto opened = channel_->open_for(client.info.id, deliver);
     if (auto* error = std::get_if<std::string>(&opened)) {
         channel_failed(client.info, *error);
         return *error;

@@ -179,6 +179,24 @@ TEST(AttitudeChannel, ParamsOtherThanNoneAreRefusedWithoutADescriptor) {
     EXPECT_EQ(client.descriptors(), 2u);  // the refusal did not use them up
 }
 
+// A notification opens the channel but its reply is never sent: it must
+// not use up the connection's descriptors, in a batch or alone.
+TEST(AttitudeChannel, ANotificationDoesNotUseUpTheDescriptors) {
+    ServerHarness h;
+    DescriptorClient client(h.path());
+    ASSERT_TRUE(client.send(R"({"jsonrpc":"2.0","method":"attitude_channel"})"
+                            "\n"
+                            R"([{"jsonrpc":"2.0","method":"attitude_channel"},)"
+                            R"({"jsonrpc":"2.0","id":7,"method":"status"}])"
+                            "\n"));
+    const auto batch = client.next();
+    ASSERT_TRUE(batch && batch->is_array() && batch->size() == 1);
+    EXPECT_EQ((*batch)[0]["result"]["client"]["attitude_channel"], true);
+    EXPECT_EQ(client.descriptors(), 0u);
+    EXPECT_EQ(client.call("attitude_channel")["result"]["descriptors"], 2);
+    EXPECT_EQ(client.descriptors(), 2u);
+}
+
 // gportd's cost per sample is one FUTEX_WAKE(1) per reader connection,
 // however many threads wait on its word: 50 threads parked on one
 // connection's word, one sample, exactly one of them woken.

@@ -357,4 +357,7 @@ class Mapping:
             self._wake = 0
 
     def __del__(self) -> None:
-        self._unmap()
+        try:
+            self._unmap()
+        except Exception:  # interpreter shutdown: ctypes may be gone already
+            pass

@@ -115,8 +115,10 @@ class ChannelHost {
   public:
     // Makes the channel on first use and counts `client` among its readers
     // (sets client.attitude_channel), with a wake block of its own; the
-    // error says why it cannot be made.
-    virtual std::variant<ChannelInfo, std::string> open_attitude_channel(ClientState& client) = 0;
+    // error says why it cannot be made. `deliver`: the reply will be sent,
+    // so it may carry the descriptors (false for a notification).
+    virtual std::variant<ChannelInfo, std::string> open_attitude_channel(ClientState& client,
+                                                                         bool deliver) = 0;
 
   protected:
     ChannelHost() = default;

@@ -103,7 +103,8 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     void channel_delivered(const daemon::ClientInfo& client, int error) override;
 
     // ChannelHost: the attitude_channel method.
-    std::variant<ChannelInfo, std::string> open_attitude_channel(ClientState& client) override;
+    std::variant<ChannelInfo, std::string> open_attitude_channel(ClientState& client,
+                                                                 bool deliver) override;
 
     void accept();
     void on_accept_error(const boost::system::error_code& error);
