@@ -260,8 +260,8 @@ class Mapping:
             return self._read_plain
         raise _fail(
             f"the shared-memory channel needs libgport-client on this CPU ({MACHINE}): its "
-            "ring cannot be read safely without fences; install libgport-client1 or set "
-            f"{LIBRARY_ENV} to libgport-client.so.1 (the socket keeps working)"
+            "ring cannot be read safely without fences; install libgport-client.so.1 (gportd's "
+            f"package ships it) or set {LIBRARY_ENV} to its path (the socket keeps working)"
         )
 
     # ---- loads ----------------------------------------------------------------
