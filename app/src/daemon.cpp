@@ -14,6 +14,7 @@
 #include "gport/app/realtime.hpp"
 #include "gport/app/reload.hpp"
 #include "gport/base/log_context.hpp"
+#include "gport/config/advisories.hpp"
 #include "gport/config/loader.hpp"
 #include "gport/daemon/core.hpp"
 #include "gport/ipc/server.hpp"
@@ -180,6 +181,9 @@ class Daemon {
         for (const auto& key : plan.need_restart) {
             log_->warn("reload: {} changed; it needs a restart to take effect", key);
         }
+        for (const auto& line : config::advisories(plan.in_effect)) {
+            log_->warn("reload: {}", line);
+        }
         log_->info("reloaded configuration from {}: {} keys applied, {} need a restart", path,
                    plan.applied.size(), plan.need_restart.size());
         loaded_ = std::move(plan.in_effect);
@@ -238,6 +242,9 @@ int run_daemon(const config::Config& config, const config::CommandLine& command_
         log->info("{}", line);
     }
     for (const auto& line : realtime.warnings) {
+        log->warn("{}", line);
+    }
+    for (const auto& line : config::advisories(config)) {
         log->warn("{}", line);
     }
     try {

@@ -55,12 +55,18 @@ class Runner {
   private:
     // Calls a method; prints the error for the user.
     int call(const std::string& method, const json& params, json& result) {
-        auto reply = conn_.call(method, params, [this](const json& n) { notification(n); });
+        std::optional<json> reply;
+        try {
+            reply = conn_.call(method, params, [this](const json& n) { notification(n); });
+        } catch (const client::Error& e) {  // kTimeout: no reply within the call timeout
+            err_ << "gportctl: " << e.message() << "\n";
+            return kExitUnavailable;
+        }
         if (!reply) {
             if (conn_.interrupted()) {
                 return kExitInterrupted;
             }
-            err_ << "gportctl: the daemon closed the connection\n";
+            err_ << "gportctl: " << lost() << "\n";
             return kExitUnavailable;
         }
         if (reply->contains("error")) {
@@ -75,6 +81,12 @@ class Runner {
         }
         result = reply->value("result", json());
         return kExitOk;
+    }
+
+    // Why the connection is gone: the library's reason (a line over its
+    // limits, a request gportd did not read), else gportd closed it.
+    std::string lost() const {
+        return conn_.failure().empty() ? "the daemon closed the connection" : conn_.failure();
     }
 
     // gportd's keepalive.max_duration_ms is known only to the daemon: its
@@ -190,7 +202,7 @@ class Runner {
             case Connection::ReadStatus::kInterrupted:
                 return kExitOk;
             case Connection::ReadStatus::kClosed:
-                err_ << "gportctl: the daemon closed the connection\n";
+                err_ << "gportctl: " << lost() << "\n";
                 return kExitUnavailable;
             default:
                 return std::nullopt;
@@ -264,7 +276,7 @@ class Runner {
                     return stop_and_exit();
                 case Connection::ReadStatus::kClosed:
                     progress.end(json::object(), true);
-                    err_ << "gportctl: the daemon closed the connection\n";
+                    err_ << "gportctl: " << lost() << "\n";
                     return kExitUnavailable;
                 case Connection::ReadStatus::kTimeout:
                     return kExitOk;

@@ -1,7 +1,8 @@
 // The asynchronous client: one socket on the caller's io_context, a queue of
 // whole request lines with one write in flight, one read loop that matches
-// replies to pending calls by id and hands notifications on. The JSON codec
-// is the blocking client's (codec.hpp).
+// replies to pending calls by id and hands notifications on, and a timer per
+// call (the call timeout). The JSON codec is the blocking client's
+// (codec.hpp), the line limits the blocking transport's (lines.hpp).
 #include "gport/client/async_client.hpp"
 
 #include <unistd.h>
@@ -10,6 +11,7 @@
 #include <boost/asio/local/stream_protocol.hpp>
 #include <boost/asio/posix/stream_descriptor.hpp>
 #include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/asio/write.hpp>
 #include <cerrno>
 #include <cstring>
@@ -21,6 +23,7 @@
 #include "codec.hpp"
 #include "connect_error.hpp"
 #include "gport/base/descriptors.hpp"
+#include "gport/client/lines.hpp"
 #include "ring_channel.hpp"
 
 namespace gport::client {
@@ -66,16 +69,47 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         if (!params.empty()) {
             request["params"] = params;
         }
-        pending.emplace(id, std::move(handler));
-        outbox.push_back(request.dump() + "\n");
+        auto& call = pending[id];
+        call.handler = std::move(handler);
+        if (const auto limit = codec::reply_limit(params, call_timeout)) {
+            call.timer = std::make_unique<asio::steady_timer>(io, *limit);
+            call.timer->async_wait([weak = weak_from_this(), id, method, limit,
+                                    generation = current](boost::system::error_code ec) {
+                const auto self = weak.lock();
+                if (self && !ec && generation == self->current) {
+                    self->expire(id, method, *limit);
+                }
+            });
+        }
+        outbox.emplace_back(id, request.dump() + "\n");
         if (outbox.size() == 1) {
             write(current);
         }
     }
 
+    // The call's timer ran out: kTimeout, or, when gportd has not even
+    // taken the request, the end of the connection.
+    void expire(int id, const std::string& method, std::chrono::milliseconds limit) {
+        const auto it = pending.find(id);
+        if (it == pending.end()) {
+            return;
+        }
+        const bool unsent = std::any_of(outbox.begin(), outbox.end(),
+                                        [id](const auto& line) { return line.first == id; });
+        if (unsent) {
+            lost("gportd did not read the request to " + method + " within " +
+                 std::to_string(limit.count()) +
+                 " ms (the client's call timeout); the connection is closed");
+            return;
+        }
+        auto call = std::move(it->second);  // the timer lives until its handler returns
+        pending.erase(it);
+        call.handler(codec::no_reply(method, limit), json());
+    }
+
     void write(std::uint64_t generation) {
         asio::async_write(
-            socket, asio::buffer(outbox.front()),
+            socket, asio::buffer(outbox.front().second),
             [self = shared_from_this(), generation](boost::system::error_code ec, std::size_t) {
                 if (generation != self->current) {
                     return;
@@ -107,13 +141,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
                                   self->lost(*why);
                                   return;
                               }
-                              for (auto nl = self->input.find('\n');
-                                   generation == self->current && nl != std::string::npos;
-                                   nl = self->input.find('\n')) {
-                                  const std::string line = self->input.substr(0, nl);
-                                  self->input.erase(0, nl + 1);
-                                  self->handle(line);
-                              }
+                              self->take_lines(generation);
                               if (generation == self->current) {
                                   self->read(generation);
                               }
@@ -137,6 +165,28 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         }
         input.append(chunk, static_cast<std::size_t>(n));
         return std::nullopt;
+    }
+
+    // Handles the complete lines read; a line over a limit or not a JSON
+    // object ends the connection.
+    void take_lines(std::uint64_t generation) {
+        while (generation == current) {
+            json message;
+            try {
+                const auto line = input.next();
+                if (!line) {
+                    return;
+                }
+                if (detail::blank(*line)) {
+                    continue;
+                }
+                message = detail::parse_line(*line);
+            } catch (const Error& e) {
+                lost(e.message());
+                return;
+            }
+            handle(message);
+        }
     }
 
     // ---- the shared-memory attitude channel ---------------------------------
@@ -216,11 +266,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         ring.reset();
     }
 
-    void handle(const std::string& line) {
-        const auto message = json::parse(line, nullptr, false);
-        if (!message.is_object()) {
-            return;  // not from gportd
-        }
+    void handle(const json& message) {
         const auto id = message.find("id");
         if (id == message.end()) {
             notify(message);
@@ -228,9 +274,9 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         }
         if (id->is_number_integer()) {
             if (auto it = pending.find(id->get<int>()); it != pending.end()) {
-                auto handler = std::move(it->second);
+                auto call = std::move(it->second);
                 pending.erase(it);
-                handler(std::nullopt, message);
+                call.handler(std::nullopt, message);
             }
             return;
         }
@@ -284,16 +330,24 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
 
     void fail_pending(const Error& error) {
         auto calls = std::exchange(pending, {});
-        for (auto& [id, handler] : calls) {
-            asio::post(io, [handler = std::move(handler), error] { handler(error, json()); });
+        for (auto& [id, call] : calls) {
+            asio::post(io, [handler = std::move(call.handler), error] { handler(error, json()); });
         }
     }
 
+    // A call waiting for its reply; the timer (none without a call timeout)
+    // is cancelled when the call is forgotten.
+    struct Pending {
+        RawHandler handler;
+        std::unique_ptr<asio::steady_timer> timer;
+    };
+
     asio::io_context& io;
     Socket socket;
-    std::string input;
-    std::deque<std::string> outbox;
-    std::map<int, RawHandler> pending;
+    detail::LineReader input;
+    std::deque<std::pair<int, std::string>> outbox;  // request id, line; the front in flight
+    std::map<int, Pending> pending;
+    std::optional<std::chrono::milliseconds> call_timeout = kDefaultCallTimeout;
     int next_id = 1;
     std::uint64_t current = 0;  // the connection's generation: stale completions are ignored
     bool open = false;
@@ -481,6 +535,14 @@ void AsyncClient::close() {
 
 bool AsyncClient::connected() const noexcept {
     return impl_->open;
+}
+
+void AsyncClient::set_call_timeout(std::optional<Milliseconds> timeout) {
+    impl_->call_timeout = timeout;
+}
+
+std::optional<Milliseconds> AsyncClient::call_timeout() const {
+    return impl_->call_timeout;
 }
 
 }  // namespace gport::client

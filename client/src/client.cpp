@@ -3,12 +3,12 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <deque>
 #include <iterator>
 #include <utility>
 
 #include "codec.hpp"
 #include "gport/client/connection.hpp"
+#include "notification_queue.hpp"
 #include "ring_channel.hpp"
 
 namespace gport::client {
@@ -31,8 +31,7 @@ struct Client::Impl {
         auto reply = connection.call(method, params, [this](const json& m) { take(m); });
         if (!reply) {
             connection.close();
-            throw Error(ErrorCode::kTransport,
-                        "the connection to gportd was lost during " + method);
+            throw lost("the connection to gportd was lost during " + method);
         }
         if (callback) {
             drain_ring(false);  // ring samples reach the callback during calls too
@@ -56,8 +55,15 @@ struct Client::Impl {
         if (callback && !queue_only) {
             callback(*n);
         } else {
-            queue.push_back(std::move(*n));
+            queue.push(std::move(*n));
         }
+    }
+
+    // The transport Error for a lost connection: why the library ended it,
+    // if it did.
+    Error lost(const std::string& otherwise) const {
+        const auto& why = connection.failure();
+        return Error(ErrorCode::kTransport, why.empty() ? otherwise : why);
     }
 
     // Reads one message (or the ring's new samples) within the timeout;
@@ -71,7 +77,7 @@ struct Client::Impl {
         if (status == Connection::ReadStatus::kClosed) {
             stop_ring();
             connection.close();
-            throw Error(ErrorCode::kTransport, "gportd closed the connection");
+            throw lost("gportd closed the connection");
         }
         if (status == Connection::ReadStatus::kWoken) {
             return drain_ring(queue_only);
@@ -124,14 +130,14 @@ struct Client::Impl {
             if (callback && !queue_only) {
                 callback(Notification(std::move(*sample)));
             } else {
-                queue.push_back(Notification(std::move(*sample)));
+                queue.push(Notification(std::move(*sample)));
             }
         }
         return count;
     }
 
     Connection connection;
-    std::deque<Notification> queue;
+    detail::NotificationQueue queue;
     std::function<void(const Notification&)> callback;
     // Transparent shared-memory attitude (subscribe with shared_memory); the
     // waker goes before the mapping it reads.
@@ -275,18 +281,14 @@ std::optional<Notification> Client::next_notification(std::optional<Milliseconds
         impl.read_one(left, true);
         tried = true;
     }
-    auto n = std::move(impl.queue.front());
-    impl.queue.pop_front();
-    return n;
+    return impl.queue.pop();
 }
 
 void Client::on_notification(std::function<void(const Notification&)> callback) {
     auto& impl = this->impl();
     impl.callback = std::move(callback);
     while (impl.callback && !impl.queue.empty()) {
-        auto n = std::move(impl.queue.front());
-        impl.queue.pop_front();
-        impl.callback(n);
+        impl.callback(*impl.queue.pop());
     }
 }
 
@@ -313,6 +315,21 @@ void Client::close() {
 
 bool Client::connected() const noexcept {
     return impl_ && !impl_->connection.closed();
+}
+
+void Client::set_call_timeout(std::optional<Milliseconds> timeout) {
+    impl().connection.set_call_timeout(timeout);
+}
+
+std::optional<Milliseconds> Client::call_timeout() const {
+    if (!impl_) {
+        throw Error(ErrorCode::kTransport, "this Client was moved from; connect a new one");
+    }
+    return impl_->connection.call_timeout();
+}
+
+std::uint64_t Client::dropped_notifications() const noexcept {
+    return impl_ ? impl_->queue.dropped() : 0;
 }
 
 }  // namespace gport::client

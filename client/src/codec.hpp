@@ -4,12 +4,14 @@
 // know; members they do not know are ignored (newer daemons add some).
 #pragma once
 
+#include <chrono>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "gport/client/error.hpp"
+#include "gport/client/limits.hpp"
 #include "gport/client/types.hpp"
 
 namespace gport::client::codec {
@@ -23,6 +25,14 @@ json record_params(std::optional<bool> on, bool force);
 json settings_params(const SettingsChange& change);
 json subscribe_params(const std::vector<std::string>& topics, std::optional<double> max_rate_hz);
 json unsubscribe_params(const std::vector<std::string>& topics);
+
+// How long to wait for the reply to a request with these params: the call
+// timeout, plus kWaitAllowance when they ask to "wait" (the reply comes when
+// the motion ends); empty: no limit.
+std::optional<std::chrono::milliseconds> reply_limit(
+    const json& params, std::optional<std::chrono::milliseconds> call_timeout);
+// The Error (kTimeout) of a call whose reply did not come within `limit`.
+Error no_reply(const std::string& method, std::chrono::milliseconds limit);
 
 // The result of a reply object ({"result":...} or {"error":...}); throws the
 // error as Error.

@@ -103,4 +103,20 @@ json result_of(const json& reply) {
     throw Error(ErrorCode::kBadReply, "a reply with neither result nor error: " + reply.dump());
 }
 
+std::optional<std::chrono::milliseconds> reply_limit(
+    const json& params, std::optional<std::chrono::milliseconds> call_timeout) {
+    if (!call_timeout) {
+        return std::nullopt;
+    }
+    const bool wait = params.is_object() && params.value("wait", json(false)) == json(true);
+    return wait ? *call_timeout + kWaitAllowance : *call_timeout;
+}
+
+Error no_reply(const std::string& method, std::chrono::milliseconds limit) {
+    return Error(ErrorCode::kTimeout, "no reply to " + method + " within " +
+                                          std::to_string(limit.count()) +
+                                          " ms (the client's call timeout); gportd may still "
+                                          "carry the request out");
+}
+
 }  // namespace gport::client::codec

@@ -19,8 +19,28 @@
 namespace gport::client {
 namespace {
 
-// Reads wake up this often to look at interrupted().
+// Reads and writes wake up this often to look at interrupted().
 constexpr int kPollSliceMs = 100;
+
+using Clock = std::chrono::steady_clock;
+
+std::optional<Clock::time_point> deadline_after(std::optional<std::chrono::milliseconds> limit) {
+    return limit ? std::optional(Clock::now() + *limit) : std::nullopt;
+}
+
+std::optional<std::chrono::milliseconds> time_left(std::optional<Clock::time_point> deadline) {
+    if (!deadline) {
+        return std::nullopt;
+    }
+    return std::max(std::chrono::milliseconds(0),
+                    std::chrono::ceil<std::chrono::milliseconds>(*deadline - Clock::now()));
+}
+
+// One poll's wait: a slice, or less when the deadline is nearer.
+int slice_until(std::optional<Clock::time_point> deadline) {
+    const auto left = time_left(deadline);
+    return left ? static_cast<int>(std::min<long long>(left->count(), kPollSliceMs)) : kPollSliceMs;
+}
 
 }  // namespace
 
@@ -51,12 +71,14 @@ Connection::Connection(Connection&& other) noexcept
     : interrupted(std::move(other.interrupted)),
       fd_(std::exchange(other.fd_, -1)),
       next_id_(other.next_id_),
-      buffer_(std::move(other.buffer_)),
+      lines_(std::move(other.lines_)),
       closed_(other.closed_),
       descriptors_(std::exchange(other.descriptors_, {})),
       channel_requests_(std::exchange(other.channel_requests_, 0)),
       channel_(std::move(other.channel_)),
-      watched_(std::exchange(other.watched_, -1)) {}
+      watched_(std::exchange(other.watched_, -1)),
+      call_timeout_(other.call_timeout_),
+      failure_(std::move(other.failure_)) {}
 
 Connection& Connection::operator=(Connection&& other) noexcept {
     if (this != &other) {
@@ -64,12 +86,14 @@ Connection& Connection::operator=(Connection&& other) noexcept {
         interrupted = std::move(other.interrupted);
         fd_ = std::exchange(other.fd_, -1);
         next_id_ = other.next_id_;
-        buffer_ = std::move(other.buffer_);
+        lines_ = std::move(other.lines_);
         closed_ = other.closed_;
         descriptors_ = std::exchange(other.descriptors_, {});
         channel_requests_ = std::exchange(other.channel_requests_, 0);
         channel_ = std::move(other.channel_);
         watched_ = std::exchange(other.watched_, -1);
+        call_timeout_ = other.call_timeout_;
+        failure_ = std::move(other.failure_);
     }
     return *this;
 }
@@ -93,7 +117,18 @@ void Connection::close_descriptors() noexcept {
     base::close_descriptors(descriptors_);
 }
 
+void Connection::fail(const std::string& why) {
+    failure_ = why;
+    lines_.clear();
+    close();
+}
+
 std::optional<int> Connection::send(const std::string& method, const nlohmann::json& params) {
+    return send(method, params, deadline_after(call_timeout_));
+}
+
+std::optional<int> Connection::send(const std::string& method, const nlohmann::json& params,
+                                    Deadline deadline) {
     if (fd_ < 0) {
         return std::nullopt;
     }
@@ -102,32 +137,46 @@ std::optional<int> Connection::send(const std::string& method, const nlohmann::j
     if (!params.empty()) {
         request["params"] = params;
     }
-    const std::string line = request.dump() + "\n";
-    std::string_view left = line;
-    while (!left.empty()) {
-        const auto n = ::send(fd_, left.data(), left.size(), MSG_NOSIGNAL);
-        if (n < 0 && errno == EINTR) {
-            continue;
+    if (!write_all(request.dump() + "\n", deadline)) {
+        if (!closed_ && deadline && std::chrono::steady_clock::now() >= *deadline) {
+            fail("gportd did not read the request to " + method +
+                 " within the client's call timeout; the connection is closed");
+        } else if (!closed_) {
+            close();  // interrupted with part of a line sent: the stream is unusable
         }
-        if (n <= 0) {
-            closed_ = true;
-            return std::nullopt;
-        }
-        left.remove_prefix(static_cast<std::size_t>(n));
+        return std::nullopt;
     }
     return id;
 }
 
-bool Connection::fill(std::optional<std::chrono::steady_clock::time_point> deadline) {
-    int wait = kPollSliceMs;
-    if (deadline) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-                              *deadline - std::chrono::steady_clock::now())
-                              .count();
-        wait = static_cast<int>(std::clamp<long long>(left, 0, kPollSliceMs));
+// Without blocking past the deadline or an interruption: a server that does
+// not read cannot hold the caller.
+bool Connection::write_all(std::string_view left, Deadline deadline) {
+    while (!left.empty()) {
+        const auto n = ::send(fd_, left.data(), left.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n > 0) {
+            left.remove_prefix(static_cast<std::size_t>(n));
+            continue;
+        }
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK)) {
+            closed_ = true;
+            return false;
+        }
+        if (interrupted() || (deadline && std::chrono::steady_clock::now() >= *deadline)) {
+            return false;
+        }
+        pollfd p{fd_, POLLOUT, 0};
+        ::poll(&p, 1, slice_until(deadline));
     }
+    return true;
+}
+
+bool Connection::fill(Deadline deadline) {
     pollfd p[2] = {{fd_, POLLIN, 0}, {watched_, POLLIN, 0}};
-    if (::poll(p, watched_ >= 0 ? 2 : 1, wait) <= 0) {
+    if (::poll(p, watched_ >= 0 ? 2 : 1, slice_until(deadline)) <= 0) {
         return true;  // nothing yet (or EINTR): the caller checks the clock and signals
     }
     if ((p[0].revents & (POLLIN | POLLHUP | POLLERR)) != 0) {
@@ -148,7 +197,7 @@ void Connection::receive() {
         closed_ = true;
         return;
     }
-    buffer_.append(chunk, static_cast<std::size_t>(n));
+    lines_.append(chunk, static_cast<std::size_t>(n));
 }
 
 Connection::ReadStatus Connection::read(nlohmann::json& message,
@@ -159,14 +208,17 @@ Connection::ReadStatus Connection::read(nlohmann::json& message,
     }
     bool polled = false;  // a zero timeout still looks at the socket once
     while (true) {
-        if (auto nl = buffer_.find('\n'); nl != std::string::npos) {
-            const std::string line = buffer_.substr(0, nl);
-            buffer_.erase(0, nl + 1);
-            message = nlohmann::json::parse(line, nullptr, false);
-            if (!message.is_discarded()) {
+        try {
+            if (const auto line = lines_.next()) {
+                if (detail::blank(*line)) {
+                    continue;
+                }
+                message = detail::parse_line(*line);
                 return ReadStatus::kMessage;
             }
-            continue;  // not JSON: not from gportd; skip it
+        } catch (const Error& e) {  // over a limit, not JSON: gportd is broken or hostile
+            fail(e.message());
+            return ReadStatus::kClosed;
         }
         if (closed_) {
             return ReadStatus::kClosed;
@@ -187,7 +239,9 @@ Connection::ReadStatus Connection::read(nlohmann::json& message,
 std::optional<nlohmann::json> Connection::call(
     const std::string& method, const nlohmann::json& params,
     const std::function<void(const nlohmann::json&)>& on_notification) {
-    const auto id = send(method, params);
+    const auto limit = codec::reply_limit(params, call_timeout_);
+    const auto deadline = deadline_after(limit);
+    const auto id = send(method, params, deadline);
     if (!id) {
         return std::nullopt;
     }
@@ -195,7 +249,15 @@ std::optional<nlohmann::json> Connection::call(
     // (it would stay readable until the caller drains it).
     const int watched = std::exchange(watched_, -1);
     nlohmann::json message;
-    while (read(message) == ReadStatus::kMessage) {
+    while (true) {
+        const auto status = read(message, time_left(deadline));
+        if (status == ReadStatus::kTimeout) {
+            watched_ = watched;
+            throw codec::no_reply(method, *limit);
+        }
+        if (status != ReadStatus::kMessage) {
+            break;
+        }
         if (message.contains("id")) {
             if (message["id"] == *id || message["id"].is_null()) {
                 watched_ = watched;

@@ -188,8 +188,10 @@ void Core::on_motion(const MotionEvent& event) {
         speed_started_ = std::chrono::steady_clock::now();
     }
     if (event.change == MotionChange::kUpdated) {  // a streaming controller: not news
-        log_->debug("motion updated ({}) by pid {}: speed {} {} {}", to_string(event.mode),
-                    pid_of(event.owner), event.speed.roll, event.speed.pitch, event.speed.yaw);
+        const auto& axes = event.mode == MotionMode::kSpeed ? event.speed : event.angle;
+        log_->debug("motion updated ({}) by pid {}: {} {} {} {}", to_string(event.mode),
+                    pid_of(event.owner), event.mode == MotionMode::kSpeed ? "speed" : "target",
+                    axes.roll, axes.pitch, axes.yaw);
     } else if (event.change == MotionChange::kEnded) {
         log_->info("motion ended ({}), owner pid {}",
                    event.reason ? to_string(*event.reason) : "unknown", pid_of(event.owner));

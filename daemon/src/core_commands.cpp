@@ -84,7 +84,14 @@ void Core::failsafe_end(EndReason reason, config::Failsafe policy, bool send_zer
             action = config::Failsafe::kStop;
         }
     } else if (policy == config::Failsafe::kCenter) {
-        then = gp::Control::center();
+        const Limited centre = MotionLimits(config_.limits).centre();
+        then = centre_control(centre);
+        if (!centre.clamped.empty()) {
+            note = fmt::format(
+                " at the centre clamped into the soft limits (roll {:.2f}°, "
+                "pitch {:.2f}°, yaw {:.2f}°)",
+                centre.axes.roll / 100.0, centre.axes.pitch / 100.0, centre.axes.yaw / 100.0);
+        }
     }
     if (then && !port_.is_open()) {
         note += fmt::format("; device closed, so {} ({} not sent)",
@@ -187,26 +194,41 @@ Outcome<AngleSent> Core::angle(const ClientInfo& client, gp::Axes angle, bool cl
     if (!limited) {
         return limited.error();
     }
-    auto sent = position(client, gp::Control::angle_of(limited->axes), std::move(on_end));
+    auto sent = position(client, gp::Control::angle_of(limited->axes), MotionMode::kAngle,
+                         std::move(on_end), limited->clamped);
     if (!sent) {
         return sent.error();
     }
     return AngleSent{limited->axes, std::move(limited->clamped)};
 }
 
-Outcome<Done> Core::center(const ClientInfo& client, MotionEndCallback on_end) {
-    return position(client, gp::Control::center(), std::move(on_end));
+// Where the soft limits exclude 0 on an axis, the gimbal's own centre command
+// would drive that axis out of range: an angle frame to the clamped centre
+// goes instead (for the command, the failsafe and MAVLink's NEUTRAL/RETRACT).
+gp::Control Core::centre_control(const Limited& centre) const {
+    return centre.clamped.empty() ? gp::Control::center() : gp::Control::angle_of(centre.axes);
+}
+
+Outcome<AngleSent> Core::center(const ClientInfo& client, MotionEndCallback on_end) {
+    const Limited centre = MotionLimits(config_.limits).centre();
+    auto sent = position(client, centre_control(centre), MotionMode::kCenter, std::move(on_end),
+                         centre.clamped);
+    if (!sent) {
+        return sent.error();
+    }
+    return AngleSent{centre.axes, centre.clamped};
 }
 
 Outcome<Done> Core::lock(const ClientInfo& client) {
-    return position(client, gp::Control::lock());
+    return position(client, gp::Control::lock(), std::nullopt);
 }
 
 // angle and centre become tracked motions (a newer one replaces the running
 // one: kReplaced); lock ends any motion (kSuperseded) and is not tracked: it
 // has no target.
 Outcome<Done> Core::position(const ClientInfo& client, const gp::Control& control,
-                             MotionEndCallback on_end) {
+                             std::optional<MotionMode> track_as, MotionEndCallback on_end,
+                             std::vector<std::string> clamped) {
     if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
         return std::move(*refused);
     }
@@ -214,8 +236,8 @@ Outcome<Done> Core::position(const ClientInfo& client, const gp::Control& contro
         return link_down();
     }
     keepalive_.end(EndReason::kSuperseded, false);
-    if (control.mode != gp::ControlMode::kLock) {
-        tracker_.start(client, control.mode, control.angle, std::move(on_end));
+    if (track_as) {
+        tracker_.start(client, *track_as, control.angle, std::move(on_end), std::move(clamped));
         return Done{};
     }
     tracker_.end(EndReason::kSuperseded);

@@ -33,7 +33,7 @@ Status Core::status() const {
     c.device_opens = l.opens;
     c.device_failures = l.failures;
     c.keepalive_frames = keepalive_.frames_sent();
-    c.motion_updates = keepalive_.updates();
+    c.motion_updates = keepalive_.updates() + tracker_.updates();
     c.stops_sent = l.stops_written;
     c.frames_replaced = l.frames_replaced;
     c.frames_refused = l.queue_overflows;

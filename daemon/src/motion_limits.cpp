@@ -46,6 +46,10 @@ Outcome<Limited> MotionLimits::angle(protocol::Axes target, bool clamp) const {
     return out;
 }
 
+Limited MotionLimits::centre() const {
+    return *angle(protocol::Axes{}, true);  // with clamp, angle() never refuses
+}
+
 Outcome<Limited> MotionLimits::speed(protocol::Axes speed, bool clamp) const {
     Limited out{speed, {}};
     const auto max = centi(config_.max_speed);

@@ -34,26 +34,76 @@ bool Arrival::observe(const protocol::Axes& hall) {
 // ---- MotionTracker -------------------------------------------------------------
 
 MotionTracker::MotionTracker(boost::asio::io_context& io, Options options, Emit emit)
-    : io_(io), timer_(io), options_(options), emit_(std::move(emit)) {}
+    : io_(io), timer_(io), note_timer_(io), options_(options), emit_(std::move(emit)) {}
 
 void MotionTracker::start(const ClientInfo& owner, MotionMode mode, protocol::Axes target,
-                          MotionEndCallback on_end) {
+                          MotionEndCallback on_end, std::vector<std::string> clamped) {
+    if (is_update(owner, mode)) {
+        update(target, std::move(on_end), std::move(clamped));
+        return;
+    }
     end(EndReason::kReplaced);
+    const auto now = Clock::now();
     motion_ = Motion{owner,
                      mode,
                      target,
-                     Clock::now(),
+                     now,
+                     now,
                      Arrival(target, options_.tolerance_deg),
-                     std::move(on_end)};
+                     std::move(on_end),
+                     now,
+                     false,
+                     std::move(clamped)};
     arm();
     // Last, and nothing of motion_ afterwards: the listener may end it.
     emit_(event(MotionChange::kStarted, std::nullopt));
 }
 
+// A waiting owner is owed the outcome of the motion it waits for, so a
+// motion somebody waits for is always replaced, never updated.
+bool MotionTracker::is_update(const ClientInfo& owner, MotionMode mode) const {
+    return motion_ && motion_->owner.id == owner.id && motion_->mode == mode && !motion_->on_end;
+}
+
+// Published at once when the motion's last event is older than
+// kUpdateNoteInterval, else once that interval is over (coalesced: the event
+// carries the target of the latest update).
+void MotionTracker::update(protocol::Axes target, MotionEndCallback on_end,
+                           std::vector<std::string> clamped) {
+    ++updates_;
+    const auto now = Clock::now();
+    motion_->target = target;
+    motion_->clamped = std::move(clamped);
+    motion_->updated = true;
+    motion_->commanded = now;
+    motion_->arrival = Arrival(target, options_.tolerance_deg);
+    motion_->on_end = std::move(on_end);
+    arm();
+    if (now >= motion_->noted + kUpdateNoteInterval) {
+        note_update();
+        return;
+    }
+    if (!motion_->update_pending) {
+        motion_->update_pending = true;
+        note_timer_.expires_at(motion_->noted + kUpdateNoteInterval);
+        note_timer_.async_wait([this](boost::system::error_code ec) {
+            if (!ec && motion_ && motion_->update_pending) {
+                note_update();
+            }
+        });
+    }
+}
+
+void MotionTracker::note_update() {
+    motion_->update_pending = false;
+    motion_->noted = Clock::now();
+    emit_(event(MotionChange::kUpdated, std::nullopt));  // last: the listener may end it
+}
+
 void MotionTracker::arm() {
-    timer_.expires_at(motion_->started + options_.timeout);
+    timer_.expires_at(motion_->commanded + options_.timeout);
     timer_.async_wait([this](boost::system::error_code ec) {
-        if (!ec && motion_ && Clock::now() >= motion_->started + options_.timeout) {
+        if (!ec && motion_ && Clock::now() >= motion_->commanded + options_.timeout) {
             end(EndReason::kTimeout);
         }
     });
@@ -61,7 +111,12 @@ void MotionTracker::arm() {
 
 void MotionTracker::on_attitude(const AttitudeSample& sample) {
     latest_ = sample;
-    if (motion_ && motion_->arrival.observe(sample.attitude.hall)) {
+    if (!motion_) {
+        return;
+    }
+    const bool settled =
+        !motion_->updated || sample.received >= motion_->commanded + kUpdateNoteInterval;
+    if (settled && motion_->arrival.observe(sample.attitude.hall)) {
         end(EndReason::kReached);
     }
 }
@@ -73,6 +128,7 @@ void MotionTracker::end(EndReason reason) {
         return;
     }
     timer_.cancel();
+    note_timer_.cancel();  // the ended event carries the latest target
     const auto ended = event(MotionChange::kEnded, reason);
     auto on_end = std::move(motion_->on_end);
     const auto elapsed = std::chrono::duration_cast<Millis>(Clock::now() - motion_->started);
@@ -110,6 +166,7 @@ MotionEvent MotionTracker::event(MotionChange change, std::optional<EndReason> r
     e.owner = motion_->owner;
     e.angle = motion_->target;
     e.reason = reason;
+    e.clamped = motion_->clamped;
     return e;
 }
 

@@ -114,6 +114,9 @@ Line motion_line(const daemon::MotionEvent& event) {
     } else if (event.mode == daemon::MotionMode::kCenter) {
         params["target"] = axes_json(event.angle);  // 0/0/0
     }
+    if (!event.clamped.empty()) {
+        params["clamped"] = event.clamped;  // the soft limits moved the target
+    }
     if (event.reason) {
         params["reason"] = daemon::to_string(*event.reason);
     }

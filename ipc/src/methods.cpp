@@ -189,11 +189,13 @@ void speed(MethodContext& c, const json& params, Respond respond) {
     p.only({"roll", "pitch", "yaw", "duration_ms", "clamp", "lease_ms"});
     const auto axes = p.axes();
     std::optional<daemon::Millis> duration;
-    if (auto ms = p.integer("duration_ms", 1, kMaxDurationMs)) {
+    // Both ranges end at keepalive.max_duration_ms, named in the refusal.
+    const auto max = c.api.max_duration().count();
+    if (auto ms = p.integer("duration_ms", 1, max, "keepalive.max_duration_ms")) {
         duration = daemon::Millis(*ms);
     }
     std::optional<daemon::Millis> lease;
-    if (auto ms = p.integer("lease_ms", 1, kMaxDurationMs)) {
+    if (auto ms = p.integer("lease_ms", 1, max, "keepalive.max_duration_ms")) {
         lease = daemon::Millis(*ms);
     }
     const bool clamp = p.boolean("clamp").value_or(false);
@@ -246,11 +248,12 @@ void center(MethodContext& c, const json& params, Respond respond) {
         respond(error_of(outcome.error()));
         return;
     }
+    json sent{{"sent", true}, {"target", axes_json(outcome->angle)}, {"clamped", outcome->clamped}};
     if (waiter) {
-        waiter->sent = json{{"sent", true}};
+        waiter->sent = std::move(sent);
         return;
     }
-    respond(json{{"sent", true}});
+    respond(std::move(sent));
 }
 
 void lock(MethodContext& c, const json& params, Respond respond) {

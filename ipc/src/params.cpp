@@ -107,13 +107,15 @@ protocol::Axes Params::axes() const {
 }
 
 std::optional<std::int64_t> Params::integer(std::string_view name, std::int64_t min,
-                                            std::int64_t max) const {
+                                            std::int64_t max, std::string_view bound) const {
     const json* value = find(name);
     if (value == nullptr) {
         return std::nullopt;
     }
     const auto refuse = [&] {
-        return InvalidParams(fmt::format("{} must be an integer from {} to {}", name, min, max));
+        return InvalidParams(fmt::format("{} must be an integer from {} to {}{}{}{}", name, min,
+                                         max, bound.empty() ? "" : " (", bound,
+                                         bound.empty() ? "" : ")"));
     };
     if (!value->is_number()) {
         throw refuse();

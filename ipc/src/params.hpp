@@ -34,8 +34,9 @@ class Params {
     // Degrees (or °/s) to 0.01 units; absent means 0.
     std::int16_t centi(std::string_view name) const;
     protocol::Axes axes() const;  // "roll", "pitch", "yaw"
-    std::optional<std::int64_t> integer(std::string_view name, std::int64_t min,
-                                        std::int64_t max) const;
+    // `bound`, when given, names where `max` comes from (a config key).
+    std::optional<std::int64_t> integer(std::string_view name, std::int64_t min, std::int64_t max,
+                                        std::string_view bound = {}) const;
     std::optional<bool> boolean(std::string_view name) const;
     // A non-empty array of distinct names, each one of `allowed`.
     std::optional<std::vector<std::string>> names(

@@ -2,6 +2,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "gport/config/advisories.hpp"
 #include "test_support.hpp"
 
 namespace gport::config::test {
@@ -45,6 +46,28 @@ TEST(ConfigFailsafe, ErrorsNameTheKeyAndTheAllowedValues) {
         ElementsAre(ErrorWith("failsafe.on_link_lost", R"("stop" or "center", got "Stop")")));
     EXPECT_THAT(errors_of(R"({"failsafe": {"on_owner_lost": "stop"}})"),
                 ElementsAre(ErrorWith("on_owner_lost", "on_owner_gone")));
+}
+
+// A centre outside the soft limits is accepted (the centre is clamped into
+// them, as for the center command) with one warning per axis at start.
+TEST(ConfigFailsafe, ACentreOutsideTheLimitsIsAcceptedWithAWarningNamingTheAxis) {
+    auto c = load(R"({"failsafe": {"on_owner_gone": "center", "on_link_lost": "center"},
+                      "limits": {"pitch": {"min": -60, "max": -10}}})");
+    ASSERT_TRUE(c.ok()) << c.error().text();
+    EXPECT_THAT(advisories(*c),
+                ElementsAre("failsafe.on_owner_gone, failsafe.on_link_lost is \"center\", but 0° "
+                            "lies outside limits.pitch (-60 to -10): the failsafe's centre (like "
+                            "the center command) aims pitch at -10° instead"));
+}
+
+TEST(ConfigFailsafe, NoWarningWithoutACentrePolicyOrWithZeroInside) {
+    auto c = load(R"({"limits": {"pitch": {"min": -60, "max": -10}}})");
+    ASSERT_TRUE(c.ok());
+    EXPECT_TRUE(advisories(*c).empty()) << "the policy is stop";
+    c = load(R"({"failsafe": {"on_shutdown": "center"},
+                 "limits": {"pitch": {"min": -60, "max": 0}, "yaw": {"min": 0, "max": 90}}})");
+    ASSERT_TRUE(c.ok());
+    EXPECT_TRUE(advisories(*c).empty()) << "0 is on the edge of both ranges";
 }
 
 }  // namespace

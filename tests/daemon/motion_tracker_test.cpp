@@ -186,5 +186,125 @@ TEST_F(TrackerTest, OptionsApplyToTheNextMotion) {
     EXPECT_EQ(last_end_reason(), EndReason::kReached);
 }
 
+// ---- updates: a client streaming targets ------------------------------------------
+
+std::size_t count(const std::vector<MotionEvent>& events, MotionChange change) {
+    std::size_t n = 0;
+    for (const auto& e : events) {
+        n += e.change == change ? 1 : 0;
+    }
+    return n;
+}
+
+TEST_F(TrackerTest, AnAngleFromTheOwnerUpdatesItsMotionQuietly) {
+    tracker.set_options({0.5, 5s});
+    tracker.start(alice, MotionMode::kAngle, {0, 0, 0});
+    for (std::int16_t i = 1; i <= 50; ++i) {  // a 50 Hz pan: one second of targets
+        tracker.start(alice, MotionMode::kAngle, {0, 0, static_cast<std::int16_t>(i * 10)});
+    }
+    EXPECT_EQ(count(events, MotionChange::kStarted), 1u);
+    EXPECT_EQ(count(events, MotionChange::kEnded), 0u) << "nothing replaced";
+    EXPECT_EQ(count(events, MotionChange::kUpdated), 0u) << "coalesced: not yet";
+    EXPECT_EQ(tracker.updates(), 50u);
+    EXPECT_EQ(tracker.status()->target, (Axes{0, 0, 500}));
+    io.run_for(600ms);
+    ASSERT_EQ(count(events, MotionChange::kUpdated), 1u) << "one event for all fifty";
+    EXPECT_EQ(events.back().angle, (Axes{0, 0, 500})) << "it carries the latest target";
+    EXPECT_EQ(events.back().owner->id, alice.id);
+}
+
+TEST_F(TrackerTest, UpdatesArePublishedAtMostTwiceASecond) {
+    tracker.set_options({0.5, 5s});
+    tracker.start(alice, MotionMode::kAngle, {0, 0, 0});
+    const auto until = std::chrono::steady_clock::now() + 1300ms;
+    std::int16_t yaw = 0;
+    while (std::chrono::steady_clock::now() < until) {
+        yaw = static_cast<std::int16_t>(yaw + 10);
+        tracker.start(alice, MotionMode::kAngle, {0, 0, yaw});
+        io.run_for(20ms);
+    }
+    const auto updated = count(events, MotionChange::kUpdated);
+    EXPECT_GE(updated, 1u);
+    EXPECT_LE(updated, 3u) << "1.3 s of updates: at most one per 500 ms";
+}
+
+TEST_F(TrackerTest, AnUpdatedMotionArrivesAtItsNewTargetOnceTheStreamPauses) {
+    tracker.set_options({0.5, 5s});
+    tracker.start(alice, MotionMode::kAngle, {0, 1000, 0});
+    feed({0, 1000, 0});  // one sample at the old target
+    tracker.start(alice, MotionMode::kAngle, {0, 2000, 0});
+    feed({0, 1000, 0});
+    feed({0, 2000, 0}, 3);
+    EXPECT_TRUE(tracker.active()) << "there, but the stream may go on: not yet reached";
+    io.run_for(MotionTracker::kUpdateNoteInterval);
+    feed({0, 1000, 0});
+    EXPECT_TRUE(tracker.active()) << "the old target no longer counts";
+    feed({0, 2000, 0}, 2);
+    EXPECT_EQ(last_end_reason(), EndReason::kReached);
+    EXPECT_EQ(events.back().angle, (Axes{0, 2000, 0}));
+}
+
+TEST_F(TrackerTest, AStreamThatKeepsItsTargetsWithinTheToleranceIsStillOneMotion) {
+    tracker.set_options({0.5, 5s});
+    tracker.start(alice, MotionMode::kAngle, {0, 0, 0});
+    for (std::int16_t yaw = 10; yaw <= 200; yaw = static_cast<std::int16_t>(yaw + 10)) {
+        tracker.start(alice, MotionMode::kAngle, {0, 0, yaw});  // 0.1° steps
+        feed({0, 0, static_cast<std::int16_t>(yaw - 10)}, 2);   // the gimbal keeps up
+    }
+    EXPECT_TRUE(tracker.active());
+    EXPECT_EQ(count(events, MotionChange::kEnded), 0u);
+}
+
+TEST_F(TrackerTest, TheTimeoutRunsFromTheLastUpdate) {
+    tracker.start(alice, MotionMode::kAngle, {0, 9000, 0});  // timeout 200 ms
+    io.run_for(150ms);
+    tracker.start(alice, MotionMode::kAngle, {0, 9100, 0});
+    io.run_for(150ms);
+    EXPECT_TRUE(tracker.active()) << "300 ms after the start, 150 ms after the update";
+    io.run_for(200ms);
+    EXPECT_EQ(last_end_reason(), EndReason::kTimeout);
+}
+
+TEST_F(TrackerTest, AMotionSomebodyWaitsForIsReplacedNotUpdated) {
+    tracker.start(alice, MotionMode::kAngle, {0, 1000, 0}, waiter());
+    tracker.start(alice, MotionMode::kAngle, {0, 2000, 0});
+    EXPECT_EQ(events[1].change, MotionChange::kEnded);
+    EXPECT_EQ(events[1].reason, EndReason::kReplaced);
+    EXPECT_EQ(tracker.updates(), 0u);
+    io.poll();
+    ASSERT_EQ(ends.size(), 1u) << "the waiter gets its answer";
+    EXPECT_EQ(ends[0].reason, EndReason::kReplaced);
+}
+
+TEST_F(TrackerTest, AnotherClientOrAnotherModeReplaces) {
+    tracker.start(alice, MotionMode::kAngle, {0, 1000, 0});
+    tracker.start(bob, MotionMode::kAngle, {0, 2000, 0});
+    tracker.start(bob, MotionMode::kCenter, {});
+    EXPECT_EQ(count(events, MotionChange::kStarted), 3u);
+    EXPECT_EQ(count(events, MotionChange::kEnded), 2u);
+    EXPECT_EQ(tracker.updates(), 0u);
+}
+
+TEST_F(TrackerTest, AnUpdateMayStartWaitingAndIsToldTheEnd) {
+    tracker.set_options({0.5, 5s});
+    tracker.start(alice, MotionMode::kCenter, {});
+    tracker.start(alice, MotionMode::kCenter, {}, waiter());
+    EXPECT_EQ(tracker.updates(), 1u);
+    EXPECT_TRUE(tracker.waiting());
+    io.run_for(MotionTracker::kUpdateNoteInterval);
+    feed({0, 0, 0}, 2);
+    io.poll();
+    ASSERT_EQ(ends.size(), 1u);
+    EXPECT_EQ(ends[0].reason, EndReason::kReached);
+}
+
+TEST_F(TrackerTest, TheClampedAxesAreToldInTheEvents) {
+    tracker.start(alice, MotionMode::kCenter, {0, -1000, 0}, {}, {"pitch"});
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].clamped, (std::vector<std::string>{"pitch"}));
+    tracker.end(EndReason::kStop);
+    EXPECT_EQ(events.back().clamped, (std::vector<std::string>{"pitch"}));
+}
+
 }  // namespace
 }  // namespace gport::daemon

@@ -153,5 +153,66 @@ TEST_F(TrackedMotionTest, AReloadChangesTheTimeoutOfTheNextMotion) {
     EXPECT_LT(ends[0].elapsed, 1500ms);
 }
 
+// ---- the centre and the soft limits ----------------------------------------------
+
+void narrow_pitch(config::Config& c) {
+    c.limits.pitch = {-60.0, -10.0};  // 0 is outside: a camera that must look down
+}
+
+TEST_F(TrackedMotionTest, CenterAimsAtTheCentreClampedIntoTheSoftLimits) {
+    start_tracked(narrow_pitch);
+    auto sent = core->center(alice, waiter());
+    ASSERT_TRUE(sent.ok()) << sent.error().message;
+    EXPECT_EQ(sent->angle, (protocol::Axes{0, -1000, 0}));
+    EXPECT_EQ(sent->clamped, (std::vector<std::string>{"pitch"}));
+    ASSERT_TRUE(run_until([&] { return frames_with("0x85") == 1; }));
+    const auto frame = trace_of("0x85").back();
+    EXPECT_EQ(frame.value("mode", ""), "angle") << "not the gimbal's own centre";
+    EXPECT_EQ(frame["angle"], Json::array({0, -1000, 0}));
+    const auto started = recorder.motions.back();
+    EXPECT_EQ(started.mode, MotionMode::kCenter);
+    EXPECT_EQ(started.clamped, (std::vector<std::string>{"pitch"}));
+    ASSERT_TRUE(run_until([&] { return ended(); }));
+    EXPECT_EQ(ends[0].reason, EndReason::kReached);
+    EXPECT_NEAR(simulator->model().state().hall.pitch, -10.0, 0.5);
+}
+
+TEST_F(TrackedMotionTest, WithinTheLimitsCenterSendsTheCentreCommand) {
+    start_tracked([](config::Config& c) { c.limits.pitch = {-60.0, 30.0}; });
+    auto sent = core->center(alice);
+    ASSERT_TRUE(sent.ok());
+    EXPECT_TRUE(sent->clamped.empty());
+    EXPECT_EQ(sent->angle, (protocol::Axes{0, 0, 0}));
+    ASSERT_TRUE(run_until([&] { return frames_with("0x85") == 1; }));
+    EXPECT_EQ(trace_of("0x85").back().value("mode", ""), "center");
+}
+
+TEST_F(TrackedMotionTest, TheFailsafeCentreIsClampedIntoTheSoftLimitsToo) {
+    start_tracked([](config::Config& c) {
+        narrow_pitch(c);
+        c.failsafe.on_owner_gone = Failsafe::kCenter;
+    });
+    ASSERT_TRUE(core->angle(alice, {0, -5000, 0}, false, waiter()).ok());
+    run_for(100ms);
+    core->client_gone(alice);
+    ASSERT_TRUE(run_until([&] { return frames_with("0x85") >= 3; }));
+    const auto last = trace_of("0x85").back();
+    EXPECT_EQ(last.value("mode", ""), "angle");
+    EXPECT_EQ(last["angle"], Json::array({0, -1000, 0}));
+}
+
+TEST_F(TrackedMotionTest, ACentreStreamFromItsOwnerIsOneMotion) {
+    start_tracked();
+    for (int i = 0; i < 20; ++i) {  // MAVLink RETRACT, sent every cycle
+        ASSERT_TRUE(core->center(alice).ok());
+    }
+    std::size_t started = 0;
+    for (const auto& m : recorder.motions) {
+        started += m.change == MotionChange::kStarted ? 1 : 0;
+    }
+    EXPECT_EQ(started, 1u);
+    EXPECT_EQ(core->status().counters.motion_updates, 19u);
+}
+
 }  // namespace
 }  // namespace gport::testing

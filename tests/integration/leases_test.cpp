@@ -141,5 +141,38 @@ TEST_F(Leases, AHungStreamingClientIsStoppedByItsLease) {
         << range.dump();
 }
 
+// An autopilot's gimbal manager (through gport-mavlink) or a tracker streams
+// angle targets at 50 Hz: one motion, a few notifications, a quiet journal.
+TEST_F(Leases, AFiftyHertzPanIsOneMotionAndWritesAtMostSixJournalLines) {
+    daemon_->process().drain();  // the start's lines
+    const auto began = std::chrono::steady_clock::now();
+    int sent = 0;
+    while (std::chrono::steady_clock::now() - began < 4s) {
+        const double yaw = -40.0 + 0.4 * (sent % 200);  // 20°/s
+        const auto reply = streamer_->call("angle", {{"yaw", yaw}, {"pitch", -10}});
+        ASSERT_TRUE(reply.contains("result")) << reply.dump();
+        ++sent;
+        std::this_thread::sleep_for(20ms);
+    }
+    const auto status = watcher_->call("status")["result"];
+    EXPECT_EQ(status["counters"]["motion_updates"], sent - 1) << status.dump();
+    EXPECT_EQ(status["motion"]["mode"], "angle") << "still running: the stream went on";
+    const auto journal = daemon_->process().drain();
+    std::string text;
+    for (const auto& line : journal) {
+        text += line + "\n";
+    }
+    EXPECT_LE(journal.size(), 6U) << sent << " angles; the journal:\n" << text;
+    EXPECT_TRUE(has(text, "motion started (angle)")) << text;
+    EXPECT_FALSE(has(text, "motion ended (replaced)")) << text;
+
+    ASSERT_TRUE(streamer_->call("stop").contains("result"));
+    const auto events = motion_until_ended();
+    EXPECT_EQ(count(events, "started"), 1U);
+    EXPECT_EQ(count(events, "ended"), 1U);
+    EXPECT_LE(count(events, "updated"), 9U) << "at most 2 a second";
+    EXPECT_GE(count(events, "updated"), 1U);
+}
+
 }  // namespace
 }  // namespace gport::testing

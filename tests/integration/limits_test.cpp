@@ -74,5 +74,54 @@ TEST_F(LimitsEndToEnd, ATooFastSpeedIsRefusedOrClamped) {
     EXPECT_EQ(client_->call("stop")["result"]["sent"], true);
 }
 
+// Item 5 of issue 22: with pitch limited to -60..-10 and the failsafe centre,
+// center (and the failsafe) drive pitch to -10, never to 0; the start warns.
+TEST(CentreEndToEnd, CenterAndItsFailsafeStayInsideTheLimitsAndTheStartWarns) {
+    TempDir dir;
+    SimProcess sim(dir);
+    const std::string command =
+        std::string("exec ") + GPORTD_PATH + " --config " +
+        write_test_config(dir, R"("limits": {"pitch": {"min": -60, "max": -10}},
+  "failsafe": {"on_owner_gone": "center"})") +
+        " --socket " + dir.file("gportd.sock") + " --device " + sim.link() + " 2>&1";
+    Process daemon({"/bin/sh", "-c", command});
+    const auto warning = daemon.wait_line([](const std::string& line) {
+        return contains(line,
+                        "failsafe.on_owner_gone is \"center\", but 0° lies outside "
+                        "limits.pitch (-60 to -10)");
+    });
+    ASSERT_TRUE(warning) << "no start warning";
+    EXPECT_TRUE(contains(*warning, "[warning]")) << *warning;
+    Client client(dir.file("gportd.sock"));
+    ASSERT_TRUE(link_up(client));
+
+    const auto result = client.call("center")["result"];
+    EXPECT_EQ(result["target"], Json({{"roll", 0.0}, {"pitch", -10.0}, {"yaw", 0.0}}));
+    EXPECT_EQ(result["clamped"], Json({"pitch"}));
+    const auto is_angle_to = [](const Json& angle) {
+        return [angle](const std::string& line) {
+            auto j = Json::parse(line, nullptr, false);
+            return j.is_object() && j.value("mode", "") == "angle" && j["angle"] == angle;
+        };
+    };
+    EXPECT_TRUE(sim.process().wait_line(is_angle_to({0, -1000, 0})));
+
+    // The failsafe: a waiting owner leaves while its angle motion runs.
+    {
+        Client owner(dir.file("gportd.sock"));
+        owner.send_line(R"({"id":1,"method":"angle","params":{"pitch":-55,"wait":true}})");
+        EXPECT_TRUE(sim.process().wait_line(is_angle_to({0, -5500, 0})));
+    }
+    EXPECT_TRUE(sim.process().wait_line(is_angle_to({0, -1000, 0})))
+        << "the failsafe's centre, clamped";
+    EXPECT_FALSE(sim.process().wait_line(
+        [](const std::string& line) {
+            auto j = Json::parse(line, nullptr, false);
+            return j.is_object() && j.value("mode", "") == "center";
+        },
+        500ms))
+        << "the gimbal's own centre command would drive pitch to 0";
+}
+
 }  // namespace
 }  // namespace gport::testing

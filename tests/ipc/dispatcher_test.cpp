@@ -229,6 +229,25 @@ TEST_F(DispatcherTest, ParamsAreValidatedNamingFieldAndRange) {
     EXPECT_EQ(api_.calls.size(), 1u);  // only the "stop" with [] reached the core
 }
 
+// Both ranges end at the configured keepalive.max_duration_ms, and the
+// refusal says so (it once said 86400000, a bound of the protocol's own).
+TEST_F(DispatcherTest, DurationAndLeaseRefusalsNameTheConfiguredMaximum) {
+    api_.max_duration_value = daemon::Millis(60000);
+    for (const char* key : {"duration_ms", "lease_ms"}) {
+        for (const json& value : {json(0), json(60001), json(100000000), json(1.5), json("x")}) {
+            const auto reply = call("speed", {{key, value}});
+            EXPECT_EQ(code(reply), rpc_error::kInvalidParams);
+            EXPECT_EQ(message(reply), std::string(key) +
+                                          " must be an integer from 1 to 60000 "
+                                          "(keepalive.max_duration_ms)")
+                << value;
+        }
+    }
+    EXPECT_TRUE(api_.calls.empty());
+    EXPECT_EQ(call("speed", {{"lease_ms", 60000}, {"duration_ms", 60000}})["result"]["duration_ms"],
+              60000);
+}
+
 TEST_F(DispatcherTest, CoreErrorsMapToTheirCodes) {
     const std::pair<daemon::ErrorCode, int> cases[] = {
         {daemon::ErrorCode::kInvalidParams, -32602}, {daemon::ErrorCode::kLinkDown, -32000},

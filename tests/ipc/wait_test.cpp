@@ -104,7 +104,8 @@ TEST_F(WaitDispatcherTest, WithoutWaitNothingWaits) {
     auto replies = send(R"({"id":1,"method":"angle","params":{"pitch":10,"wait":false}})");
     ASSERT_EQ(replies.size(), 1u);
     EXPECT_FALSE(replies[0]["result"].contains("ended"));
-    EXPECT_EQ(send(R"({"id":2,"method":"center"})")[0]["result"], json({{"sent", true}}));
+    EXPECT_EQ(send(R"({"id":2,"method":"center"})")[0]["result"],
+              json::parse(R"({"sent":true,"target":{"roll":0,"pitch":0,"yaw":0},"clamped":[]})"));
     EXPECT_TRUE(api_.waiters.empty());
 }
 

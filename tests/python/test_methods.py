@@ -58,6 +58,15 @@ def test_speed_clamped_to_soft_limit(make_daemon: Callable[..., Daemon]) -> None
         client.stop()
 
 
+def test_center_clamped_into_the_soft_limits(make_daemon: Callable[..., Daemon]) -> None:
+    daemon = make_daemon({"limits": {"pitch": {"min": -60, "max": -10}}})
+    with daemon.client() as client:
+        result = client.center()
+        assert result.target == gport.Axes(0, -10, 0)
+        assert result.clamped == ("pitch",)
+        assert client.center().clamped == ("pitch",)
+
+
 def test_angle_center_lock_photo(client: gport.Client) -> None:
     result = client.angle(pitch=-20, yaw=30)
     assert result.sent and result.angle == gport.Axes(0, -20, 30) and result.ended is None

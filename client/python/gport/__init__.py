@@ -10,6 +10,7 @@ asyncio. Both speak gportd's JSON-RPC over its Unix socket (default
         gimbal.photo()
 """
 
+from ._protocol import INBOX_LIMIT, LINE_LIMIT, NESTING_LIMIT, WAIT_ALLOWANCE
 from .aio import AsyncClient
 from .channel import AttitudeChannel
 from .client import Client
@@ -60,6 +61,10 @@ from .results import (
 __version__ = "0.1.0"
 
 __all__ = [
+    "INBOX_LIMIT",
+    "LINE_LIMIT",
+    "NESTING_LIMIT",
+    "WAIT_ALLOWANCE",
     "AngleResult",
     "AsyncClient",
     "AsyncMovement",

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import array
+import itertools
 import json
 import os
+import re
 import socket
 from collections import deque
 from dataclasses import dataclass
-from typing import Any, Iterable, Mapping
+from typing import Any, Iterable, Iterator, Mapping
 
 from .errors import GportError, NoSlot, error_from_reply
 from .results import Notification, parse_notification
@@ -18,8 +20,32 @@ SOCKET_ENV = "GPORT_SOCKET"
 TOPICS = ("attitude", "link", "motion")
 # Notifications kept per topic while nobody reads them; the oldest go first.
 INBOX_LIMIT = 1024
-# Longest line accepted from the daemon.
+# Longest line accepted from the daemon, in bytes without the newline (as the
+# C++ client's kLineLimit); a longer one ends the connection.
 LINE_LIMIT = 16 * 1024 * 1024
+# Deepest nesting of arrays and objects accepted in a line (gportd's replies
+# nest 6 deep; as the C++ client's kNestingLimit), checked before json.loads,
+# which recurses; a deeper line ends the connection.
+NESTING_LIMIT = 64
+# Seconds added to the timeout of calls with wait=True, whose reply comes when
+# the motion ends: gportd ends it by motion.timeout_ms, at most 600 s.
+WAIT_ALLOWANCE = 600.0
+# How much of a decoder's message a ConnectionLost quotes.
+_DETAIL_CHARS = 200
+
+
+class BadLine(Exception):
+    """A line from the daemon that the client cannot take: the connection
+    ends with ConnectionLost carrying ``reason``."""
+
+    def __init__(self, what: str) -> None:
+        self.reason = f"the daemon sent {what}; the connection is closed"
+        super().__init__(self.reason)
+
+
+def _short(detail: object) -> str:
+    text = str(detail)
+    return text if len(text) <= _DETAIL_CHARS else text[:_DETAIL_CHARS] + "..."
 
 
 # Descriptors accepted per recvmsg (gportd sends two, with a connection's
@@ -55,20 +81,47 @@ def receive(sock: socket.socket, size: int = 65536) -> tuple[bytes, list[int]]:
 
 
 class LineBuffer:
-    """Splits the bytes read into lines (without the newline)."""
+    """Splits the bytes read into lines (without the newline). It holds at
+    most LINE_LIMIT bytes and one read: each byte is looked at a bounded
+    number of times, whatever the daemon sends."""
 
     def __init__(self) -> None:
         self._data = bytearray()
 
-    def feed(self, data: bytes) -> list[bytes]:
+    def feed(self, data: bytes) -> Iterator[bytes]:
+        """The lines ``data`` completes, in order; raises BadLine on reaching
+        a line longer than LINE_LIMIT (the incomplete one included)."""
+        lines: list[bytearray] = []
         self._data += data
-        if b"\n" not in data:
-            if len(self._data) > LINE_LIMIT:
-                raise ValueError(f"a line from the daemon is longer than {LINE_LIMIT} bytes")
-            return []
-        *lines, rest = self._data.split(b"\n")
-        self._data = bytearray(rest)
-        return [bytes(line) for line in lines]
+        if b"\n" in data:
+            *lines, rest = self._data.split(b"\n")
+            self._data = bytearray(rest)
+        for line in lines:
+            _check_length(len(line))
+            yield bytes(line)
+        _check_length(len(self._data))
+
+
+def _check_length(length: int) -> None:
+    if length > LINE_LIMIT:
+        raise BadLine(f"a line longer than {LINE_LIMIT} bytes (the client's line limit)")
+
+
+_NOT_BRACKETS = bytes(range(256)).translate(None, b"[]{}")
+_BRACKET_SIGNS = bytes.maketrans(b"[]{}", b"\x01\xff\x01\xff")  # +1 / -1 as signed bytes
+_STRING = re.compile(rb'"[^"]*"')  # once the escapes are gone
+
+
+def nested_deeper_than(line: bytes, limit: int) -> bool:
+    """True when arrays and objects nest deeper than ``limit`` in the JSON
+    text ``line`` (brackets in strings do not count). Linear, at C speed:
+    the escapes and the strings are removed, then the depth is the running
+    sum of +1 per opening and -1 per closing bracket."""
+    if line.count(b"[") + line.count(b"{") <= limit:
+        return False  # gportd's lines: no scan
+    outside = _STRING.sub(b"", line.replace(b"\\\\", b"").replace(b'\\"', b""))
+    signs = array.array("b", outside.translate(_BRACKET_SIGNS, _NOT_BRACKETS))
+    return max(itertools.accumulate(signs), default=0) > limit
 
 
 class Descriptors:
@@ -150,30 +203,74 @@ Message = Reply | Pushed | Refused | None
 
 
 def decode(line: bytes) -> Message:
-    """Classifies one line from the daemon; None for what this client ignores."""
+    """Classifies one line from the daemon; None for what this client ignores
+    (a blank line, a notification of a topic it does not know). Raises
+    BadLine naming what is wrong: not UTF-8, nested deeper than
+    NESTING_LIMIT, not JSON, not a JSON object, neither a reply nor a
+    notification nor a refusal, a notification that does not decode."""
+    if line in (b"", b"\r"):
+        return None
     try:
-        message = json.loads(line)
-    except ValueError:
-        return None
+        text = line.decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise BadLine(f"a line that is not UTF-8 ({error.reason} at byte {error.start})") from None
+    if nested_deeper_than(line, NESTING_LIMIT):
+        raise BadLine(
+            f"a line nested deeper than {NESTING_LIMIT} levels (the client's nesting limit)"
+        )
+    try:
+        message = json.loads(text)
+    except RecursionError:
+        raise BadLine("a line nested too deeply for the JSON decoder (RecursionError)") from None
+    except ValueError as error:
+        raise BadLine(f"a line that is not JSON ({_short(error)})") from None
     if not isinstance(message, dict):
-        return None
-    method = message.get("method")
-    if isinstance(method, str):
-        params = message.get("params")
-        item = parse_notification(method, params) if isinstance(params, dict) else None
-        return None if item is None else Pushed(method, item)
-    request_id = message.get("id")
-    error = message.get("error")
-    if isinstance(request_id, int) and not isinstance(request_id, bool):
-        if isinstance(error, dict):
-            return Reply(request_id, error=error_from_reply(error))
-        return Reply(request_id, result=message.get("result"))
-    if isinstance(error, dict):
+        raise BadLine(f"a line that is not a JSON object ({type(message).__name__})")
+    if "method" in message:
+        return _notification(message)
+    return _reply(message)
+
+
+def _notification(message: dict[str, Any]) -> Pushed | None:
+    method, params = message["method"], message.get("params")
+    if not isinstance(method, str):
+        raise BadLine(f"a notification whose method is not a string ({type(method).__name__})")
+    if method not in TOPICS:
+        return None  # a topic newer than this client
+    if not isinstance(params, dict):
+        raise BadLine(f"a {method} notification whose params are not an object")
+    try:
+        item = parse_notification(method, params)
+    except (KeyError, TypeError, ValueError, AttributeError, OverflowError) as error:
+        raise BadLine(f"a {method} notification this client cannot read ({_short(repr(error))})")
+    assert item is not None  # every topic of TOPICS parses
+    return Pushed(method, item)
+
+
+def _reply(message: dict[str, Any]) -> Reply | Refused:
+    if "id" not in message:
+        raise BadLine("a message with neither an id nor a method")
+    request_id, error = message["id"], message.get("error")
+    if request_id is None:
+        if not isinstance(error, dict):
+            raise BadLine("a message with a null id and no error object")
         return Refused(error_from_reply(error))
-    return None
+    if not isinstance(request_id, int) or isinstance(request_id, bool):
+        raise BadLine(f"a reply whose id is not an integer ({type(request_id).__name__})")
+    if "error" in message:
+        if not isinstance(error, dict):
+            raise BadLine(f"a reply whose error is not an object ({type(error).__name__})")
+        return Reply(request_id, error=error_from_reply(error))
+    if "result" not in message:
+        raise BadLine("a reply with neither a result nor an error")
+    return Reply(request_id, result=message["result"])
 
 
-def closed_message(refused: GportError | None) -> str:
+def closed_message(refused: GportError | None, reason: str | None = None) -> str:
+    """Why the connection is gone: the client's reason (a bad line, a request
+    the daemon did not read), else the refusal the daemon sent, if any."""
+    if reason is not None:
+        return reason
     if refused is None:
         return "the daemon closed the connection"
     kind = "refused the connection" if isinstance(refused, NoSlot) else "closed the connection"
@@ -232,6 +329,14 @@ def subscribe_params(topics: str | Iterable[str], max_rate_hz: float | None) -> 
     return drop_none(topics=topic_list(topics), max_rate_hz=max_rate_hz)
 
 
+def reply_limit(timeout: float | None, wait: bool) -> float | None:
+    """Seconds to wait for a reply: the client's timeout, plus WAIT_ALLOWANCE
+    for calls with wait=True; None: no limit."""
+    if timeout is None:
+        return None
+    return timeout + WAIT_ALLOWANCE if wait else timeout
+
+
 def keepalive_interval(lease_ms: int) -> float:
     """Seconds between re-sends of a ``moving`` speed: three per lease."""
     if lease_ms < 30:
@@ -240,15 +345,19 @@ def keepalive_interval(lease_ms: int) -> float:
 
 
 class Inbox:
-    """Notifications waiting to be read, per topic, in arrival order (not thread-safe)."""
+    """Notifications waiting to be read, per topic, in arrival order; at most
+    INBOX_LIMIT per topic, the oldest dropped and counted (not thread-safe)."""
 
     def __init__(self) -> None:
         self._queues: dict[str, deque[tuple[int, Notification]]] = {}
         self._seq = 0
+        self.dropped = 0
 
     def put(self, topic: str, item: Notification) -> None:
         queue = self._queues.setdefault(topic, deque(maxlen=INBOX_LIMIT))
         self._seq += 1
+        if len(queue) == INBOX_LIMIT:
+            self.dropped += 1
         queue.append((self._seq, item))
 
     def take(self, topics: Iterable[str] | None) -> Notification | None:

@@ -46,8 +46,8 @@ class AsyncClient:
     """A connection to gportd for asyncio programs (one event loop).
 
     ``client = await AsyncClient.open(path)`` or ``async with AsyncClient(path)
-    as client:``; then ``await client.status()`` and so on. Arguments and
-    results are those of gport.Client.
+    as client:``; then ``await client.status()`` and so on. Arguments,
+    results, timeouts and limits are those of gport.Client.
     """
 
     def __init__(self, path: str | None = None, *, timeout: float | None = 10.0) -> None:
@@ -71,6 +71,7 @@ class AsyncClient:
         self._shared_attitude = False
         self._alive = False
         self._refused: GportError | None = None
+        self._reason: str | None = None  # why the client ended the connection
 
     @classmethod
     async def open(cls, path: str | None = None, *, timeout: float | None = 10.0) -> AsyncClient:
@@ -91,7 +92,7 @@ class AsyncClient:
         except OSError as error:
             sock.close()
             raise ConnectionLost(f"cannot connect to {self.path}: {error.strerror}") from error
-        self._sock, self._alive, self._refused = sock, True, None
+        self._sock, self._alive, self._refused, self._reason = sock, True, None, None
         self._lines, self._fds = p.LineBuffer(), p.Descriptors()
         self._send_lock = asyncio.Lock()
         loop.add_reader(sock.fileno(), self._readable, sock)
@@ -107,18 +108,28 @@ class AsyncClient:
             data, fds = b"", []
         self._fds.extend(fds)
         self._fds.keep(2 * len(self._awaiting))  # none nobody asked for
-        try:
-            lines = self._lines.feed(data) if data else None
-        except ValueError:
-            lines = None
-        if lines is None:
+        if not data:
             self._detach(sock)
             self._lost()
             return
-        for line in lines:
-            if sock is not self._sock:
-                return  # a handler closed the connection
-            self._dispatch(p.decode(line))
+        try:
+            for line in self._lines.feed(data):
+                if sock is not self._sock:
+                    return  # a handler closed the connection
+                self._dispatch(p.decode(line))
+        except p.BadLine as error:
+            self._end(sock, error.reason)
+        except Exception as error:  # never leave a dead reader behind a live-looking client
+            self._end(sock, f"the client's reader failed: {error!r}; the connection is closed")
+
+    def _end(self, sock: socket.socket, reason: str) -> None:
+        """The client ends the connection on ``sock``: pending and later calls
+        fail with ConnectionLost naming ``reason``."""
+        if sock is not self._sock:
+            return
+        self._reason = reason
+        self._detach(sock)
+        self._lost()
 
     def _detach(self, sock: socket.socket) -> None:
         """Stops reading ``sock`` and closes it and the unclaimed descriptors."""
@@ -135,7 +146,7 @@ class AsyncClient:
         self._alive = False
         for future in self._pending.values():
             if not future.done():
-                future.set_exception(ConnectionLost(p.closed_message(self._refused)))
+                future.set_exception(ConnectionLost(p.closed_message(self._refused, self._reason)))
         self._pending.clear()
         for fds in self._claims.values():
             for fd in fds:
@@ -168,6 +179,11 @@ class AsyncClient:
     @property
     def connected(self) -> bool:
         return self._alive
+
+    @property
+    def dropped_notifications(self) -> int:
+        """As gport.Client.dropped_notifications."""
+        return self._inbox.dropped
 
     async def close(self) -> None:
         """Closes the connection: the daemon stops this client's motion and releases control."""
@@ -220,24 +236,37 @@ class AsyncClient:
         """The result and, for attitude_channel, the descriptors its reply carried."""
         sock, lock = self._sock, self._send_lock
         if not self._alive or sock is None or lock is None:
-            raise ConnectionLost(p.closed_message(self._refused))
+            raise ConnectionLost(p.closed_message(self._refused, self._reason))
         self._next_id += 1
         request_id = self._next_id
         future: asyncio.Future[p.Reply] = asyncio.get_running_loop().create_future()
         self._pending[request_id] = future
         if method == p.CHANNEL_METHOD:
             self._awaiting.add(request_id)
+        started = time.monotonic()
+        line = p.encode(request_id, method, params)
         try:
-            async with lock:  # whole lines: one sendall at a time
-                await asyncio.get_running_loop().sock_sendall(
-                    sock, p.encode(request_id, method, params)
-                )
-        except OSError as error:
+            await asyncio.wait_for(self._send_line(sock, lock, line), limit)
+        except (OSError, asyncio.TimeoutError, ConnectionLost) as error:
             self._pending.pop(request_id, None)
             self._awaiting.discard(request_id)
-            raise ConnectionLost(f"cannot send to {self.path}: {error.strerror}") from error
+            if future.done():
+                future.exception()  # seen: the error raised here tells it
+            if isinstance(error, ConnectionLost):
+                raise
+            if isinstance(error, asyncio.TimeoutError):  # (an OSError since 3.11: first)
+                # A part of a line may have gone: the stream is unusable.
+                failure = (
+                    f"the daemon did not read the request to {method} within {limit} s; "
+                    "the connection is closed"
+                )
+            else:
+                failure = f"cannot send to {self.path}: {error.strerror}"
+            self._end(sock, failure)
+            raise ConnectionLost(p.closed_message(self._refused, self._reason)) from None
+        left = None if limit is None else max(0.0, limit - (time.monotonic() - started))
         try:
-            reply = await asyncio.wait_for(future, limit)
+            reply = await asyncio.wait_for(future, left)
         except asyncio.TimeoutError:
             # Still awaited: a late reply's descriptors are closed by _dispatch.
             self._pending.pop(request_id, None)
@@ -248,6 +277,12 @@ class AsyncClient:
                 p.close_quietly(fd)
             raise reply.error
         return reply.result, fds
+
+    async def _send_line(self, sock: socket.socket, lock: asyncio.Lock, line: bytes) -> None:
+        async with lock:  # whole lines: one sendall at a time
+            if sock is not self._sock:
+                raise ConnectionLost(p.closed_message(self._refused, self._reason))
+            await asyncio.get_running_loop().sock_sendall(sock, line)
 
     async def status(self) -> Status:
         return parse_status(await self.call("status"))
@@ -288,11 +323,11 @@ class AsyncClient:
         wait: bool = False,
     ) -> AngleResult:
         params = p.angle_params(roll, pitch, yaw, clamp, wait)
-        return parse_angle(await self.call("angle", params, None if wait else _DEFAULT))
+        return parse_angle(await self.call("angle", params, p.reply_limit(self.timeout, wait)))
 
     async def center(self, *, wait: bool = False) -> CenterResult:
         params = {"wait": True} if wait else None
-        return parse_center(await self.call("center", params, None if wait else _DEFAULT))
+        return parse_center(await self.call("center", params, p.reply_limit(self.timeout, wait)))
 
     async def lock(self) -> None:
         await self.call("lock")
@@ -408,7 +443,7 @@ class AsyncClient:
             if item is not None:
                 return item
             if not self._alive:
-                raise ConnectionLost(p.closed_message(self._refused))
+                raise ConnectionLost(p.closed_message(self._refused, self._reason))
             left = None if deadline is None else deadline - time.monotonic()
             if left is not None and left <= 0:
                 return None

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+import select
 import socket
 import threading
 import time
@@ -45,9 +47,10 @@ class Client:
 
     ``path``: the socket (default $GPORT_SOCKET, else /run/gportd.sock).
     ``timeout``: seconds to wait for a reply (None: no limit); calls with
-    ``wait=True`` have no client-side limit (the daemon's motion.timeout_ms
-    ends the motion). The connection opens at once; ConnectionLost if it
-    cannot.
+    ``wait=True`` get WAIT_ALLOWANCE (600 s) more, since the daemon's
+    motion.timeout_ms ends the motion. The connection opens at once;
+    ConnectionLost if it cannot. A line from the daemon that the client
+    cannot decode ends the connection (ConnectionLost naming why).
     """
 
     def __init__(self, path: str | None = None, *, timeout: float | None = 10.0) -> None:
@@ -68,6 +71,7 @@ class Client:
         self._awaiting: set[int] = set()
         self._claims: dict[int, list[int]] = {}
         self._mapping: _ring.Mapping | None = None  # this connection's channel
+        self._reason: str | None = None  # why the client ended the connection
         self._pump: RingPump | None = None
         self._shared_attitude = False
         self._open()
@@ -84,6 +88,7 @@ class Client:
             self._sock = sock
             self._alive = True
             self._refused = None
+            self._reason = None
         self._reader = threading.Thread(
             target=self._read, args=(sock,), name="gport-reader", daemon=True
         )
@@ -92,6 +97,7 @@ class Client:
     def _read(self, sock: socket.socket) -> None:
         lines = p.LineBuffer()
         fds = p.Descriptors()
+        reason: str | None = None
         try:
             while True:
                 data, received = p.receive(sock)
@@ -102,13 +108,29 @@ class Client:
                     break
                 for line in lines.feed(data):
                     self._dispatch(p.decode(line), fds)
-        except (OSError, ValueError):
+        except p.BadLine as error:
+            reason = error.reason
+        except OSError:
             pass
+        except Exception as error:  # never leave a dead reader behind a live-looking client
+            reason = f"the client's reader failed: {error!r}; the connection is closed"
         fds.close()  # none of them was claimed
+        self._end(sock, reason)
+
+    def _end(self, sock: socket.socket, reason: str | None) -> None:
+        """The connection on ``sock`` is over: calls and waiters fail at once
+        with ConnectionLost (naming ``reason``, when the client ended it)."""
         with self._cond:
             if self._sock is sock:
                 self._alive = False
+                if reason is not None and self._reason is None:
+                    self._reason = reason
             self._cond.notify_all()
+        if reason is not None:
+            try:
+                sock.shutdown(socket.SHUT_RDWR)  # the daemon sees the end now
+            except OSError:
+                pass
 
     def _dispatch(self, message: p.Message, fds: p.Descriptors) -> None:
         with self._cond:
@@ -134,9 +156,17 @@ class Client:
 
     @property
     def connected(self) -> bool:
-        """False once the daemon closed the connection or close() was called."""
+        """False once the connection ended (the daemon closed it, a line it
+        sent could not be decoded) or close() was called."""
         with self._cond:
             return self._alive
+
+    @property
+    def dropped_notifications(self) -> int:
+        """Notifications dropped because nobody took them (INBOX_LIMIT of
+        their topic waited); not the daemon's own ``dropped``."""
+        with self._cond:
+            return self._inbox.dropped
 
     def close(self) -> None:
         """Closes the connection: the daemon stops this client's motion and releases control."""
@@ -196,12 +226,12 @@ class Client:
     ) -> Any:
         """Any method by name; returns the decoded ``result`` or raises GportError."""
         limit: float | None = self.timeout if timeout is _DEFAULT else timeout
-        return self._await_reply(self._send(method, params), method, limit)
+        return self._await_reply(self._send(method, params, limit), method, limit)
 
-    def _send(self, method: str, params: Mapping[str, Any] | None) -> int:
+    def _send(self, method: str, params: Mapping[str, Any] | None, limit: float | None) -> int:
         with self._cond:
             if not self._alive or self._sock is None:
-                raise ConnectionLost(p.closed_message(self._refused))
+                raise ConnectionLost(p.closed_message(self._refused, self._reason))
             self._next_id += 1
             request_id, sock = self._next_id, self._sock
             self._pending[request_id] = None
@@ -209,12 +239,20 @@ class Client:
                 self._awaiting.add(request_id)
         try:
             with self._write_lock:
-                sock.sendall(p.encode(request_id, method, params))
+                taken = _write(sock, p.encode(request_id, method, params), limit)
         except OSError as error:
+            taken, failure = False, f"cannot send to {self.path}: {error.strerror}"
+        else:
+            failure = (
+                f"the daemon did not read the request to {method} within {limit} s; "
+                "the connection is closed"
+            )
+        if not taken:
             with self._cond:
                 self._pending.pop(request_id, None)
                 self._awaiting.discard(request_id)
-            raise ConnectionLost(f"cannot send to {self.path}: {error.strerror}") from error
+            self._end(sock, failure)  # a part of a line may have gone: the stream is unusable
+            raise ConnectionLost(failure)
         return request_id
 
     def _await_reply(self, request_id: int, method: str, limit: float | None) -> Any:
@@ -234,7 +272,7 @@ class Client:
                 # A late reply's descriptors are closed by _dispatch.
                 self._pending.pop(request_id, None)
             if reply is None and not self._alive:
-                raise ConnectionLost(p.closed_message(self._refused))
+                raise ConnectionLost(p.closed_message(self._refused, self._reason))
         if reply is None:
             raise Timeout(f"no reply to {method} within {limit} s")
         if reply.error is not None:
@@ -251,7 +289,7 @@ class Client:
         request and shared by every later one (each call gives a reader with
         its own cursor). BadChannel when a block fails its checks (the
         message names why)."""
-        request_id = self._send(p.CHANNEL_METHOD, None)
+        request_id = self._send(p.CHANNEL_METHOD, None, self.timeout)
         try:
             result = self._await_reply(request_id, p.CHANNEL_METHOD, self.timeout)
         except BaseException:
@@ -293,11 +331,11 @@ class Client:
         wait: bool = False,
     ) -> AngleResult:
         params = p.angle_params(roll, pitch, yaw, clamp, wait)
-        return parse_angle(self.call("angle", params, None if wait else _DEFAULT))
+        return parse_angle(self.call("angle", params, p.reply_limit(self.timeout, wait)))
 
     def center(self, *, wait: bool = False) -> CenterResult:
         params = {"wait": True} if wait else None
-        return parse_center(self.call("center", params, None if wait else _DEFAULT))
+        return parse_center(self.call("center", params, p.reply_limit(self.timeout, wait)))
 
     def lock(self) -> None:
         self.call("lock")
@@ -407,7 +445,7 @@ class Client:
                 if item is not None:
                     return item
                 if not self._alive:
-                    raise ConnectionLost(p.closed_message(self._refused))
+                    raise ConnectionLost(p.closed_message(self._refused, self._reason))
                 left = None if deadline is None else deadline - time.monotonic()
                 if left is not None and left <= 0:
                     return None
@@ -493,3 +531,23 @@ class Client:
         self.stop()
         if movement.error is not None:
             raise movement.error
+
+
+def _write(sock: socket.socket, data: bytes, limit: float | None) -> bool:
+    """Sends all of ``data`` unless the daemon takes none of it for ``limit``
+    seconds (then False): a daemon that does not read cannot hold a call."""
+    deadline = None if limit is None else time.monotonic() + limit
+    view = memoryview(data)
+    poller = select.poll()
+    poller.register(sock, select.POLLOUT)
+    while view:
+        try:
+            view = view[sock.send(view, socket.MSG_DONTWAIT) :]
+            continue
+        except BlockingIOError:
+            pass
+        left = None if deadline is None else deadline - time.monotonic()
+        if left is not None and left <= 0:
+            return False
+        poller.poll(None if left is None else max(1, int(left * 1000)))
+    return True

@@ -170,10 +170,14 @@ class AngleResult:
 
 @dataclass(frozen=True)
 class CenterResult:
-    """The ``center`` result; ``ended`` is set when called with ``wait=True``."""
+    """The ``center`` result; ``ended`` is set when called with ``wait=True``.
+    ``target`` is the centre aimed at: 0/0/0, or clamped into the soft limits
+    where they exclude 0 (``clamped`` names those axes)."""
 
     sent: bool
     ended: Ended | None = None
+    target: Axes = Axes(0.0, 0.0, 0.0)
+    clamped: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -380,7 +384,13 @@ def parse_angle(raw: Json) -> AngleResult:
 
 
 def parse_center(raw: Json) -> CenterResult:
-    return CenterResult(sent=bool(raw.get("sent", True)), ended=_ended(raw.get("ended")))
+    target = raw.get("target")
+    return CenterResult(
+        sent=bool(raw.get("sent", True)),
+        ended=_ended(raw.get("ended")),
+        target=_axes_required(target) if target is not None else Axes(0.0, 0.0, 0.0),
+        clamped=tuple(str(a) for a in raw.get("clamped", [])),
+    )
 
 
 def parse_record(raw: Json) -> RecordResult:

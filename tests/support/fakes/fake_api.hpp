@@ -47,6 +47,8 @@ class FakeApi final : public daemon::Api {
     void set_observer(daemon::CoreObserver* o) override { observer = o; }
     config::LimitsConfig limits_value;
     config::LimitsConfig limits() const override { return limits_value; }
+    daemon::Millis max_duration_value{60000};
+    daemon::Millis max_duration() const override { return max_duration_value; }
 
     daemon::Status status() const override {
         ++status_calls;
@@ -106,13 +108,16 @@ class FakeApi final : public daemon::Api {
         }
         return daemon::AngleSent{a, clamped};
     }
-    daemon::Outcome<daemon::Done> center(const daemon::ClientInfo& c,
-                                         daemon::MotionEndCallback on_end = {}) override {
+    daemon::Outcome<daemon::AngleSent> center(const daemon::ClientInfo& c,
+                                              daemon::MotionEndCallback on_end = {}) override {
         auto done = command(on_end ? "center wait" : "center", c);
-        if (done && on_end) {
+        if (!done) {
+            return done.error();
+        }
+        if (on_end) {
             waiters.push_back(std::move(on_end));
         }
-        return done;
+        return daemon::AngleSent{};
     }
     // Ends the oldest waiting motion with `end` (as the core would, later).
     void end_waiter(const daemon::MotionEnd& end) {

@@ -1,7 +1,7 @@
 // gport::client::AsyncClient: the asynchronous client, on a Boost.Asio
 // io_context the caller runs. Same methods and types as Client (client.hpp);
 // each takes a completion handler called with (error, result): `error` is
-// empty on success, else the daemon's error or kTransport.
+// empty on success, else the daemon's error, kTransport or kTimeout.
 //
 //     boost::asio::io_context io;
 //     gport::client::AsyncClient gimbal(io);
@@ -9,6 +9,11 @@
 //         gimbal.async_status([](auto error, gport::client::Status s) { ... });
 //     });
 //     io.run();
+//
+// Limits (limits.hpp), as Client's: a line over kLineLimit, nested deeper
+// than kNestingLimit or not a JSON object ends the connection (pending
+// calls get kTransport naming it, then on_disconnect); a call whose reply
+// does not come within the call timeout completes with kTimeout.
 //
 // Handlers and the notification callback run on the io_context's thread,
 // from io.run(); they are never called from inside the initiating call.
@@ -29,6 +34,7 @@
 #include "gport/client/attitude_channel.hpp"
 #include "gport/client/error.hpp"
 #include "gport/client/export.hpp"
+#include "gport/client/limits.hpp"
 #include "gport/client/types.hpp"
 
 namespace gport::client {
@@ -85,6 +91,14 @@ class GPORT_CLIENT_API AsyncClient {
 
     void close();
     bool connected() const noexcept;
+
+    // The longest wait for a call's reply (kDefaultCallTimeout unless set;
+    // empty: no limit), for the calls made from now on; calls with `wait`
+    // get kWaitAllowance more. After it the handler gets kTimeout and the
+    // connection stays (a late reply is dropped); when gportd has not even
+    // read the request by then, the connection is closed (kTransport).
+    void set_call_timeout(std::optional<Milliseconds> timeout);
+    std::optional<Milliseconds> call_timeout() const;
 
   private:
     struct Impl;

@@ -6,8 +6,15 @@
 //     gimbal.photo();
 //
 // Errors: every call throws gport::client::Error (error.hpp): the daemon's
-// code and message, or ErrorCode::kTransport when the connection is gone
-// (then connect again; gportd may have restarted).
+// code and message, ErrorCode::kTransport when the connection is gone
+// (then connect again; gportd may have restarted), ErrorCode::kTimeout when
+// no reply came within the call timeout (set_call_timeout).
+//
+// Limits (limits.hpp): a line from gportd over kLineLimit or nested deeper
+// than kNestingLimit, or not a JSON object, ends the connection (kTransport
+// naming it); at most kNotificationQueueLimit notifications of each kind
+// wait for next_notification(), the oldest beyond that are dropped and
+// counted (dropped_notifications()).
 //
 // Notifications: after subscribe(), samples and events arriving during any
 // call are kept in order; take them with next_notification(), or set a
@@ -21,6 +28,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -30,6 +38,7 @@
 #include "gport/client/attitude_channel.hpp"
 #include "gport/client/error.hpp"
 #include "gport/client/export.hpp"
+#include "gport/client/limits.hpp"
 #include "gport/client/types.hpp"
 
 namespace gport::client {
@@ -100,6 +109,17 @@ class GPORT_CLIENT_API Client {
     // stops this client's motion and releases its control.
     void close();
     bool connected() const noexcept;
+
+    // The longest wait for a call's reply (kDefaultCallTimeout unless set;
+    // empty: no limit); calls with `wait` get kWaitAllowance more. After it
+    // the call throws kTimeout and the connection stays usable (a late reply
+    // is dropped). gportd not reading a request for that long closes the
+    // connection (kTransport).
+    void set_call_timeout(std::optional<Milliseconds> timeout);
+    std::optional<Milliseconds> call_timeout() const;
+    // Notifications dropped because nobody took them (the queue of their
+    // kind held kNotificationQueueLimit); not gportd's own `dropped`.
+    std::uint64_t dropped_notifications() const noexcept;
 
   private:
     struct Impl;

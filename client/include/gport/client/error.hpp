@@ -1,6 +1,7 @@
 // The one error type of libgport-client: what gportd refused (its JSON-RPC
 // error code and message) or why the connection failed (kTransport) or what
-// the library could not understand (kBadReply).
+// the library could not understand (kBadReply) or that no reply came in
+// time (kTimeout).
 #pragma once
 
 #include <stdexcept>
@@ -10,10 +11,11 @@
 
 namespace gport::client {
 
-// The codes of docs/api.md ("Error codes"), plus two of the library's own.
+// The codes of docs/api.md ("Error codes"), plus three of the library's own.
 enum class ErrorCode : int {
     kTransport = -1,  // cannot connect, or the connection broke / was closed
     kBadReply = -2,   // a reply the library does not understand (version mismatch?)
+    kTimeout = -3,    // no reply within the call timeout (the connection stays usable)
     kParse = -32700,
     kInvalidRequest = -32600,
     kUnknownMethod = -32601,
@@ -32,7 +34,8 @@ class GPORT_CLIENT_API Error : public std::runtime_error {
     Error(int code, const std::string& message);
     Error(ErrorCode code, const std::string& message);
 
-    // The API code (e.g. -32003), or -1 / -2 for kTransport / kBadReply.
+    // The API code (e.g. -32003), or -1 / -2 / -3 for kTransport / kBadReply
+    // / kTimeout.
     int code() const noexcept { return code_; }
     bool is(ErrorCode code) const noexcept { return code_ == static_cast<int>(code); }
     // True when the connection is unusable: connect again.

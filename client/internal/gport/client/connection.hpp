@@ -3,6 +3,11 @@
 // while waiting for a reply go to a handler; reads give up when
 // `interrupted()` turns true.
 //
+// Within the limits of gport/client/limits.hpp: a line from gportd over
+// kLineLimit, nested deeper than kNestingLimit, not JSON or not an object
+// ends the connection (failure() says why); call() waits for its reply at
+// most the call timeout (kDefaultCallTimeout unless set).
+//
 // The socket is read with recvmsg: file descriptors gportd attaches to a
 // reply (SCM_RIGHTS, only with a connection's first `attitude_channel`
 // result) are kept in arrival order, at most two per attitude_channel
@@ -21,9 +26,12 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "gport/client/attitude_channel.hpp"
 #include "gport/client/export.hpp"
+#include "gport/client/limits.hpp"
+#include "gport/client/lines.hpp"
 
 namespace gport::client {
 
@@ -40,7 +48,9 @@ class GPORT_CLIENT_API Connection {
     Connection& operator=(const Connection&) = delete;
     ~Connection();
 
-    // Sends a request (with a fresh id) and returns the id; empty on a broken connection.
+    // Sends a request (with a fresh id) and returns the id; empty on a broken
+    // connection, or when gportd took no part of it within the call timeout
+    // (the connection is closed then: failure() says so).
     std::optional<int> send(const std::string& method, const nlohmann::json& params);
 
     // kWoken: the descriptor given to watch() became readable (before any
@@ -52,6 +62,9 @@ class GPORT_CLIENT_API Connection {
 
     // Sends a request and waits for its reply; notifications meanwhile go to
     // `on_notification`. Empty when the connection closed or was interrupted.
+    // Throws Error (kTimeout) when no reply came within the call timeout
+    // (plus kWaitAllowance for params with "wait": true); the connection
+    // stays usable and the late reply is dropped.
     std::optional<nlohmann::json> call(
         const std::string& method, const nlohmann::json& params,
         const std::function<void(const nlohmann::json&)>& on_notification = {});
@@ -76,6 +89,16 @@ class GPORT_CLIENT_API Connection {
     bool closed() const noexcept { return closed_; }
     void close() noexcept;
 
+    // How long call() waits for a reply (and send() for gportd to take the
+    // request); empty: no limit.
+    void set_call_timeout(std::optional<std::chrono::milliseconds> timeout) noexcept {
+        call_timeout_ = timeout;
+    }
+    std::optional<std::chrono::milliseconds> call_timeout() const noexcept { return call_timeout_; }
+    // Why the library ended the connection (a line over a limit, not JSON, a
+    // request gportd did not take in time); empty when it did not.
+    const std::string& failure() const noexcept { return failure_; }
+
     // Checked between reads (set from a signal handler).
     std::function<bool()> interrupted = [] { return false; };
 
@@ -83,18 +106,26 @@ class GPORT_CLIENT_API Connection {
     explicit Connection(int fd) : fd_(fd) {}
     // Reads what arrived within the deadline; false when the watched
     // descriptor is readable.
-    bool fill(std::optional<std::chrono::steady_clock::time_point> deadline);
+    using Deadline = std::optional<std::chrono::steady_clock::time_point>;
+    bool fill(Deadline deadline);
     void receive();
+    std::optional<int> send(const std::string& method, const nlohmann::json& params,
+                            Deadline deadline);
+    bool write_all(std::string_view data, Deadline deadline);
+    // Ends the connection because of what gportd did.
+    void fail(const std::string& why);
     void close_descriptors() noexcept;
 
     int fd_ = -1;
     int next_id_ = 1;
-    std::string buffer_;
+    detail::LineReader lines_;
     bool closed_ = false;
     std::deque<int> descriptors_;
     std::size_t channel_requests_ = 0;         // attitude_channel requests awaiting their reply
     std::shared_ptr<ChannelMapping> channel_;  // this connection's channel, once received
     int watched_ = -1;
+    std::optional<std::chrono::milliseconds> call_timeout_ = kDefaultCallTimeout;
+    std::string failure_;
 };
 
 }  // namespace gport::client

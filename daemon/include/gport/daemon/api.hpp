@@ -92,7 +92,7 @@ struct Counters {
     std::uint64_t device_opens = 0;
     std::uint64_t device_failures = 0;  // failed opens and lost devices
     std::uint64_t keepalive_frames = 0;
-    std::uint64_t motion_updates = 0;   // speeds that updated their owner's motion
+    std::uint64_t motion_updates = 0;   // speeds, angles, centres that updated their owner's motion
     std::uint64_t stops_sent = 0;       // zero-speed frames written to the device
     std::uint64_t frames_replaced = 0;  // waiting 0x85 frames a newer 0x85 replaced
     std::uint64_t frames_refused = 0;   // camera/settings frames refused: the device is stuck
@@ -145,6 +145,9 @@ class Api {
     virtual bool may_command(const ClientInfo& client) const = 0;
     // The configured soft limits (config "limits"), read-only.
     virtual config::LimitsConfig limits() const = 0;
+    // The longest duration and lease a speed may ask for
+    // (keepalive.max_duration_ms), so that a request is refused naming it.
+    virtual Millis max_duration() const = 0;
 
     // ---- commands ----
     // Speed in 0.01°/s; duration empty means the configured default. A
@@ -174,7 +177,11 @@ class Api {
     // (kOwnerGone, with the failsafe). Without it the motion outlives its owner.
     virtual Outcome<AngleSent> angle(const ClientInfo& client, protocol::Axes angle,
                                      bool clamp = false, MotionEndCallback on_end = {}) = 0;
-    virtual Outcome<Done> center(const ClientInfo& client, MotionEndCallback on_end = {}) = 0;
+    // The centre is 0/0/0 clamped into the soft limits: where 0 lies outside
+    // an axis's range, that axis aims at its nearest limit instead and an
+    // angle frame is sent in place of the centre command (AngleSent::clamped
+    // names the axes). A tracked motion of mode kCenter either way.
+    virtual Outcome<AngleSent> center(const ClientInfo& client, MotionEndCallback on_end = {}) = 0;
     virtual Outcome<Done> lock(const ClientInfo& client) = 0;
     virtual Outcome<Done> photo(const ClientInfo& client) = 0;
     virtual Outcome<RecordResult> record(const ClientInfo& client, RecordRequest request) = 0;

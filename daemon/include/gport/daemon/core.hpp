@@ -21,6 +21,7 @@
 #include "gport/daemon/core/arbiter.hpp"
 #include "gport/daemon/core/keepalive.hpp"
 #include "gport/daemon/core/link_monitor.hpp"
+#include "gport/daemon/core/motion_limits.hpp"
 #include "gport/daemon/core/motion_tracker.hpp"
 #include "gport/daemon/core/serial_port.hpp"
 #include "gport/daemon/core/settings_exchange.hpp"
@@ -59,13 +60,14 @@ class Core final : public Api {
     std::optional<AttitudeSample> latest_attitude() const override { return latest_; }
     bool may_command(const ClientInfo& client) const override;
     config::LimitsConfig limits() const override { return config_.limits; }
+    Millis max_duration() const override { return config_.keepalive.max_duration; }
     Outcome<SpeedStarted> speed(const ClientInfo& client, protocol::Axes speed,
                                 std::optional<Millis> duration, bool clamp = false,
                                 std::optional<Millis> lease = std::nullopt) override;
     Outcome<Done> stop(const ClientInfo& client) override;
     Outcome<AngleSent> angle(const ClientInfo& client, protocol::Axes angle, bool clamp = false,
                              MotionEndCallback on_end = {}) override;
-    Outcome<Done> center(const ClientInfo& client, MotionEndCallback on_end = {}) override;
+    Outcome<AngleSent> center(const ClientInfo& client, MotionEndCallback on_end = {}) override;
     Outcome<Done> lock(const ClientInfo& client) override;
     Outcome<Done> photo(const ClientInfo& client) override;
     Outcome<RecordResult> record(const ClientInfo& client, RecordRequest request) override;
@@ -86,8 +88,15 @@ class Core final : public Api {
     // The one kLinkDown error: names the device and why nothing goes to it,
     // then what follows for this request (may be empty).
     CommandError link_down(std::string_view consequence = {}) const;
+    // Sends a position frame (angle, centre or lock) and, when `track_as` is
+    // given, tracks it as a motion of that mode towards the frame's angle
+    // (`clamped`: the axes the soft limits clamped, told in its events).
     Outcome<Done> position(const ClientInfo& client, const protocol::Control& control,
-                           MotionEndCallback on_end = {});
+                           std::optional<MotionMode> track_as, MotionEndCallback on_end = {},
+                           std::vector<std::string> clamped = {});
+    // The centre command, or the angle frame to the centre clamped into the
+    // soft limits.
+    protocol::Control centre_control(const Limited& centre) const;
     Outcome<Done> camera(const ClientInfo& client, protocol::CameraAction action);
     void settings(const ClientInfo& client, std::optional<SettingsChange> change,
                   SettingsCallback done);

@@ -78,12 +78,13 @@ enum class EndReason {
 struct MotionEvent {
     MotionChange change = MotionChange::kStarted;
     MotionMode mode = MotionMode::kSpeed;
-    std::optional<ClientInfo> owner;  // who commanded it
-    protocol::Axes speed;             // 0.01°/s, for speed motions
-    protocol::Axes angle;             // 0.01°, the target of angle (and centre: 0) motions
-    Millis duration{0};               // asked duration of a speed motion
-    std::optional<EndReason> reason;  // set when change == kEnded; kLimit on a braking kUpdated
-    std::vector<std::string> braked;  // reason kLimit: the axes held at zero by the soft limits
+    std::optional<ClientInfo> owner;   // who commanded it
+    protocol::Axes speed;              // 0.01°/s, for speed motions
+    protocol::Axes angle;              // 0.01°, the target of angle (and centre: 0) motions
+    Millis duration{0};                // asked duration of a speed motion
+    std::optional<EndReason> reason;   // set when change == kEnded; kLimit on a braking kUpdated
+    std::vector<std::string> braked;   // reason kLimit: the axes held at zero by the soft limits
+    std::vector<std::string> clamped;  // angle and centre: target axes clamped into the limits
 };
 
 // Implemented by whoever listens to the core. Called on the event loop.

@@ -29,6 +29,9 @@ class MotionLimits {
     // refused naming the axis, the value and the range; with it, each axis
     // is clamped into its range.
     Outcome<Limited> angle(protocol::Axes target, bool clamp) const;
+    // 0/0/0 clamped into the angle ranges: the centre that `center` and the
+    // failsafe aim at (docs/api.md, "center and the soft limits").
+    Limited centre() const;
     // Speeds in 0.01°/s, the same for |speed| above limits.max_speed.
     Outcome<Limited> speed(protocol::Axes speed, bool clamp) const;
 

@@ -12,6 +12,16 @@
 // A motion started with an end callback has a waiting owner: the callback is
 // posted to the loop exactly once when the motion ends, so that it never runs
 // inside the call that ended the motion. The ended event is emitted at once.
+//
+// An angle (or centre) from the owner of the running motion of the same mode,
+// when nobody waits for that motion, is an update, not a new motion (an
+// autopilot or a tracker streaming targets at 50 Hz): the target is replaced
+// in place, the timeout runs from the update, and arrival is judged against
+// the new target once no update came for kUpdateNoteInterval (a stream's
+// motion ends `reached` when the stream pauses at its target, not between two
+// of its targets). Watchers get an kUpdated event at most
+// once per kUpdateNoteInterval after the motion's previous event, carrying the
+// latest target (coalesced, as for speed updates); updates() counts them.
 #pragma once
 
 #include <boost/asio/io_context.hpp>
@@ -19,6 +29,8 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "gport/daemon/api.hpp"
 
@@ -56,15 +68,19 @@ class MotionTracker {
         Millis timeout{10000};
     };
 
+    static constexpr Millis kUpdateNoteInterval{500};
+
     MotionTracker(boost::asio::io_context& io, Options options, Emit emit);
 
     // For motions started from now on; a running motion keeps its own.
     void set_options(Options options) { options_ = options; }
 
     // Starts tracking `target` (0.01°; centre: 0) for `owner`; a running
-    // motion first ends with kReplaced. `on_end` empty: nobody waits.
+    // motion first ends with kReplaced, unless this is an update of it (see
+    // above). `on_end` empty: nobody waits. `clamped`: the target's axes the
+    // soft limits clamped (told in the motion's events).
     void start(const ClientInfo& owner, MotionMode mode, protocol::Axes target,
-               MotionEndCallback on_end = {});
+               MotionEndCallback on_end = {}, std::vector<std::string> clamped = {});
     // Offers every attitude sample (also between motions: the latest one is
     // what a waiter is told); may end the motion with kReached.
     void on_attitude(const AttitudeSample& sample);
@@ -75,6 +91,8 @@ class MotionTracker {
     bool waiting() const { return motion_ && static_cast<bool>(motion_->on_end); }
     std::optional<ClientInfo> owner() const;
     std::optional<MotionStatus> status() const;
+    // Angle and centre commands that updated their owner's running motion.
+    std::uint64_t updates() const { return updates_; }
 
   private:
     struct Motion {
@@ -82,19 +100,29 @@ class MotionTracker {
         MotionMode mode;
         protocol::Axes target;
         SteadyTime started;
+        SteadyTime commanded;  // the last start or update: the timeout runs from it
         Arrival arrival;
         MotionEndCallback on_end;
+        SteadyTime noted;             // when the last event of this motion went out
+        bool update_pending = false;  // an update not yet published
+        std::vector<std::string> clamped{};
+        bool updated = false;  // a stream: arrival waits for it to settle
     };
 
+    bool is_update(const ClientInfo& owner, MotionMode mode) const;
+    void update(protocol::Axes target, MotionEndCallback on_end, std::vector<std::string> clamped);
+    void note_update();
     MotionEvent event(MotionChange change, std::optional<EndReason> reason) const;
     void arm();
 
     boost::asio::io_context& io_;
     boost::asio::steady_timer timer_;
+    boost::asio::steady_timer note_timer_;  // publishes a coalesced update
     Options options_;
     Emit emit_;
     std::optional<Motion> motion_;
     std::optional<AttitudeSample> latest_;  // the sample the last on_attitude saw
+    std::uint64_t updates_ = 0;
 };
 
 }  // namespace gport::daemon
