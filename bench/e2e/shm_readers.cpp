@@ -93,7 +93,12 @@ struct ShmReaders::Reader {
     std::uint32_t last = 0;
     std::atomic<std::uint64_t> wakes{0};
 
+    bool owner = true;  // false: it shares another reader's connection and mappings
+
     ~Reader() {
+        if (!owner) {
+            return;
+        }
         if (memory != nullptr) {
             ::munmap(const_cast<void*>(memory), size);
         }
@@ -108,6 +113,19 @@ ShmReaders::ShmReaders(const std::string& socket, int count, std::size_t expecte
     : thread_count_(threads > 0 && threads < count ? threads : count) {
     for (int i = 0; i < count; ++i) {
         auto reader = std::make_unique<Reader>();
+        if (i >= thread_count_) {
+            // Readers sharing a thread share its connection, as readers in
+            // one process share their Client's channel (one wake block:
+            // gportd wakes that process once per sample).
+            const Reader& first = *readers_[static_cast<std::size_t>(i % thread_count_)];
+            reader->owner = false;
+            reader->memory = first.memory;
+            reader->size = first.size;
+            reader->wake = first.wake;
+            reader->result.receipts.reserve(expected_samples + 16);
+            readers_.push_back(std::move(reader));
+            continue;
+        }
         auto connected = connect_unix_retry(socket, 10000);  // gportd may still be starting
         if (!connected) {
             throw std::runtime_error("shm reader: gportd never listened on " + socket);
@@ -167,9 +185,8 @@ bool ShmReaders::take(Reader& reader) {
     return !ring.closed();
 }
 
-// Takes every new sample of its readers, then sleeps on the first reader's
-// wake word (gportd bumps every reader connection's word per sample, and
-// wakes one waiter on each) until the next.
+// Takes every new sample of its readers, then sleeps on their connection's
+// wake word (gportd bumps it per sample and wakes one waiter) until the next.
 void ShmReaders::run(const std::vector<Reader*>& readers) {
     const auto& word = base::wake_word(readers.front()->wake);
     while (!stop_.load(std::memory_order_relaxed)) {

@@ -40,7 +40,8 @@ struct SoakOptions {
     std::string trace_path;  // gport-sim's --trace output, for the burst check
     AttackOptions attacks;
     double max_gap_ms = 500;
-    int park_threads = 500;  // per parking peer of the channel attacks (0: none)
+    int park_threads = 500;       // per parking peer of the channel attacks (0: none)
+    bool channel_attacks = true;  // (f) and (g) and the channel prober
 };
 
 std::optional<SoakOptions> parse(int argc, char** argv) {
@@ -76,6 +77,8 @@ std::optional<SoakOptions> parse(int argc, char** argv) {
             o.max_gap_ms = std::atof(value);
         } else if (arg == "--park-threads") {
             o.park_threads = std::atoi(value);
+        } else if (arg == "--channel-attacks") {
+            o.channel_attacks = std::atoi(value) != 0;
         } else {
             std::cerr << "gport_soak: unknown option " << arg << "\n";
             return std::nullopt;
@@ -86,7 +89,8 @@ std::optional<SoakOptions> parse(int argc, char** argv) {
                      "         [--clients N (>= 1)] [--seed N] [--rss-limit-mib N]\n"
                      "         [--rss-margin-kib N] [--json FILE] [--trace SIM_TRACE]\n"
                      "         [--sighup-every-ms N (0: none)] [--hoarders N]\n"
-                     "         [--idle-timeout-s N] [--max-gap-ms N] [--park-threads N]\n";
+                     "         [--idle-timeout-s N] [--max-gap-ms N] [--park-threads N]\n"
+                     "         [--channel-attacks 0|1]\n";
         return std::nullopt;
     }
     o.attacks.socket = o.socket;
@@ -193,7 +197,9 @@ void Soak::serve(std::int64_t until_ns, bool act) {
         }
         if (act) {
             attacks_.act(t);
-            channel_attacks_.act(t);
+            if (o_.channel_attacks) {
+                channel_attacks_.act(t);
+            }
         }
         fds.assign(1, pollfd{watcher_.fd.get(), POLLIN, 0});
         owners.assign(1, nullptr);
@@ -264,7 +270,8 @@ void Soak::sample(std::int64_t t) {
 
 bool Soak::attacks_pass() const {
     const auto probe = probe_.figures();
-    return attacks_.problems().empty() && channel_attacks_.problems().empty() &&
+    return attacks_.problems().empty() &&
+           (!o_.channel_attacks || channel_attacks_.problems().empty()) &&
            trace_verdict_.problems.empty() && probe.connected && !probe.closed_by_daemon &&
            probe.attitude_lines > 0 && probe.gaps_over_limit == 0;
 }
