@@ -9,7 +9,6 @@
 #include <stdexcept>
 
 #include "gport/base/descriptors.hpp"
-#include "gport/base/futex.hpp"
 
 namespace gport::bench {
 namespace {
@@ -29,12 +28,48 @@ std::string batch_line() {
     return line + "]\n";
 }
 
-// One attitude_channel on a fresh connection: "" when it got both
-// descriptors and its wake word moved within a second, else what went wrong.
-std::string probe_once(const std::string& socket) {
-    Fd fd = connect_unix(socket);
-    if (!write_all(fd.get(), R"({"jsonrpc":"2.0","id":1,"method":"attitude_channel"})"
-                             "\n")) {
+}  // namespace
+
+ChannelAttacks::~ChannelAttacks() {
+    finish();
+}
+
+ChannelAttacks::Probe::~Probe() {
+    if (ring != nullptr) {
+        ::munmap(const_cast<void*>(ring), ring_size);
+    }
+    if (wake != nullptr) {
+        ::munmap(const_cast<void*>(wake), 64);
+    }
+}
+
+// The previous probe's word moved if samples were published since it opened.
+std::string ChannelAttacks::check_last_probe() {
+    if (!last_probe_) {
+        return "";
+    }
+    const auto& p = *last_probe_;
+    const auto published =
+        reinterpret_cast<const std::atomic<std::uint64_t>*>(static_cast<const char*>(p.ring) + 32)
+            ->load();
+    const auto word =
+        reinterpret_cast<const std::atomic<std::uint32_t>*>(static_cast<const char*>(p.wake) + 16)
+            ->load();
+    if (published != p.published && word == p.word) {
+        return std::to_string(published - p.published) +
+               " samples published, its wake word never bumped";
+    }
+    return "";
+}
+
+// One attitude_channel on a fresh connection, kept open until the next
+// probe: "" when it got both descriptors and could map them.
+std::string ChannelAttacks::open_probe() {
+    auto probe = std::make_unique<Probe>();
+    probe->connection = connect_unix(o_.socket);
+    const int fd = probe->connection.get();
+    if (!write_all(fd, R"({"jsonrpc":"2.0","id":1,"method":"attitude_channel"})"
+                       "\n")) {
         return "cannot send";
     }
     std::string text;
@@ -42,9 +77,9 @@ std::string probe_once(const std::string& socket) {
     const auto deadline = now_ns() + 5000 * kMs;
     while (text.find('\n') == std::string::npos) {
         char data[4096];
-        const auto n = base::receive_with_descriptors(fd.get(), data, sizeof(data), fds);
+        const auto n = base::receive_with_descriptors(fd, data, sizeof(data), fds);
         if (n < 0 && (errno == EAGAIN || errno == EINTR) && now_ns() < deadline) {
-            ::usleep(1000);
+            ::usleep(500);
             continue;
         }
         if (n <= 0) {
@@ -53,35 +88,30 @@ std::string probe_once(const std::string& socket) {
         }
         text.append(data, static_cast<std::size_t>(n));
     }
-    const auto reply = nlohmann::json::parse(text.substr(0, text.find('\n')), nullptr, false);
+    const auto line = text.substr(0, text.find('\n'));
+    const auto reply = nlohmann::json::parse(line, nullptr, false);
     if (!reply.is_object() || !reply.contains("result") ||
         reply["result"].value("descriptors", 0) != 2 || fds.size() != 2) {
         base::close_descriptors(fds);
-        return "reply " + text.substr(0, text.find('\n')) + " with " + std::to_string(fds.size()) +
-               " descriptor(s)";
+        return "reply " + line + " with " + std::to_string(fds.size()) + " descriptor(s)";
     }
+    probe->ring_size = reply["result"].value("size", std::size_t{0});
+    void* ring = ::mmap(nullptr, probe->ring_size, PROT_READ, MAP_SHARED, fds[0], 0);
     void* wake = ::mmap(nullptr, 64, PROT_READ, MAP_SHARED, fds[1], 0);
     base::close_descriptors(fds);
-    if (wake == MAP_FAILED) {
-        return "cannot map the wake block";
+    probe->ring = ring == MAP_FAILED ? nullptr : ring;
+    probe->wake = wake == MAP_FAILED ? nullptr : wake;
+    if (probe->ring == nullptr || probe->wake == nullptr) {
+        return "cannot map the blocks";
     }
-    const auto& word =
-        *reinterpret_cast<const std::atomic<std::uint32_t>*>(static_cast<char*>(wake) + 16);
-    const auto seen = word.load();
-    const auto until = now_ns() + 1000 * kMs;
-    while (word.load() == seen && now_ns() < until) {
-        base::futex_wait(word, seen, std::chrono::milliseconds(100));
-    }
-    const bool moved = word.load() != seen;
-    ::munmap(wake, 64);
-    // A silent gimbal (the soak's faults) publishes nothing: not the channel's fault.
-    return moved ? "" : "silent";
-}
-
-}  // namespace
-
-ChannelAttacks::~ChannelAttacks() {
-    finish();
+    probe->published = reinterpret_cast<const std::atomic<std::uint64_t>*>(
+                           static_cast<const char*>(probe->ring) + 32)
+                           ->load();
+    probe->word = reinterpret_cast<const std::atomic<std::uint32_t>*>(
+                      static_cast<const char*>(probe->wake) + 16)
+                      ->load();
+    last_probe_ = std::move(probe);
+    return "";
 }
 
 void ChannelAttacks::act(std::int64_t t_ns) {
@@ -134,13 +164,16 @@ void ChannelAttacks::hoard(std::int64_t) {
 
 void ChannelAttacks::probe() {
     ++probes_;
-    std::string failure;
+    std::string failure = check_last_probe();
+    last_probe_.reset();
     try {
-        failure = probe_once(o_.socket);
+        if (failure.empty()) {
+            failure = open_probe();
+        }
     } catch (const std::exception& e) {
         failure = e.what();
     }
-    if (failure.empty() || failure == "silent") {
+    if (failure.empty()) {
         ++probes_ok_;
     } else if (probe_failures_.size() < kMaxProblems) {
         probe_failures_.push_back(failure);
@@ -148,6 +181,7 @@ void ChannelAttacks::probe() {
 }
 
 void ChannelAttacks::finish() {
+    last_probe_.reset();
     parkers_.clear();
     hoarders_.clear();
 }

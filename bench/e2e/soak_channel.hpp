@@ -6,7 +6,9 @@
 //       requests and never read;
 // while a prober opens the channel on a fresh connection every few seconds:
 // every probe must get its two descriptors ("descriptors":2), never
-// -32603, and the probe's own wake word must be bumped by the samples.
+// -32603, and by the next probe its wake word must have moved if samples
+// were published meanwhile. The prober never waits for a sample: it must
+// not hold up the driver's loop (the settings floods react to the link).
 #pragma once
 
 #include <cstdint>
@@ -39,9 +41,22 @@ class ChannelAttacks {
     nlohmann::json figures() const;
 
   private:
+    // The last probe's connection and mappings, kept open until the next.
+    struct Probe {
+        Fd connection;
+        const void* ring = nullptr;
+        std::size_t ring_size = 0;
+        const void* wake = nullptr;
+        std::uint32_t word = 0;
+        std::uint64_t published = 0;
+        ~Probe();
+    };
+
     void start(std::int64_t t_ns);
     void hoard(std::int64_t t_ns);
     void probe();
+    std::string open_probe();
+    std::string check_last_probe();
 
     ChannelAttackOptions o_;
     bool started_ = false;
@@ -53,6 +68,7 @@ class ChannelAttacks {
     std::uint64_t batches_ = 0;
     std::uint64_t hoard_refused_ = 0;  // batches the daemon would not take (closed or full)
     std::int64_t next_probe_ns_ = 0;
+    std::unique_ptr<Probe> last_probe_;
     std::uint64_t probes_ = 0;
     std::uint64_t probes_ok_ = 0;
     std::vector<std::string> probe_failures_;
