@@ -4,8 +4,10 @@
 // after the check, more descriptors than announced, "descriptors":0 on a
 // connection without a channel, and descriptors attached to notifications.
 #include <gtest/gtest.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
+#include <bit>
 #include <boost/asio/io_context.hpp>
 #include <chrono>
 #include <functional>
@@ -14,6 +16,7 @@
 #include "fake_server.hpp"
 #include "gport/client/async_client.hpp"
 #include "gport/client/client.hpp"
+#include "gport/client/ring_read.h"
 
 namespace gport::testing {
 namespace {
@@ -219,6 +222,30 @@ TEST(ChannelAttacks, AsyncClientClosesDescriptorsOnNotificationsToo) {
     EXPECT_EQ(most, first);  // flat: each recvmsg's pair is closed before its line is handled
     ::close(pipe_fds[0]);
     ::close(pipe_fds[1]);
+}
+
+// The C entry point other languages read the ring with (ring_read.h).
+TEST(ChannelAttacks, GportRingReadGivesWholeSamplesAndNothingForTheRest) {
+    RingBlock block(8);
+    for (std::uint64_t seq = 1; seq <= 10; ++seq) {
+        block.publish(seq, seq % 2 == 0);
+    }
+    void* memory = ::mmap(nullptr, block.size(), PROT_READ, MAP_SHARED, block.fd(), 0);
+    ASSERT_NE(memory, MAP_FAILED);
+    std::uint64_t words[15] = {};
+    ASSERT_EQ(gport_ring_read(memory, 8, 10, words), 1);
+    EXPECT_EQ(words[0], 10U);                                 // the sample's seq
+    EXPECT_DOUBLE_EQ(std::bit_cast<double>(words[2]), 1.0);   // imu roll = seq / 10
+    EXPECT_EQ(words[8], 1U);                                  // has_rates
+    EXPECT_DOUBLE_EQ(std::bit_cast<double>(words[14]), 6.0);  // imu rate z
+    EXPECT_EQ(gport_ring_read(memory, 8, 2, words), 0);       // overwritten (8 slots)
+    EXPECT_EQ(gport_ring_read(memory, 8, 11, words), 0);      // not written yet
+    EXPECT_EQ(gport_ring_read(memory, 8, 0, words), 0);
+    EXPECT_EQ(gport_ring_read(memory, 0, 10, words), 0);  // no slot count: no division
+    EXPECT_EQ(gport_ring_read(nullptr, 8, 10, words), 0);
+    EXPECT_EQ(gport_ring_read(memory, 8, 10, nullptr), 0);
+    EXPECT_EQ(gport_client_abi_minor(), 2U);
+    ::munmap(memory, block.size());
 }
 
 }  // namespace
