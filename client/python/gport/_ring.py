@@ -29,7 +29,8 @@ the slot count used is the one checked here, never re-read.
 Reads: a slot is a seqlock (its seq, the words, its seq again). On a weakly
 ordered CPU (arm64) the loads need fences that ctypes cannot make, so the
 read is libgport-client's ``gport_ring_read`` (loaded from
-$GPORT_CLIENT_LIBRARY, else ``libgport-client.so.1``) when it is there.
+$GPORT_CLIENT_LIBRARY, else ``libgport-client.so.1``; "none" loads nothing)
+when it is there.
 Without it plain loads are used on x86_64 only (loads are not reordered
 with loads there, and aligned 8-byte loads are atomic); on any other CPU
 mapping the channel raises BadChannel. The futex is ``syscall(SYS_futex,
@@ -101,9 +102,13 @@ class _Timespec(ctypes.Structure):
 
 
 def load_fenced_reader() -> Callable[..., int] | None:
-    """libgport-client's gport_ring_read, or None when it cannot be loaded."""
+    """libgport-client's gport_ring_read, or None when it cannot be loaded
+    (or $GPORT_CLIENT_LIBRARY is "none": use plain loads where they are safe)."""
+    path = os.environ.get(LIBRARY_ENV) or "libgport-client.so.1"
+    if path == "none":
+        return None
     try:
-        library = ctypes.CDLL(os.environ.get(LIBRARY_ENV) or "libgport-client.so.1")
+        library = ctypes.CDLL(path)
         read: Callable[..., int] = library.gport_ring_read
     except (OSError, AttributeError):
         return None
