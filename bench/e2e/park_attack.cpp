@@ -25,23 +25,23 @@ extern char** environ;
 namespace gport::bench {
 namespace {
 
-constexpr std::string_view kOpen = R"({"jsonrpc":"2.0","id":1,"method":"attitude_channel"})"
-                                   "\n";
+constexpr std::string_view kParkOpen = R"({"jsonrpc":"2.0","id":1,"method":"attitude_channel"})"
+                                       "\n";
 constexpr std::size_t kVersion1WordOffset = 24;  // the ring header's futex word in version 1
 constexpr std::size_t kWakeWordOffset = 16;      // in a version 2 wake block
 constexpr std::size_t kStack = 64 * 1024;        // thousands of threads: small stacks
 
-struct Channel {
+struct ParkChannel {
     nlohmann::json result;
     std::deque<int> fds;
 };
 
 // Sends attitude_channel on `socket` and reads the reply and its descriptors.
-Channel ask(int socket) {
-    if (!write_all(socket, kOpen)) {
+ParkChannel ask_channel(int socket) {
+    if (!write_all(socket, kParkOpen)) {
         throw std::runtime_error("park: cannot send attitude_channel");
     }
-    Channel c;
+    ParkChannel c;
     std::string text;
     const auto deadline = now_ns() + 10'000'000'000LL;
     while (text.find('\n') == std::string::npos) {
@@ -72,7 +72,7 @@ const std::atomic<std::uint32_t>* word_of(int fd, std::size_t size, std::size_t 
     return reinterpret_cast<const std::atomic<std::uint32_t>*>(static_cast<char*>(memory) + offset);
 }
 
-void* park(void* word) {
+void* park_thread(void* word) {
     const auto& w = *static_cast<const std::atomic<std::uint32_t>*>(word);
     for (;;) {
         base::futex_wait(w, w.load(std::memory_order_acquire), std::chrono::seconds(60));
@@ -92,7 +92,7 @@ int park_child_main(int argc, char** argv) {
     const int report = std::atoi(argv[3]);
     try {
         Fd connection = connect_unix(socket);
-        auto channel = ask(connection.get());
+        auto channel = ask_channel(connection.get());
         const int version = channel.result.value("version", 0);
         const auto size = channel.result.at("size").get<std::size_t>();
         const int ring = base::take_descriptor(channel.fds);
@@ -104,7 +104,7 @@ int park_child_main(int argc, char** argv) {
         ::pthread_attr_setstacksize(&attr, kStack);
         for (int i = 0; i < threads; ++i) {
             pthread_t thread;
-            if (::pthread_create(&thread, &attr, park,
+            if (::pthread_create(&thread, &attr, park_thread,
                                  const_cast<std::atomic<std::uint32_t>*>(word)) != 0) {
                 throw std::runtime_error("park: pthread_create failed after " + std::to_string(i) +
                                          " threads");
@@ -138,8 +138,8 @@ ParkAttack::ParkAttack(const std::string& socket, int threads, bool gone)
     ::posix_spawn_file_actions_init(&actions);
     ::posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], 3);
     const std::string count = std::to_string(threads);
-    std::vector<std::string> args = {"bench_e2e", "--park-child",   socket,
-                                     count,       gone ? "1" : "0", "3"};
+    std::vector<std::string> args = {"bench_e2e", "--park_thread-child", socket,
+                                     count,       gone ? "1" : "0",      "3"};
     std::vector<char*> argv;
     for (auto& a : args) {
         argv.push_back(a.data());
@@ -156,12 +156,12 @@ ParkAttack::ParkAttack(const std::string& socket, int threads, bool gone)
     std::string line;
     if (!read_line(read_end.get(), pending, line, 120'000) || line.rfind("parked ", 0) != 0) {
         stop();
-        throw std::runtime_error("park: the peer did not park its threads: " + line);
+        throw std::runtime_error("park: the peer did not park_thread its threads: " + line);
     }
     version_ = std::atoi(line.c_str() + 7);
     if (gone) {
         holder_ = connect_unix(socket);
-        auto channel = ask(holder_.get());
+        auto channel = ask_channel(holder_.get());
         base::close_descriptors(channel.fds);
     }
 }

@@ -13,13 +13,13 @@
 namespace gport::bench {
 namespace {
 
-constexpr std::int64_t kMs = 1'000'000;
-constexpr int kBatch = 32;
-constexpr std::size_t kMaxProblems = 20;
+constexpr std::int64_t kChannelMs = 1'000'000;
+constexpr int kChannelBatch = 32;
+constexpr std::size_t kMaxProbeFailures = 20;
 
-std::string batch_line() {
+std::string channel_batch_line() {
     std::string line = "[";
-    for (int i = 1; i <= kBatch; ++i) {
+    for (int i = 1; i <= kChannelBatch; ++i) {
         line += i > 1 ? "," : "";
         line += R"({"jsonrpc":"2.0","id":)";
         line += std::to_string(i);
@@ -74,7 +74,7 @@ std::string ChannelAttacks::open_probe() {
     }
     std::string text;
     std::deque<int> fds;
-    const auto deadline = now_ns() + 5000 * kMs;
+    const auto deadline = now_ns() + 5000 * kChannelMs;
     while (text.find('\n') == std::string::npos) {
         char data[4096];
         const auto n = base::receive_with_descriptors(fd, data, sizeof(data), fds);
@@ -120,18 +120,18 @@ void ChannelAttacks::act(std::int64_t t_ns) {
     }
     if (t_ns >= next_hoard_ns_) {
         hoard(t_ns);
-        next_hoard_ns_ = t_ns + 200 * kMs;
+        next_hoard_ns_ = t_ns + 200 * kChannelMs;
     }
     if (t_ns >= next_probe_ns_) {
         probe();
-        next_probe_ns_ = now_ns() + o_.probe_every_ms * kMs;
+        next_probe_ns_ = now_ns() + o_.probe_every_ms * kChannelMs;
     }
 }
 
 void ChannelAttacks::start(std::int64_t t_ns) {
     started_ = true;
-    next_hoard_ns_ = t_ns + 500 * kMs;
-    next_probe_ns_ = t_ns + 1500 * kMs;
+    next_hoard_ns_ = t_ns + 500 * kChannelMs;
+    next_probe_ns_ = t_ns + 1500 * kChannelMs;
     try {
         parkers_.push_back(std::make_unique<ParkAttack>(o_.socket, o_.park_threads, false));
         parkers_.push_back(std::make_unique<ParkAttack>(o_.socket, o_.park_threads, true));
@@ -145,7 +145,7 @@ void ChannelAttacks::start(std::int64_t t_ns) {
 // closed (or that it stopped reading) is replaced.
 void ChannelAttacks::hoard(std::int64_t) {
     hoarders_.resize(static_cast<std::size_t>(o_.hoarders));
-    static const std::string line = batch_line();
+    static const std::string line = channel_batch_line();
     for (auto& fd : hoarders_) {
         if (!fd.valid()) {
             try {
@@ -175,7 +175,7 @@ void ChannelAttacks::probe() {
     }
     if (failure.empty()) {
         ++probes_ok_;
-    } else if (probe_failures_.size() < kMaxProblems) {
+    } else if (probe_failures_.size() < kMaxProbeFailures) {
         probe_failures_.push_back(failure);
     }
 }

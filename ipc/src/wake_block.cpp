@@ -12,9 +12,9 @@
 namespace gport::ipc::detail {
 namespace {
 
-constexpr unsigned kSeals = F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL;
+constexpr unsigned kWakeSeals = F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL;
 
-std::string failed(const char* step) {
+std::string wake_failed(const char* step) {
     return std::string(step) + ": " + std::strerror(errno);
 }
 
@@ -23,23 +23,23 @@ std::string failed(const char* step) {
 std::variant<std::unique_ptr<WakeBlock>, std::string> WakeBlock::make() {
     const int fd = ::memfd_create("gportd-wake", MFD_CLOEXEC | MFD_ALLOW_SEALING);
     if (fd < 0) {
-        return failed("memfd_create (wake block)");
+        return wake_failed("memfd_create (wake block)");
     }
     if (::ftruncate(fd, static_cast<off_t>(base::kWakeBlockBytes)) != 0) {
-        auto error = failed("ftruncate (wake block)");
+        auto error = wake_failed("ftruncate (wake block)");
         ::close(fd);
         return error;
     }
     void* memory =
         ::mmap(nullptr, base::kWakeBlockBytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
     if (memory == MAP_FAILED) {
-        auto error = failed("mmap (wake block)");
+        auto error = wake_failed("mmap (wake block)");
         ::close(fd);
         return error;
     }
     base::format_wake_block(memory);
-    if (::fcntl(fd, F_ADD_SEALS, kSeals) != 0) {
-        auto error = failed("sealing the wake block");
+    if (::fcntl(fd, F_ADD_SEALS, kWakeSeals) != 0) {
+        auto error = wake_failed("sealing the wake block");
         ::munmap(memory, base::kWakeBlockBytes);
         ::close(fd);
         return error;

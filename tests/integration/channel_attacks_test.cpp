@@ -21,19 +21,20 @@
 namespace gport::testing {
 namespace {
 
-constexpr std::size_t kBytes = base::ring_bytes(64);
+constexpr std::size_t kRingBytes = base::ring_bytes(64);
 
-struct Channel {
+struct AttackChannel {
     std::unique_ptr<RingMapping> ring;
     std::unique_ptr<WakeMapping> wake;
 };
 
-Channel open_channel(DescriptorClient& client) {
+AttackChannel open_attack_channel(DescriptorClient& client) {
     const auto reply = client.call("attitude_channel");
     EXPECT_EQ(reply["result"]["descriptors"], 2) << reply;
     const int ring = client.take_descriptor();
     const int wake = client.take_descriptor();
-    Channel c{std::make_unique<RingMapping>(ring, kBytes), std::make_unique<WakeMapping>(wake)};
+    AttackChannel c{std::make_unique<RingMapping>(ring, kRingBytes),
+                    std::make_unique<WakeMapping>(wake)};
     ::close(ring);
     ::close(wake);
     return c;
@@ -91,9 +92,9 @@ class ChannelAttacksTest : public SimDaemonTest {
 // word, and the attacker's threads are the attacker's problem.
 TEST_F(ChannelAttacksTest, ThreadsParkedOnAWordAreWokenOnePerSampleAndNobodyElseWaits) {
     DescriptorClient attacker(daemon_->socket());
-    auto parked = open_channel(attacker);
+    auto parked = open_attack_channel(attacker);
     DescriptorClient reader(daemon_->socket());
-    auto honest = open_channel(reader);
+    auto honest = open_attack_channel(reader);
     const auto& published_by = *parked.ring;
     Parkers parkers(parked.wake->word(), 200);
     const auto from = published_by.reader().published();
@@ -127,9 +128,9 @@ TEST_F(ChannelAttacksTest, ThreadsParkedOnAWordAreWokenOnePerSampleAndNobodyElse
 // left is never touched again.
 TEST_F(ChannelAttacksTest, AWordWhoseConnectionLeftIsNeverBumpedAgain) {
     auto gone = std::make_unique<DescriptorClient>(daemon_->socket());
-    auto parked = open_channel(*gone);
+    auto parked = open_attack_channel(*gone);
     DescriptorClient holder(daemon_->socket());
-    auto held = open_channel(holder);
+    auto held = open_attack_channel(holder);
     Parkers parkers(parked.wake->word(), 100);
     gone.reset();
     ASSERT_TRUE(eventually(
