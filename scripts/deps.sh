@@ -34,6 +34,10 @@ GPORT_PACKAGES=(
   # this script installs gpsd it turns that off (USBAUTO="false" in
   # /etc/default/gpsd, read by gpsdctl@.service; nothing is masked).
   gpsd
+  # OpenSSL 3's libcrypto (SHA-256, EVP) for MAVLink 2 message signing in
+  # gport-mavlink (mavlink/src/signing.cpp): a well-kept library rather than
+  # our own SHA-256; its runtime, libssl3, is on every Debian system.
+  libssl-dev
   # liburing for bench/fanout_bench (io_uring against sendmsg for one
   # frame's fan-out, docs/performance.md); gportd itself does not use it.
   liburing-dev

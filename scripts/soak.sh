@@ -4,7 +4,8 @@
 # random while the device vanishes and returns every few seconds. Alongside
 # run the attacks of bench/e2e/soak_attacks.hpp: bursts of 96 speeds and a
 # stop in one write, get_settings floods while the gimbal is silent, batch
-# clients that never read, hoarded idle connections, and SIGHUP every 3 s.
+# clients that never read, hoarded idle connections, and SIGHUP every 3 s;
+# and the MAVLink-rogue attack on gport-mavlink (its own block below).
 # The attitude channel's attacks (bench/e2e/soak_channel.hpp, issue 22): two
 # peer processes with 500 threads each parked on their wake words, one of
 # them disconnected; clients asking for the channel in batches of 32 that
@@ -40,10 +41,77 @@ for binary in "$sim" "$daemon" "$driver"; do
     fi
 done
 
+# ---- The MAVLink-rogue attack (issue 22, gport-mavlink's side) ---------------
+# gport-mavlink runs on the soak's gportd with its defaults (udpin on
+# loopback, on a free port; vehicle system 1, ground station 255), and
+# gport_soak_mavlink floods it for the whole soak: a rogue system 99 (every
+# eighth frame another random id) sending an autopilot heartbeat and
+# broadcast-targeted SET_ATTITUDE (a marker angle, a marker rate, NEUTRAL) and
+# IMAGE_START_CAPTURE, 200 frames/s; one-byte datagrams from four more ports,
+# 400/s; the vehicle's heartbeat (system 1, its own socket) at 1 Hz. Checks:
+# the marker angle and rate never reach the gimbal's trace; no rogue socket
+# gets a datagram back while the vehicle gets attitude status; gport-mavlink
+# exits 0 on SIGTERM with its peak RSS under 32 MiB; its lines about the
+# attack (ignored senders, peers, adoption) stay at most 16 + 1 + 1 and its
+# other lines, beside gportd's link changes (one each, the gimbal's doing),
+# at most 40, whatever the soak's length.
+mavlink_bridge="$build_dir/mavlink/bridge/gport-mavlink"
+mavlink_rogue="$build_dir/bench/e2e/gport_soak_mavlink"
+mavlink_pid=""
+mavlink_rogue_pid=""
+mavlink_ok=no
+for binary in "$mavlink_bridge" "$mavlink_rogue"; do
+    if [[ ! -x $binary ]]; then
+        echo "soak.sh: $binary not found; build it first:" >&2
+        echo "  ninja -C $build_dir gport-mavlink gport_soak_mavlink" >&2
+        exit 66
+    fi
+done
+mavlink_start() {
+    local port
+    port=$(python3 -c 'import socket; s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+    "$mavlink_bridge" --socket "$work/gportd.sock" --mavlink "udpin:127.0.0.1:$port" \
+        >"$work/gport-mavlink.log" 2>&1 &
+    mavlink_pid=$!
+    "$mavlink_rogue" --port "$port" --seconds "$seconds" --json "$work/mavlink.json" \
+        >"$work/gport-soak-mavlink.log" 2>&1 &
+    mavlink_rogue_pid=$!
+    echo "soak.sh: gport-mavlink pid $mavlink_pid on udpin:127.0.0.1:$port, rogue pid $mavlink_rogue_pid"
+}
+mavlink_finish() {  # after gport-sim stopped: its trace is complete
+    local rogue_status=0 bridge_status=none hwm_kib=0 attack_lines other_lines trace_ok=no
+    wait "$mavlink_rogue_pid" || rogue_status=$?
+    mavlink_rogue_pid=""
+    if kill -0 "$mavlink_pid" 2>/dev/null; then
+        hwm_kib=$(awk '/^VmHWM:/ {print $2}' "/proc/$mavlink_pid/status")
+        kill -TERM "$mavlink_pid"
+        bridge_status=0
+        wait "$mavlink_pid" || bridge_status=$?
+    fi
+    mavlink_pid=""
+    "$mavlink_rogue" --check-trace "$work/trace.jsonl" && trace_ok=yes
+    attack_lines=$(grep -c 'ignoring system\|untrusted senders\|replying to\|adopted system' \
+        "$work/gport-mavlink.log" || true)
+    other_lines=$(grep -vc 'ignoring system\|untrusted senders\|replying to\|adopted system\|gportd: link \|gportd: connected\|gportd: connection lost' \
+        "$work/gport-mavlink.log" || true)
+    cat "$work/gport-soak-mavlink.log"
+    echo "soak.sh: gport-mavlink: exit status after SIGTERM $bridge_status, peak RSS $((hwm_kib / 1024)) MiB," \
+        "$(wc -l <"$work/gport-mavlink.log") lines: $attack_lines about the attack (at most 18)," \
+        "$other_lines others beside gportd's link changes (at most 40)"
+    if [[ $rogue_status == 0 && $trace_ok == yes && $bridge_status == 0 && $hwm_kib -lt 32768 &&
+          $attack_lines -le 18 && $other_lines -le 40 ]]; then
+        mavlink_ok=yes
+    fi
+    echo "soak.sh: MAVLink rogue attack: $([[ $mavlink_ok == yes ]] && echo PASS || echo FAIL)"
+}
+
 work=$(mktemp -d /tmp/gport-soak-XXXXXX)
 sim_pid=""
 daemon_pid=""
 cleanup() {
+    [[ -n $mavlink_rogue_pid ]] && kill "$mavlink_rogue_pid" 2>/dev/null || true
+    [[ -n $mavlink_pid ]] && kill "$mavlink_pid" 2>/dev/null || true
     [[ -n $daemon_pid ]] && kill "$daemon_pid" 2>/dev/null || true
     [[ -n $sim_pid ]] && kill "$sim_pid" 2>/dev/null || true
     wait 2>/dev/null || true
@@ -86,6 +154,7 @@ CONFIG
 daemon_pid=$!
 
 echo "soak.sh: ${seconds}s, gport-sim pid $sim_pid, gportd pid $daemon_pid, work dir $work"
+mavlink_start
 echo "soak.sh: load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
 driver_status=0
 "$driver" --socket "$work/gportd.sock" --pid "$daemon_pid" --seconds "$seconds" \
@@ -103,6 +172,7 @@ daemon_pid=""
 kill -TERM "$sim_pid" 2>/dev/null || true
 wait "$sim_pid" 2>/dev/null || true
 sim_pid=""
+mavlink_finish
 
 count() { grep -c -- "$1" "$work/trace.jsonl" || true; }
 counter() { grep -o "\"$1\": [0-9]*" "$work/soak.json" 2>/dev/null | tail -n 1 | grep -o '[0-9]*$' || true; }
@@ -131,7 +201,8 @@ echo "soak.sh: gportd log: $(wc -l <"$work/gportd.log") lines," \
 echo "soak.sh: gportd alive at the end: $alive; exit status after SIGTERM: $daemon_status"
 echo "soak.sh: driver verdict: $([[ $driver_status == 0 ]] && echo PASS || echo "FAIL ($driver_status)")"
 
-if [[ $driver_status == 0 && $alive == yes && $daemon_status == 0 && $stops_ok == yes ]]; then
+if [[ $driver_status == 0 && $alive == yes && $daemon_status == 0 && $stops_ok == yes &&
+      $mavlink_ok == yes ]]; then
     echo "SOAK PASS"
     exit 0
 fi

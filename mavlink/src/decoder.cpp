@@ -103,7 +103,7 @@ Decoder::Verdict Decoder::check(const std::uint8_t* p, std::size_t n, std::size_
     if (!checksum_ok(p, kHeaderSizeV2 - 1 + len, info->crc_extra)) {
         return Verdict::kCrc;
     }
-    view = FrameView{{p[4], p[5], p[6]}, msgid, {p + kHeaderSizeV2, len}, is_signed};
+    view = FrameView{{p[4], p[5], p[6]}, msgid, {p + kHeaderSizeV2, len}, is_signed, {p, size}};
     return Verdict::kFrame;
 }
 

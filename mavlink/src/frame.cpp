@@ -16,7 +16,7 @@ std::size_t truncated_length(std::span<const std::uint8_t> payload) {
 }
 
 Frame Frame::make(const Header& header, std::uint32_t msgid, std::uint8_t crc_extra,
-                  std::span<const std::uint8_t> payload) {
+                  std::span<const std::uint8_t> payload, bool signed_frame) {
     if (payload.size() > kMaxPayloadSize) {
         throw std::invalid_argument("MAVLink payload of " + std::to_string(payload.size()) +
                                     " bytes; at most 255");
@@ -30,8 +30,8 @@ Frame Frame::make(const Header& header, std::uint32_t msgid, std::uint8_t crc_ex
     auto& b = f.bytes_;
     b[0] = kMagicV2;
     b[1] = static_cast<std::uint8_t>(len);
-    b[2] = 0;  // incompat_flags: unsigned
-    b[3] = 0;  // compat_flags
+    b[2] = signed_frame ? kIncompatSigned : 0;  // incompat_flags
+    b[3] = 0;                                   // compat_flags
     b[4] = header.seq;
     b[5] = header.sysid;
     b[6] = header.compid;
@@ -43,8 +43,15 @@ Frame Frame::make(const Header& header, std::uint32_t msgid, std::uint8_t crc_ex
     crc = crc_accumulate(crc_extra, crc);
     b[kHeaderSizeV2 + len] = static_cast<std::uint8_t>(crc & 0xFFU);
     b[kHeaderSizeV2 + len + 1] = static_cast<std::uint8_t>(crc >> 8);
-    f.size_ = kHeaderSizeV2 + len + kChecksumSize;
+    f.size_ = kHeaderSizeV2 + len + kChecksumSize + (signed_frame ? kSignatureSize : 0);
     return f;
+}
+
+std::span<std::uint8_t> Frame::signature_block() {
+    if (!is_signed()) {
+        return {};
+    }
+    return std::span(bytes_).subspan(size_ - kSignatureSize, kSignatureSize);
 }
 
 FrameView Frame::view() const {
@@ -53,7 +60,8 @@ FrameView Frame::view() const {
     return FrameView{{bytes_[4], bytes_[5], bytes_[6]},
                      msgid,
                      {bytes_.data() + kHeaderSizeV2, payload_size()},
-                     false};
+                     is_signed(),
+                     bytes()};
 }
 
 }  // namespace gport::mavlink

@@ -131,9 +131,9 @@ std::string_view name_of(const Message& message) {
                       message);
 }
 
-Frame encode(const Message& message, const Header& header) {
+Frame encode(const Message& message, const Header& header, bool signed_frame) {
     const MessageInfo* info = find_message(id_of(message));
-    return Frame::make(header, info->id, info->crc_extra, payload_of(message));
+    return Frame::make(header, info->id, info->crc_extra, payload_of(message), signed_frame);
 }
 
 Result<Message> decode(const FrameView& frame) {

@@ -118,34 +118,6 @@ TEST(AngleFilter, AStreamedQuaternionPassesOnce) {
     EXPECT_EQ(passed, 1);
 }
 
-TEST(SystemId, AdoptsTheFirstAutopilotNotAGcs) {
-    SystemId id(std::nullopt);
-    Heartbeat gcs;
-    gcs.type = mav_type::kGcs;
-    gcs.autopilot = mav_autopilot::kInvalid;
-    EXPECT_FALSE(id.on_heartbeat({0, 255, 190}, gcs));
-    Heartbeat gimbal;
-    gimbal.type = mav_type::kGimbal;
-    gimbal.autopilot = mav_autopilot::kInvalid;
-    EXPECT_FALSE(id.on_heartbeat({0, 9, 154}, gimbal));
-    EXPECT_FALSE(id.value());
-    Heartbeat copter;
-    copter.type = 2;       // quadrotor
-    copter.autopilot = 3;  // ArduPilot
-    EXPECT_TRUE(id.on_heartbeat({0, 7, 1}, copter));
-    EXPECT_FALSE(id.on_heartbeat({0, 8, 1}, copter));
-    EXPECT_EQ(id.value(), 7);
-}
-
-TEST(SystemId, AConfiguredIdIsKept) {
-    SystemId id(42);
-    Heartbeat copter;
-    copter.type = 2;
-    copter.autopilot = 12;  // PX4
-    EXPECT_FALSE(id.on_heartbeat({0, 7, 1}, copter));
-    EXPECT_EQ(id.value(), 42);
-}
-
 TEST(Addressing, OursOrBroadcast) {
     EXPECT_TRUE(addressed_to(1, 154, 1, 154));
     EXPECT_TRUE(addressed_to(0, 0, 1, 154));

@@ -11,9 +11,10 @@
 namespace gport::mavlink::bridge {
 namespace {
 
-ParseOutcome parse(std::vector<std::string> args, const std::string& env = "") {
+ParseOutcome parse(std::vector<std::string> args, const std::string& env = "",
+                   const std::string& state_directory = "") {
     args.insert(args.begin(), "gport-mavlink");
-    return parse_options(args, env);
+    return parse_options(args, {env, state_directory});
 }
 
 std::string write_config(const std::string& text) {
@@ -27,7 +28,11 @@ TEST(Options, Defaults) {
     const auto out = parse({});
     ASSERT_TRUE(out.options) << out.text;
     EXPECT_EQ(out.options->socket, "/run/gportd.sock");
-    EXPECT_FALSE(out.options->sysid);
+    EXPECT_EQ(to_string(out.options->mavlink), "udpin:127.0.0.1:14560");  // loopback only
+    EXPECT_EQ(out.options->sysid, 1);
+    EXPECT_EQ(out.options->gcs_sysids, std::vector<std::uint8_t>{255});
+    EXPECT_TRUE(out.options->signing_key.empty());
+    EXPECT_TRUE(out.options->state_dir.empty());
     EXPECT_EQ(out.options->compid, 154);
     EXPECT_EQ(out.options->attitude_rate_hz, 10);
     EXPECT_EQ(out.options->lease_ms, 500U);
@@ -65,6 +70,10 @@ TEST(Options, Endpoints) {
 
 TEST(Options, BadOptionsExit64) {
     EXPECT_EQ(parse({"--sysid", "0"}).exit_code, 64);
+    EXPECT_EQ(parse({"--sysid", "automatic"}).exit_code, 64);
+    EXPECT_EQ(parse({"--gcs-sysid", "255,0"}).exit_code, 64);
+    EXPECT_EQ(parse({"--gcs-sysid", ""}).exit_code, 64);
+    EXPECT_EQ(parse({"--signing-key", ""}).exit_code, 64);
     EXPECT_EQ(parse({"--mavlink", "tcp:x:1"}).exit_code, 64);
     EXPECT_EQ(parse({"--attitude-rate", "0"}).exit_code, 64);
     EXPECT_EQ(parse({"--lease-ms", "10"}).exit_code, 64);
@@ -76,8 +85,13 @@ TEST(Options, OutOfRangeNamesOptionValueAndWhatIsAllowed) {
     const auto out = parse({"--sysid", "300"});
     EXPECT_FALSE(out.options);
     EXPECT_EQ(out.exit_code, 64);
-    EXPECT_NE(out.text.find("--sysid: 300: expected an integer from 1 to 255"), std::string::npos)
+    EXPECT_NE(out.text.find("--sysid: 300: expected a system id from 1 to 255, or auto"),
+              std::string::npos)
         << out.text;
+    EXPECT_NE(parse({"--gcs-sysid", "255,x"})
+                  .text.find("--gcs-sysid: 255,x: \"x\" is not a system id; expected system ids "
+                             "from 1 to 255 separated by commas (255,250), or none"),
+              std::string::npos);
     EXPECT_NE(parse({"--attitude-rate", "0"})
                   .text.find("--attitude-rate: 0: expected messages per second from 0.1 to 100"),
               std::string::npos);
@@ -130,9 +144,72 @@ TEST(Options, ConfigSectionUnderTheCommandLine) {
     std::filesystem::remove(path);
 }
 
+TEST(Options, SysidAutoAndGroundStationLists) {
+    auto out = parse({"--sysid", "auto", "--gcs-sysid", "255,250,7"});
+    ASSERT_TRUE(out.options) << out.text;
+    EXPECT_FALSE(out.options->sysid);
+    EXPECT_EQ(out.options->gcs_sysids, (std::vector<std::uint8_t>{255, 250, 7}));
+    out = parse({"--gcs-sysid", "none", "--sysid", "42"});
+    ASSERT_TRUE(out.options) << out.text;
+    EXPECT_TRUE(out.options->gcs_sysids.empty());
+    EXPECT_EQ(out.options->sysid, 42);
+    EXPECT_EQ(to_string(std::vector<std::uint8_t>{}), "none");
+    EXPECT_EQ(to_string(std::vector<std::uint8_t>{255, 7}), "255,7");
+}
+
+TEST(Options, ASigningKeyNeedsAStateDirectory) {
+    const auto alone = parse({"--signing-key", "/etc/gportd/mavlink.key"});
+    EXPECT_FALSE(alone.options);
+    EXPECT_EQ(alone.exit_code, 64);
+    EXPECT_NE(alone.text.find("needs a state directory"), std::string::npos) << alone.text;
+    EXPECT_NE(alone.text.find("--state-dir"), std::string::npos);
+    const auto given = parse({"--signing-key", "/k", "--state-dir", "/var/lib/x"});
+    ASSERT_TRUE(given.options) << given.text;
+    EXPECT_EQ(given.options->signing_key, "/k");
+    EXPECT_EQ(given.options->state_dir, "/var/lib/x");
+    // systemd's StateDirectory= ($STATE_DIRECTORY, the first of a list)
+    const auto systemd = parse({"--signing-key", "/k"}, "", "/var/lib/gport-mavlink:/var/lib/o");
+    ASSERT_TRUE(systemd.options) << systemd.text;
+    EXPECT_EQ(systemd.options->state_dir, "/var/lib/gport-mavlink");
+    const auto overridden = parse({"--state-dir", "/tmp/s"}, "", "/var/lib/gport-mavlink");
+    EXPECT_EQ(overridden.options->state_dir, "/tmp/s");
+}
+
+TEST(Options, TrustAndSigningFromTheConfigSection) {
+    const auto path = write_config(
+        "{\"mavlink\": {\"sysid\": \"auto\", \"gcs_sysid\": [255, 250], "
+        "\"signing_key\": \"/etc/gportd/mavlink.key\", \"state_dir\": \"/var/lib/g\"}}");
+    auto out = parse({"--config", path});
+    ASSERT_TRUE(out.options) << out.text;
+    EXPECT_FALSE(out.options->sysid);
+    EXPECT_EQ(out.options->gcs_sysids, (std::vector<std::uint8_t>{255, 250}));
+    EXPECT_EQ(out.options->signing_key, "/etc/gportd/mavlink.key");
+    EXPECT_EQ(out.options->state_dir, "/var/lib/g");
+    out = parse({"--config", path, "--sysid", "3", "--gcs-sysid", "none"});
+    ASSERT_TRUE(out.options) << out.text;
+    EXPECT_EQ(out.options->sysid, 3);
+    EXPECT_TRUE(out.options->gcs_sysids.empty());
+    std::filesystem::remove(path);
+
+    const auto single = write_config("{\"mavlink\": {\"gcs_sysid\": 250, \"sysid\": 2}}");
+    out = parse({"--config", single});
+    ASSERT_TRUE(out.options) << out.text;
+    EXPECT_EQ(out.options->gcs_sysids, std::vector<std::uint8_t>{250});
+    std::filesystem::remove(single);
+
+    const auto keyless = write_config("{\"mavlink\": {\"signing_key\": \"/k\"}}");
+    out = parse({"--config", keyless});
+    EXPECT_EQ(out.exit_code, 78) << out.text;
+    EXPECT_NE(out.text.find("needs a state directory"), std::string::npos);
+    std::filesystem::remove(keyless);
+}
+
 TEST(Options, BadConfigExits78) {
     for (const std::string text :
          {"{\"mavlink\": {\"rate\": 5}}", "{\"mavlink\": {\"sysid\": 300}}",
+          "{\"mavlink\": {\"sysid\": \"any\"}}", "{\"mavlink\": {\"gcs_sysid\": [255, 0]}}",
+          "{\"mavlink\": {\"gcs_sysid\": \"255\"}}", "{\"mavlink\": {\"signing_key\": \"\"}}",
+          "{\"mavlink\": {\"state_dir\": 5}}", "{\"mavlink\": 5}",
           "{\"mavlink\": {\"url\": \"udp:1\"}}", "{\"mavlink\": {\"lease_ms\": 1}}", "{nope",
           "{}"}) {
         const auto path = write_config(text);

@@ -375,6 +375,19 @@ started_after() {
 check "gport-mavlink started after gportd was ready" started_after
 check "the bridge is a client of gportd (status counts it)" \
     eventually 10 sh -c "gportctl --json status | grep -Eq '\"clients\": ?[2-9]'"
+check "the bridge listens on loopback only by default (udpin:127.0.0.1:14560)" \
+    sh -c "grep -q ' 0100007F:38E0 ' /proc/net/udp && ! grep -q ' 00000000:38E0 ' /proc/net/udp"
+check "its StateDirectory (signing timestamp) is /var/lib/gport-mavlink, the bridge's, mode 700" \
+    sh -c "[ \"\$(stat -c '%U %a' /var/lib/gport-mavlink)\" = 'gport-mavlink 700' ]"
+# A rogue HEARTBEAT from system 99 (a valid MAVLink 2 frame): ignored, and
+# logged natively at priority 4, so `journalctl -p warning` finds it.
+printf '\xfd\x09\x00\x00\x00\x63\x01\x00\x00\x00\x00\x00\x00\x00\x02\x03\x00\x04\x03\x75\x91' \
+    >/dev/udp/127.0.0.1/14560
+check "a rogue sender is a journal warning of its own (journalctl -p warning -u gport-mavlink)" \
+    eventually 10 sh -c "journalctl -q -u gport-mavlink.service -p warning -o cat | grep -q 'ignoring system 99'"
+check "gport-mavlink's entries are native (SYSLOG_IDENTIFIER=gport-mavlink, info at priority 6)" \
+    sh -c "journalctl -q -u gport-mavlink.service -o verbose | grep -q 'SYSLOG_IDENTIFIER=gport-mavlink' \
+           && journalctl -q -u gport-mavlink.service -p info -o cat | grep -q 'MAVLink on udpin:127.0.0.1:14560'"
 systemctl stop gportd.service
 check "stopping gportd stops gport-mavlink with it" \
     eventually 10 sh -c "! systemctl is-active -q gport-mavlink.service"

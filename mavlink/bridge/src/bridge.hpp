@@ -1,6 +1,14 @@
 // gport-mavlink's event loop: gportd's client on one side (AsyncClient,
 // reconnecting with backoff), the MAVLink transport on the other, and the
 // timers of the heartbeat and the attitude status (docs/mavlink.md).
+//
+// Every MAVLink frame passes, in this order, before it is acted on: the
+// signature rules (with a key; without one, signed frames are dropped: they
+// cannot be checked), the trust rules (trust.hpp: who may command, who is
+// the vehicle), and the addressing (our system and component, or
+// broadcast). A frame that passed the first two (it may still be addressed
+// to another component) makes its UDP sender the reply peer. What is
+// refused is counted and logged within bounds.
 #pragma once
 
 #include <boost/asio/io_context.hpp>
@@ -10,27 +18,40 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "gport/client/async_client.hpp"
+#include "gport/mavlink/bridge/log_limit.hpp"
 #include "gport/mavlink/bridge/mapping.hpp"
 #include "gport/mavlink/bridge/options.hpp"
+#include "gport/mavlink/bridge/trust.hpp"
 #include "gport/mavlink/decoder.hpp"
 #include "gport/mavlink/messages.hpp"
+#include "logbook.hpp"
+#include "signing_session.hpp"
 #include "transport.hpp"
 
 namespace gport::mavlink::bridge {
 
 class Bridge {
   public:
-    Bridge(boost::asio::io_context& io, Options options);
+    // Senders refused by the trust rules logged one by one; then one line.
+    static constexpr std::size_t kLoggedStrangers = 16;
+
+    // `signing`: the session of --signing-key, or null without a key.
+    Bridge(boost::asio::io_context& io, Options options, std::unique_ptr<SigningSession> signing,
+           Logbook& log);
     // Opens the transport (throws std::runtime_error when it cannot) and
     // starts connecting to gportd and the timers.
     void start();
+    // At exit: the pending warning summaries, the counters, the signing
+    // timestamp.
+    void finish();
 
   private:
     using Clock = std::chrono::steady_clock;
 
-    // gportd
+    // gportd (bridge.cpp)
     void connect();
     void on_connected();
     void on_disconnected(const std::string& why);
@@ -39,33 +60,45 @@ class Bridge {
     void send_motion(const Command& command);
     void motion_done(const std::optional<client::Error>& error, const char* what);
 
-    // MAVLink
-    void on_bytes(std::span<const std::uint8_t> bytes);
+    // MAVLink in (bridge_mavlink.cpp)
+    void on_bytes(std::span<const std::uint8_t> bytes, bool fresh_source);
     void on_frame(const FrameView& frame);
+    bool admitted(const FrameView& frame, const Message& message);
+    void refuse(const FrameView& frame, TrustVerdict verdict);
+    // Who sent a command: its header (for the ACK's target) and its origin
+    // (where the reply goes: the request's sender, not whoever is the peer
+    // by the time gportd answers).
+    struct Requester {
+        Header header;
+        Origin origin;
+    };
+    void handle(const Header& from, const Message& message);
     void on_heartbeat(const Header& header, const Heartbeat& heartbeat);
-    void on_command(const Header& header, const CommandLong& command);
+    void on_command(const Requester& from, const CommandLong& command);
     void on_set_attitude(const GimbalDeviceSetAttitude& message);
     void on_autopilot_state(const AutopilotStateForGimbalDevice& message);
-    void request_message(const Header& from, const CommandLong& command);
-    void camera(const Header& from, const CommandLong& command);
-    void record(const Header& from, std::uint16_t command, bool on, bool force);
-    void ack(const Header& to, std::uint16_t command, std::uint8_t result);
-    void send(const Message& message);
+    void request_message(const Requester& from, const CommandLong& command);
+    void camera(const Requester& from, const CommandLong& command);
+    void record(const Requester& from, std::uint16_t command, bool on, bool force);
+    // MAVLink out: to the peer, or (replies) to a requester's origin
+    void ack(const Requester& to, std::uint16_t command, std::uint8_t result);
+    void send(const Message& message, const Origin& to = std::nullopt);
 
-    // timers
-    void send_heartbeat();
+    // timers (bridge.cpp)
+    void send_heartbeat(const Origin& to = std::nullopt);
     void heartbeat_tick();
     void attitude_tick();
     Health health() const;
     std::uint32_t time_boot_ms() const;
-    void warn_once(std::string& last, const std::string& text);
 
     boost::asio::io_context& io_;
     Options options_;
+    std::unique_ptr<SigningSession> signing_;
+    Logbook& log_;
     std::unique_ptr<Transport> transport_;
     client::AsyncClient gportd_;
     Decoder decoder_;
-    SystemId sysid_;
+    Trust trust_;
     AngleFilter filter_;
     boost::asio::steady_timer reconnect_timer_;
     boost::asio::steady_timer heartbeat_timer_;
@@ -88,10 +121,14 @@ class Bridge {
     bool motion_in_flight_ = false;
     std::optional<Command> motion_pending_;
 
-    std::uint64_t ignored_messages_ = 0;
-    std::string last_motion_error_;
-    std::string last_mapping_error_;
-    std::string last_connect_error_;
+    // What was refused, for the log at exit.
+    struct Counters {
+        std::uint64_t accepted = 0;       // frames acted on (or addressed elsewhere)
+        std::uint64_t undecodable = 0;    // valid frames whose payload did not decode
+        std::uint64_t signed_no_key = 0;  // signed frames while we have no key
+        std::uint64_t untrusted = 0;      // refused by the trust rules
+    } counters_;
+    FirstSightings<std::pair<std::uint8_t, std::uint8_t>> strangers_{kLoggedStrangers};
 
     static std::uint16_t gimbal_flags_default();
 };

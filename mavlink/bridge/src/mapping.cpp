@@ -50,14 +50,14 @@ Command map_set_attitude(const GimbalDeviceSetAttitude& message, const Invert& i
     if (!is_nan(message.q)) {
         const auto euler = to_euler(message.q, "q");
         if (!euler) {
-            return NoCommand{euler.error().message};
+            return NoCommand{"bad quaternion", euler.error().message};
         }
         double yaw = euler->yaw;
         if (yaw_in_earth_frame(message.flags)) {
             if (!vehicle_yaw_deg) {
-                return NoCommand{
-                    "an earth-frame yaw target needs the vehicle's yaw, and no "
-                    "AUTOPILOT_STATE_FOR_GIMBAL_DEVICE has been received"};
+                return NoCommand{"earth-frame yaw without the vehicle's yaw",
+                                 "an earth-frame yaw target needs the vehicle's yaw, and no "
+                                 "AUTOPILOT_STATE_FOR_GIMBAL_DEVICE has been received"};
             }
             yaw = wrap_degrees(yaw - *vehicle_yaw_deg);
         }
@@ -67,7 +67,8 @@ Command map_set_attitude(const GimbalDeviceSetAttitude& message, const Invert& i
     const float y = message.angular_velocity_y;
     const float z = message.angular_velocity_z;
     if (std::isnan(x) && std::isnan(y) && std::isnan(z)) {
-        return NoCommand{"neither an attitude nor a rate is given (all NaN)"};
+        return NoCommand{"no attitude and no rate",
+                         "neither an attitude nor a rate is given (all NaN)"};
     }
     return SpeedCommand{apply(invert, {rate_dps(x), rate_dps(y), rate_dps(z)})};
 }
@@ -79,15 +80,6 @@ bool AngleFilter::pass(const client::Axes& target) {
         return false;
     }
     last_ = target;
-    return true;
-}
-
-bool SystemId::on_heartbeat(const Header& header, const Heartbeat& heartbeat) {
-    if (value_ || heartbeat.type == mav_type::kGcs ||
-        heartbeat.autopilot == mav_autopilot::kInvalid || header.sysid == 0) {
-        return false;
-    }
-    value_ = header.sysid;
     return true;
 }
 

@@ -2,22 +2,15 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <array>
-#include <fstream>
-#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "gport/base/args.hpp"
 #include "gport/base/exit_status.hpp"
+#include "options_internal.hpp"
 
 namespace gport::mavlink::bridge {
 
 namespace {
-
-using Json = nlohmann::json;
-
-constexpr std::array<std::string_view, 7> kLogLevels = {"trace", "debug",    "info", "warn",
-                                                        "error", "critical", "off"};
 
 bool valid_number(const std::string& text, unsigned long max, unsigned& out) {
     if (text.empty() || text.size() > 9 ||
@@ -32,93 +25,13 @@ bool valid_number(const std::string& text, unsigned long max, unsigned& out) {
     return true;
 }
 
-// Checks the values both sources share; empty when all is well.
-std::string check(const Options& o) {
-    if (!(o.attitude_rate_hz >= 0.1 && o.attitude_rate_hz <= 100)) {
-        return "attitude rate = " + std::to_string(o.attitude_rate_hz) +
-               " Hz is out of range; allowed 0.1 to 100";
+// A system id 1 to 255 written in decimal digits.
+std::optional<std::uint8_t> sysid_of(std::string_view text) {
+    unsigned id = 0;
+    if (!valid_number(std::string(text), 255, id)) {
+        return std::nullopt;
     }
-    if (o.lease_ms < 50 || o.lease_ms > 60000) {
-        return "lease = " + std::to_string(o.lease_ms) + " ms is out of range; allowed 50 to 60000";
-    }
-    if (std::find(kLogLevels.begin(), kLogLevels.end(), o.log_level) == kLogLevels.end()) {
-        return "log level \"" + o.log_level +
-               "\" is unknown; allowed trace, debug, info, warn, error, critical, off";
-    }
-    if (o.socket.empty()) {
-        return "the socket path is empty";
-    }
-    return {};
-}
-
-template <typename T>
-void take(const Json& section, const char* key, T& out) {
-    if (section.contains(key)) {
-        out = section.at(key).get<T>();
-    }
-}
-
-// Applies the `mavlink` section of a config file; returns the error text.
-std::string apply_config(const std::string& path, Options& o) {
-    std::ifstream in(path);
-    if (!in) {
-        return path + ": cannot be read";
-    }
-    try {
-        const Json root = Json::parse(in, nullptr, true, /*ignore_comments=*/true);
-        if (!root.is_object() || !root.contains("mavlink")) {
-            return path + ": no \"mavlink\" section (an object) at the top level";
-        }
-        const Json& m = root.at("mavlink");
-        static const std::array<std::string_view, 8> kKeys = {
-            "socket",           "url",      "sysid",     "compid",
-            "attitude_rate_hz", "lease_ms", "log_level", "invert"};
-        for (const auto& [key, value] : m.items()) {
-            if (std::find(kKeys.begin(), kKeys.end(), key) == kKeys.end()) {
-                return path + ": mavlink." + key +
-                       " is unknown; allowed socket, url, sysid, compid, attitude_rate_hz, "
-                       "lease_ms, log_level, invert";
-            }
-        }
-        take(m, "socket", o.socket);
-        if (m.contains("url")) {
-            std::string error;
-            auto endpoint = parse_endpoint(m.at("url").get<std::string>(), error);
-            if (!endpoint) {
-                return path + ": mavlink.url: " + error;
-            }
-            o.mavlink = *endpoint;
-        }
-        if (m.contains("sysid")) {
-            const int id = m.at("sysid").get<int>();
-            if (id < 1 || id > 255) {
-                return path + ": mavlink.sysid = " + std::to_string(id) +
-                       " is out of range; allowed 1 to 255";
-            }
-            o.sysid = static_cast<std::uint8_t>(id);
-        }
-        if (m.contains("compid")) {
-            const int id = m.at("compid").get<int>();
-            if (id < 1 || id > 255) {
-                return path + ": mavlink.compid = " + std::to_string(id) +
-                       " is out of range; allowed 1 to 255";
-            }
-            o.compid = static_cast<std::uint8_t>(id);
-        }
-        take(m, "attitude_rate_hz", o.attitude_rate_hz);
-        take(m, "lease_ms", o.lease_ms);
-        take(m, "log_level", o.log_level);
-        if (m.contains("invert")) {
-            const Json& inv = m.at("invert");
-            take(inv, "roll", o.invert.roll);
-            take(inv, "pitch", o.invert.pitch);
-            take(inv, "yaw", o.invert.yaw);
-        }
-    } catch (const Json::exception& e) {
-        return path + ": " + e.what();
-    }
-    const std::string problem = check(o);
-    return problem.empty() ? problem : path + ": " + problem;
+    return static_cast<std::uint8_t>(id);
 }
 
 }  // namespace
@@ -158,6 +71,54 @@ std::optional<Endpoint> parse_endpoint(const std::string& url, std::string& erro
     return e;
 }
 
+bool parse_sysid(std::string_view text, std::optional<std::uint8_t>& out, std::string& error) {
+    if (text == "auto") {
+        out.reset();
+        return true;
+    }
+    if (auto id = sysid_of(text)) {
+        out = *id;
+        return true;
+    }
+    error = "expected a system id from 1 to 255, or auto";
+    return false;
+}
+
+std::optional<std::vector<std::uint8_t>> parse_sysid_list(std::string_view text,
+                                                          std::string& error) {
+    std::vector<std::uint8_t> ids;
+    if (text == "none") {
+        return ids;
+    }
+    while (true) {
+        const auto comma = text.find(',');
+        const auto item = text.substr(0, comma);
+        const auto id = sysid_of(item);
+        if (!id) {
+            error = "\"" + std::string(item) +
+                    "\" is not a system id; expected system ids from 1 to 255 separated by "
+                    "commas (255,250), or none";
+            return std::nullopt;
+        }
+        ids.push_back(*id);
+        if (comma == std::string_view::npos) {
+            return ids;
+        }
+        text.remove_prefix(comma + 1);
+    }
+}
+
+std::string to_string(const std::vector<std::uint8_t>& sysids) {
+    if (sysids.empty()) {
+        return "none";
+    }
+    std::string out;
+    for (auto id : sysids) {
+        out += (out.empty() ? "" : ",") + std::to_string(id);
+    }
+    return out;
+}
+
 std::string to_string(const Endpoint& e) {
     const char* scheme = e.kind == Endpoint::Kind::kUdpIn    ? "udpin"
                          : e.kind == Endpoint::Kind::kUdpOut ? "udpout"
@@ -176,13 +137,17 @@ constexpr const char* kDescription =
 constexpr const char* kFooter =
     "Options on the command line win over the \"mavlink\" section of --config,\n"
     "which wins over the defaults.\n\n"
+    "Trust: commands are taken only from the vehicle's system id (--sysid) and the\n"
+    "ground stations' (--gcs-sysid); with --signing-key only from correctly signed\n"
+    "frames (docs/mavlink.md, \"Security\").\n\n"
     "Exit status: 0 after SIGINT/SIGTERM (and for --help, --version), 64 for a bad\n"
     "command line, 71 when the MAVLink endpoint cannot be opened, 78 for a bad\n"
-    "config file.\n\n"
+    "config file, signing key file or state directory.\n\n"
     "Examples:\n"
-    "  gport-mavlink --mavlink udpin:127.0.0.1:14560    # behind mavlink-router\n"
+    "  gport-mavlink                                     # udpin:127.0.0.1:14560, mavlink-router\n"
     "  gport-mavlink --mavlink udpout:192.168.1.10:14550\n"
     "  gport-mavlink --mavlink serial:/dev/ttyAMA0:921600 --invert-yaw\n"
+    "  gport-mavlink --signing-key /etc/gportd/mavlink.key --state-dir /var/lib/gport-mavlink\n"
     "  gport-mavlink --config /etc/gportd/mavlink.json";
 
 std::optional<std::string> check_url(std::string_view text) {
@@ -191,6 +156,23 @@ std::optional<std::string> check_url(std::string_view text) {
         return std::nullopt;
     }
     return error;
+}
+
+std::optional<std::string> check_sysid(std::string_view text) {
+    std::string error;
+    std::optional<std::uint8_t> id;
+    if (parse_sysid(text, id, error)) {
+        return std::nullopt;
+    }
+    return std::string(text) + ": " + error;
+}
+
+std::optional<std::string> check_sysid_list(std::string_view text) {
+    std::string error;
+    if (parse_sysid_list(text, error)) {
+        return std::nullopt;
+    }
+    return std::string(text) + ": " + error;
 }
 
 std::optional<std::string> not_empty(std::string_view text) {
@@ -202,12 +184,34 @@ std::optional<std::string> not_empty(std::string_view text) {
 
 // What the command line gave; empty for what it did not.
 struct Given {
-    std::optional<std::string> socket, url, config, log_level;
-    std::optional<int> sysid, compid;
+    std::optional<std::string> socket, url, config, log_level, sysid, gcs, key, state_dir;
+    std::optional<int> compid;
     std::optional<double> rate;
     std::optional<unsigned> lease;
     bool inv_roll = false, inv_pitch = false, inv_yaw = false;
 };
+
+void add_trust_options(CLI::App& app, Given& g) {
+    app.add_option("--sysid", g.sysid,
+                   "the vehicle's system id, 1 to 255, or auto: adopt the first autopilot "
+                   "heartbeat's (spoofable) (default 1)")
+        ->type_name("N|auto")
+        ->check(args::check_with(check_sysid));
+    app.add_option("--gcs-sysid", g.gcs,
+                   "ground stations whose commands are taken too: ids separated by commas, or "
+                   "none (default 255)")
+        ->type_name("IDS")
+        ->check(args::check_with(check_sysid_list));
+    app.add_option("--signing-key", g.key,
+                   "MAVLink 2 signing: a file (mode 600) with the 32-byte key as 64 hex digits; "
+                   "then only signed frames are taken, and all sent are signed")
+        ->type_name("FILE")
+        ->check(args::check_with(not_empty));
+    app.add_option("--state-dir", g.state_dir,
+                   "where the signing timestamp is kept (default $STATE_DIRECTORY)")
+        ->type_name("DIR")
+        ->check(args::check_with(not_empty));
+}
 
 void add_options(CLI::App& app, Given& g) {
     app.add_option("--socket", g.socket,
@@ -216,12 +220,10 @@ void add_options(CLI::App& app, Given& g) {
         ->check(args::check_with(not_empty));
     app.add_option("--mavlink", g.url,
                    "udpin:ADDR:PORT, udpout:ADDR:PORT or serial:DEVICE:BAUD (default "
-                   "udpin:0.0.0.0:14550)")
+                   "udpin:127.0.0.1:14560)")
         ->type_name("URL")
         ->check(args::check_with(check_url));
-    app.add_option("--sysid", g.sysid, "system id (default: the first autopilot heartbeat's)")
-        ->type_name("N")
-        ->check(args::integer_in(1, 255));
+    add_trust_options(app, g);
     app.add_option("--compid", g.compid, "component id (default 154, MAV_COMP_ID_GIMBAL)")
         ->type_name("N")
         ->check(args::integer_in(1, 255));
@@ -232,9 +234,10 @@ void add_options(CLI::App& app, Given& g) {
     app.add_option("--lease-ms", g.lease, "the lease of each speed sent to gportd (default 500)")
         ->type_name("MS")
         ->check(args::integer_in(50, 60000));
-    app.add_option("--log-level", g.log_level, "what to log to stderr (default info)")
+    app.add_option("--log-level", g.log_level,
+                   "what to log, to the journal or stderr (default info)")
         ->type_name("LEVEL")
-        ->check(args::one_of({kLogLevels.begin(), kLogLevels.end()}));
+        ->check(args::one_of({detail::kLogLevels.begin(), detail::kLogLevels.end()}));
     app.add_option("--config", g.config, "a JSON file whose \"mavlink\" section sets these options")
         ->type_name("FILE");
     app.add_flag("--invert-roll", g.inv_roll, "flip the roll axis's sign");
@@ -249,62 +252,70 @@ ParseOutcome usage_error(const std::string& problem) {
     return out;
 }
 
-ParseOutcome finish(const Given& given, const std::string& env_socket) {
+ParseOutcome failure(int code, const std::string& text) {
     ParseOutcome out;
-    Options o;
-    if (!env_socket.empty()) {
-        o.socket = env_socket;
-    }
-    if (given.config) {
-        if (auto problem = apply_config(*given.config, o); !problem.empty()) {
-            out.exit_code = kExitConfig;
-            out.text = "gport-mavlink: configuration error: " + problem + "\n";
-            return out;
-        }
-    }
+    out.exit_code = code;
+    out.text = "gport-mavlink: " + text + "\n";
+    return out;
+}
+
+// The command line's values over `o` (the config's over the defaults).
+void apply_given(const Given& given, Options& o) {
+    std::string ignored;  // every value was checked by its option
     if (given.url) {
-        std::string error;
-        auto endpoint = parse_endpoint(*given.url, error);
-        if (!endpoint) {
-            out.exit_code = kExitUsage;
-            out.text = "gport-mavlink: --mavlink: " + error + "\n";
-            return out;
-        }
-        o.mavlink = *endpoint;
-    }
-    if (given.socket) {
-        o.socket = *given.socket;
+        o.mavlink = *parse_endpoint(*given.url, ignored);
     }
     if (given.sysid) {
-        o.sysid = static_cast<std::uint8_t>(*given.sysid);
+        parse_sysid(*given.sysid, o.sysid, ignored);
     }
+    if (given.gcs) {
+        o.gcs_sysids = *parse_sysid_list(*given.gcs, ignored);
+    }
+    o.socket = given.socket.value_or(o.socket);
+    o.signing_key = given.key.value_or(o.signing_key);
+    o.state_dir = given.state_dir.value_or(o.state_dir);
     if (given.compid) {
         o.compid = static_cast<std::uint8_t>(*given.compid);
     }
-    if (given.rate) {
-        o.attitude_rate_hz = *given.rate;
-    }
-    if (given.lease) {
-        o.lease_ms = *given.lease;
-    }
-    if (given.log_level) {
-        o.log_level = *given.log_level;
-    }
+    o.attitude_rate_hz = given.rate.value_or(o.attitude_rate_hz);
+    o.lease_ms = given.lease.value_or(o.lease_ms);
+    o.log_level = given.log_level.value_or(o.log_level);
     o.invert.roll = o.invert.roll || given.inv_roll;
     o.invert.pitch = o.invert.pitch || given.inv_pitch;
     o.invert.yaw = o.invert.yaw || given.inv_yaw;
-    if (auto problem = check(o); !problem.empty()) {
-        out.exit_code = kExitUsage;
-        out.text = "gport-mavlink: " + problem + "\n";
-        return out;
+}
+
+ParseOutcome finish(const Given& given, const Environment& env) {
+    Options o;
+    if (!env.socket.empty()) {
+        o.socket = env.socket;
     }
+    // systemd sets STATE_DIRECTORY to the StateDirectory= paths, ':'-separated.
+    o.state_dir = env.state_directory.substr(0, env.state_directory.find(':'));
+    if (given.config) {
+        if (auto problem = detail::apply_config(*given.config, o); !problem.empty()) {
+            return failure(kExitConfig, "configuration error: " + problem);
+        }
+    }
+    apply_given(given, o);
+    if (auto problem = detail::check(o); !problem.empty()) {
+        return failure(kExitUsage, problem);
+    }
+    if (!o.signing_key.empty() && o.state_dir.empty()) {
+        return failure(given.key ? kExitUsage : kExitConfig,
+                       "the signing key " + o.signing_key +
+                           " needs a state directory to keep the signing timestamp in; "
+                           "give --state-dir DIR, the config key state_dir, or run under "
+                           "systemd with StateDirectory= ($STATE_DIRECTORY)");
+    }
+    ParseOutcome out;
     out.options = o;
     return out;
 }
 
 }  // namespace
 
-ParseOutcome parse_options(const std::vector<std::string>& argv, const std::string& env_socket) {
+ParseOutcome parse_options(const std::vector<std::string>& argv, const Environment& env) {
     CLI::App app{kDescription, "gport-mavlink"};
     args::configure(app, kFooter);
     app.allow_extras();  // named by args::leftover_problem
@@ -326,7 +337,7 @@ ParseOutcome parse_options(const std::vector<std::string>& argv, const std::stri
     if (auto problem = args::leftover_problem(app); !problem.empty()) {
         return usage_error(problem);
     }
-    return finish(given, env_socket);
+    return finish(given, env);
 }
 
 }  // namespace gport::mavlink::bridge

@@ -8,7 +8,10 @@
 #include <boost/asio/serial_port.hpp>
 #include <boost/asio/write.hpp>
 #include <stdexcept>
+#include <string>
 #include <vector>
+
+#include "gport/mavlink/bridge/log_limit.hpp"
 
 namespace gport::mavlink::bridge {
 
@@ -17,9 +20,14 @@ namespace {
 namespace asio = boost::asio;
 using asio::ip::udp;
 
+std::string text_of(const udp::endpoint& e) {
+    return e.address().to_string() + ":" + std::to_string(e.port());
+}
+
 class UdpTransport final : public Transport {
   public:
-    UdpTransport(asio::io_context& io, const Endpoint& e) : socket_(io) {
+    UdpTransport(asio::io_context& io, const Endpoint& e)
+        : socket_(io), listening_(e.kind == Endpoint::Kind::kUdpIn), peers_(kLoggedPeers) {
         boost::system::error_code ec;
         const auto address = asio::ip::make_address(e.address, ec);
         if (ec) {
@@ -27,15 +35,20 @@ class UdpTransport final : public Transport {
         }
         const udp::endpoint where(address, static_cast<unsigned short>(e.number));
         socket_.open(where.protocol());
-        if (e.kind == Endpoint::Kind::kUdpIn) {
+        if (listening_) {
             socket_.set_option(udp::socket::reuse_address(true));
             socket_.bind(where, ec);
             if (ec) {
                 throw std::runtime_error(to_string(e) + ": cannot bind: " + ec.message());
             }
-        } else {
-            peer_ = where;
+            return;
         }
+        // Connected: the kernel delivers datagrams from `where` only.
+        socket_.connect(where, ec);
+        if (ec) {
+            throw std::runtime_error(to_string(e) + ": cannot connect: " + ec.message());
+        }
+        peer_ = where;
     }
 
     void start(Receiver receive) override {
@@ -45,15 +58,54 @@ class UdpTransport final : public Transport {
 
     void send(std::span<const std::uint8_t> frame) override {
         if (!peer_) {
-            ++send_failures_;
+            ++unsent_;
             return;
         }
         boost::system::error_code ec;
-        socket_.send_to(asio::buffer(frame.data(), frame.size()), *peer_, 0, ec);
+        if (listening_) {
+            socket_.send_to(asio::buffer(frame.data(), frame.size()), *peer_, 0, ec);
+        } else {
+            socket_.send(asio::buffer(frame.data(), frame.size()), 0, ec);
+        }
         if (ec) {
             ++send_failures_;
-            spdlog::debug("mavlink: send to {}:{} failed: {}", peer_->address().to_string(),
-                          peer_->port(), ec.message());
+            spdlog::debug("mavlink: send to {} failed: {}", text_of(*peer_), ec.message());
+        }
+    }
+
+    void send_to(std::span<const std::uint8_t> frame, const Origin& origin) override {
+        if (!listening_ || !origin) {
+            send(frame);
+            return;
+        }
+        boost::system::error_code ec;
+        socket_.send_to(asio::buffer(frame.data(), frame.size()), *origin, 0, ec);
+        if (ec) {
+            ++send_failures_;
+            spdlog::debug("mavlink: send to {} failed: {}", text_of(*origin), ec.message());
+        }
+    }
+
+    Origin origin() const override { return listening_ ? Origin(sender_) : std::nullopt; }
+
+    void accept_sender() override {
+        if (!listening_ || (peer_ && *peer_ == sender_)) {
+            return;
+        }
+        peer_ = sender_;
+        switch (peers_.see(sender_)) {
+            case FirstSightings<udp::endpoint>::Sighting::kNew:
+                spdlog::info("mavlink: replying to {} (it sent an accepted frame)",
+                             text_of(sender_));
+                break;
+            case FirstSightings<udp::endpoint>::Sighting::kOverflow:
+                spdlog::info(
+                    "mavlink: replying to {}; {} peers seen, further peer changes "
+                    "are not logged",
+                    text_of(sender_), kLoggedPeers + 1);
+                break;
+            default:
+                break;
         }
     }
 
@@ -67,22 +119,23 @@ class UdpTransport final : public Transport {
                     return;
                 }
                 if (!ec) {
-                    if (!peer_ || *peer_ != sender_) {
-                        spdlog::info("mavlink: peer {}:{}", sender_.address().to_string(),
-                                     sender_.port());
-                    }
-                    peer_ = sender_;
-                    receive_({buffer_.data(), n});
+                    const bool fresh = !last_sender_ || *last_sender_ != sender_;
+                    last_sender_ = sender_;
+                    receive_({buffer_.data(), n}, fresh);
                 }
                 // Re-armed through post: timers and gportd's replies get their turn
-                // between datagrams of a flooding peer.
+                // between datagrams of a flooding peer. (A connected socket may report
+                // ECONNREFUSED here while the peer is not listening: read again.)
                 asio::post(socket_.get_executor(), [this] { read(); });
             });
     }
 
     udp::socket socket_;
+    bool listening_;
     udp::endpoint sender_;
+    std::optional<udp::endpoint> last_sender_;
     std::optional<udp::endpoint> peer_;
+    FirstSightings<udp::endpoint> peers_;
     std::array<std::uint8_t, kReadSize> buffer_{};
     Receiver receive_;
 };
@@ -132,7 +185,7 @@ class SerialTransport final : public Transport {
                 if (ec) {
                     throw std::runtime_error("mavlink serial port: " + ec.message());
                 }
-                receive_({buffer_.data(), n});
+                receive_({buffer_.data(), n}, false);
                 asio::post(port_.get_executor(), [this] { read(); });
             });
     }

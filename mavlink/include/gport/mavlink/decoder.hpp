@@ -19,8 +19,10 @@
 // Decisions (docs/mavlink.md):
 //   - MAVLink 1 frames are recognised (valid checksum, known id, exact
 //     length), skipped whole and counted in v1_frames; never delivered.
-//   - A signed MAVLink 2 frame is delivered with is_signed set; its 13-byte
-//     signature is skipped, not verified.
+//   - A signed MAVLink 2 frame is delivered with is_signed set and its
+//     13-byte signature in `bytes`; the decoder does not verify it (that
+//     needs the key: signing.hpp's Verifier, which gport-mavlink applies to
+//     every frame before acting on it).
 #pragma once
 
 #include <algorithm>
@@ -38,7 +40,7 @@ namespace gport::mavlink {
 struct DecoderStats {
     std::uint64_t bytes = 0;          // bytes fed
     std::uint64_t frames = 0;         // MAVLink 2 frames delivered
-    std::uint64_t signed_frames = 0;  // of those, signed (signature skipped)
+    std::uint64_t signed_frames = 0;  // of those, signed (signature not checked here)
     std::uint64_t v1_frames = 0;      // valid MAVLink 1 frames skipped
     std::uint64_t v1_bytes = 0;       // their bytes
     std::uint64_t garbage_bytes = 0;  // bytes discarded (not part of any valid frame)

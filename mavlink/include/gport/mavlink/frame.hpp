@@ -53,22 +53,32 @@ struct FrameView {
     Header header;
     std::uint32_t msgid = 0;
     std::span<const std::uint8_t> payload;
-    bool is_signed = false;  // carried a signature (skipped, not verified)
+    bool is_signed = false;  // carries a signature (the decoder does not verify it)
+    // The whole frame as received, from the magic byte to the end of the
+    // checksum, or of the signature when signed (what a verifier needs).
+    std::span<const std::uint8_t> bytes{};
 };
 
-// An encoded MAVLink 2 frame, unsigned.
+// An encoded MAVLink 2 frame: unsigned, or signed with room for the
+// 13-byte signature block that a signer (signing.hpp) fills in.
 class Frame {
   public:
     // Builds the frame, dropping the payload's trailing zero bytes (MAVLink
-    // 2 truncation; the first byte is always kept). Throws
-    // std::invalid_argument for a payload over 255 bytes or an id over 24
-    // bits (programming errors: the codec never builds those).
+    // 2 truncation; the first byte is always kept). With `signed_frame` the
+    // incompat flag 0x01 is set (the checksum covers it) and a zeroed
+    // signature block follows the checksum. Throws std::invalid_argument for
+    // a payload over 255 bytes or an id over 24 bits (programming errors:
+    // the codec never builds those).
     static Frame make(const Header& header, std::uint32_t msgid, std::uint8_t crc_extra,
-                      std::span<const std::uint8_t> payload);
+                      std::span<const std::uint8_t> payload, bool signed_frame = false);
 
     std::span<const std::uint8_t> bytes() const { return {bytes_.data(), size_}; }
     std::size_t size() const { return size_; }
-    std::size_t payload_size() const { return size_ - kHeaderSizeV2 - kChecksumSize; }
+    bool is_signed() const { return (bytes_[2] & kIncompatSigned) != 0; }
+    std::size_t payload_size() const { return bytes_[1]; }
+    // A signed frame's signature block (link id, timestamp, signature);
+    // empty for an unsigned one.
+    std::span<std::uint8_t> signature_block();
     // The frame as the decoder would deliver it.
     FrameView view() const;
 
@@ -77,7 +87,7 @@ class Frame {
     }
 
   private:
-    std::array<std::uint8_t, kHeaderSizeV2 + kMaxPayloadSize + kChecksumSize> bytes_{};
+    std::array<std::uint8_t, kMaxFrameSize> bytes_{};
     std::size_t size_ = 0;
 };
 

@@ -142,8 +142,10 @@ std::vector<std::uint8_t> payload_of(const Message& message);
 std::uint32_t id_of(const Message& message);
 std::string_view name_of(const Message& message);
 
-// A MAVLink 2 frame carrying the message, payload truncated of trailing zeros.
-Frame encode(const Message& message, const Header& header);
+// A MAVLink 2 frame carrying the message, payload truncated of trailing
+// zeros; with `signed_frame`, flagged signed with an empty signature block
+// for a signer to fill (signing.hpp).
+Frame encode(const Message& message, const Header& header, bool signed_frame = false);
 
 // The typed message of a frame: the payload is zero-extended to the message's
 // full length (truncated frames and senders with fewer extensions). Errors

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 
 #include "gport/client/types.hpp"
@@ -33,9 +34,10 @@ struct AngleCommand {  // gportd `angle`, degrees, vehicle frame
 struct SpeedCommand {  // gportd `speed`, degrees per second
     client::Axes speed{};
 };
-struct CenterCommand {};  // gportd `center` (RETRACT or NEUTRAL)
-struct NoCommand {        // nothing to send; `reason` says why
-    std::string reason{};
+struct CenterCommand {};      // gportd `center` (RETRACT or NEUTRAL)
+struct NoCommand {            // nothing to send
+    std::string_view kind{};  // why, in fixed words (one log kind per value: log_limit.hpp)
+    std::string reason{};     // why, with the values
 };
 using Command = std::variant<NoCommand, AngleCommand, SpeedCommand, CenterCommand>;
 
@@ -69,21 +71,7 @@ class AngleFilter {
     std::optional<client::Axes> last_;
 };
 
-// ---- whose system we join ------------------------------------------------------
-
-// The system id gport-mavlink uses: the configured one, or the first
-// autopilot heartbeat's (not a GCS's, not another gimbal's or companion's:
-// MAV_TYPE_GCS and MAV_AUTOPILOT_INVALID are ignored).
-class SystemId {
-  public:
-    explicit SystemId(std::optional<std::uint8_t> fixed) : value_(fixed) {}
-    // Returns true when this heartbeat made us adopt its sysid.
-    bool on_heartbeat(const Header& header, const Heartbeat& heartbeat);
-    std::optional<std::uint8_t> value() const { return value_; }
-
-  private:
-    std::optional<std::uint8_t> value_;
-};
+// ---- addressing ------------------------------------------------------------------
 
 // True when a message with these targets is for us (or broadcast: 0).
 bool addressed_to(std::uint8_t target_system, std::uint8_t target_component, std::uint8_t sysid,
@@ -94,7 +82,7 @@ bool addressed_to(std::uint8_t target_system, std::uint8_t target_component, std
 struct Health {
     bool gportd_connected = false;
     std::string link_state{};   // gportd's link: "up", "stale", "down" ("" unknown)
-    bool manager_seen = false;  // an autopilot heartbeat within the last 3 s
+    bool manager_seen = false;  // our vehicle's autopilot heartbeat within the last 3 s
 };
 
 // HEARTBEAT system_status: ACTIVE when gportd is reached and its link is

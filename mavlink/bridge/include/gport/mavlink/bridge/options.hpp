@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gport/mavlink/bridge/mapping.hpp"
@@ -26,13 +27,23 @@ std::string to_string(const Endpoint& endpoint);
 
 struct Options {
     std::string socket = "/run/gportd.sock";
-    Endpoint mavlink{Endpoint::Kind::kUdpIn, "0.0.0.0", 14550};
-    std::optional<std::uint8_t> sysid{};  // empty: adopt the autopilot's
+    // Loopback only: behind mavlink-router (docs/mavlink.md, "Security").
+    Endpoint mavlink{Endpoint::Kind::kUdpIn, "127.0.0.1", 14560};
+    std::optional<std::uint8_t> sysid = 1;      // the vehicle's; empty: `auto` (adopt)
+    std::vector<std::uint8_t> gcs_sysids{255};  // ground stations whose commands we take
     std::uint8_t compid = 154;
     double attitude_rate_hz = 10;
     unsigned lease_ms = 500;
     std::string log_level = "info";
     Invert invert{};
+    std::string signing_key{};  // the key file; empty: no signing
+    std::string state_dir{};    // for the signing timestamp; default $STATE_DIRECTORY
+};
+
+// What parse_options reads from the environment.
+struct Environment {
+    std::string socket{};           // $GPORT_SOCKET
+    std::string state_directory{};  // $STATE_DIRECTORY (systemd's StateDirectory=)
 };
 
 struct ParseOutcome {
@@ -41,7 +52,15 @@ struct ParseOutcome {
     std::string text{};                // what to print (stdout for 0, else stderr)
 };
 
-// argv as main() got it; `env_socket` is $GPORT_SOCKET (empty when unset).
-ParseOutcome parse_options(const std::vector<std::string>& argv, const std::string& env_socket);
+// argv as main() got it; empty strings in `env` for unset variables.
+ParseOutcome parse_options(const std::vector<std::string>& argv, const Environment& env);
+
+// "auto" (out: empty) or a system id 1 to 255; false with the error, which
+// says what is allowed, for anything else.
+bool parse_sysid(std::string_view text, std::optional<std::uint8_t>& out, std::string& error);
+// "none" or a comma-separated list of system ids 1 to 255 ("255", "255,250").
+std::optional<std::vector<std::uint8_t>> parse_sysid_list(std::string_view text,
+                                                          std::string& error);
+std::string to_string(const std::vector<std::uint8_t>& sysids);
 
 }  // namespace gport::mavlink::bridge

@@ -1,0 +1,247 @@
+// The MAVLink side of the Bridge: frames in (gated: signature, trust,
+// addressing), the messages they carry, and frames out (signed with a key).
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+
+#include "bridge.hpp"
+#include "gport/mavlink/attitude.hpp"
+#include "gport/mavlink/enums.hpp"
+
+namespace gport::mavlink::bridge {
+
+namespace {
+
+constexpr std::uint8_t kProvisionalSysid = 1;
+
+}  // namespace
+
+void Bridge::on_bytes(std::span<const std::uint8_t> bytes, bool fresh_source) {
+    if (fresh_source) {
+        decoder_.reset();  // no frame of two senders' bytes
+    }
+    const auto before = decoder_.stats();
+    decoder_.feed(bytes, [this](const FrameView& frame) { on_frame(frame); });
+    const auto& after = decoder_.stats();
+    const auto bad = (after.crc_errors - before.crc_errors) +
+                     (after.length_errors - before.length_errors) +
+                     (after.header_errors - before.header_errors);
+    if (bad > 0) {
+        spdlog::debug("mavlink: {} malformed frame(s) skipped ({} CRC errors so far)", bad,
+                      after.crc_errors);
+    }
+}
+
+void Bridge::on_frame(const FrameView& frame) {
+    // 1. The signature, before anything reads the frame's content.
+    if (signing_ && !signing_->admit(frame)) {
+        return;
+    }
+    if (!signing_ && frame.is_signed) {
+        ++counters_.signed_no_key;
+        log_.warn("signed frames dropped: no key",
+                  fmt::format("mavlink: dropped a signed frame from system {} component {}: "
+                              "gport-mavlink has no signing key to check it with "
+                              "(--signing-key; the vehicle signs its link)",
+                              frame.header.sysid, frame.header.compid));
+        return;
+    }
+    auto message = decode(frame);
+    if (!message) {
+        ++counters_.undecodable;
+        return;
+    }
+    // 2. The trust rules; 3. the addressing, in handle().
+    if (!admitted(frame, *message)) {
+        return;
+    }
+    ++counters_.accepted;
+    transport_->accept_sender();
+    handle(frame.header, *message);
+}
+
+bool Bridge::admitted(const FrameView& frame, const Message& message) {
+    if (const auto* hb = std::get_if<Heartbeat>(&message);
+        hb != nullptr && trust_.on_heartbeat(frame.header, *hb)) {
+        spdlog::warn(
+            "mavlink: adopted system {} as the vehicle (--sysid auto: the first autopilot "
+            "heartbeat; anyone on the link can claim it)",
+            frame.header.sysid);
+    }
+    const TrustVerdict verdict = trust_.judge(frame.header, frame.msgid);
+    if (verdict == TrustVerdict::kTrusted) {
+        return true;
+    }
+    refuse(frame, verdict);
+    return false;
+}
+
+void Bridge::refuse(const FrameView& frame, TrustVerdict verdict) {
+    ++counters_.untrusted;
+    if (verdict == TrustVerdict::kNotVehicle) {
+        return;  // a ground station's heartbeat: normal, it just is no vehicle state
+    }
+    if (verdict == TrustVerdict::kNoVehicle) {
+        log_.warn("frames ignored: no vehicle yet",
+                  "mavlink: ignoring frames until the vehicle's autopilot heartbeat adopts a "
+                  "system id (--sysid auto)");
+        return;
+    }
+    const MessageInfo* info = find_message(frame.msgid);
+    const auto who = std::make_pair(frame.header.sysid, frame.header.compid);
+    switch (strangers_.see(who)) {
+        case decltype(strangers_)::Sighting::kNew:
+            spdlog::warn(
+                "mavlink: ignoring system {} component {} (first frame {}): it is neither the "
+                "vehicle (system {}) nor a ground station (--gcs-sysid {}); its frames are "
+                "counted, not logged",
+                who.first, who.second, info != nullptr ? info->name : "?",
+                trust_.vehicle().value_or(0), to_string(options_.gcs_sysids));
+            break;
+        case decltype(strangers_)::Sighting::kOverflow:
+            spdlog::warn(
+                "mavlink: more than {} untrusted senders; further ones are counted, "
+                "not logged",
+                kLoggedStrangers);
+            break;
+        default:
+            break;
+    }
+}
+
+void Bridge::handle(const Header& from, const Message& message) {
+    const std::uint8_t us = *trust_.vehicle();
+    if (const auto* hb = std::get_if<Heartbeat>(&message)) {
+        on_heartbeat(from, *hb);
+    } else if (const auto* cmd = std::get_if<CommandLong>(&message)) {
+        if (addressed_to(cmd->target_system, cmd->target_component, us, options_.compid)) {
+            on_command({from, transport_->origin()}, *cmd);
+        }
+    } else if (const auto* set = std::get_if<GimbalDeviceSetAttitude>(&message)) {
+        if (addressed_to(set->target_system, set->target_component, us, options_.compid)) {
+            on_set_attitude(*set);
+        }
+    } else if (const auto* state = std::get_if<AutopilotStateForGimbalDevice>(&message)) {
+        if (addressed_to(state->target_system, state->target_component, us, options_.compid)) {
+            on_autopilot_state(*state);
+        }
+    }
+}
+
+void Bridge::on_heartbeat(const Header& header, const Heartbeat& heartbeat) {
+    // Trusted heartbeats come from the vehicle's system only (trust.hpp);
+    // of those, an autopilot's says that a gimbal manager is present.
+    if (header.sysid == trust_.vehicle() && is_autopilot(heartbeat)) {
+        manager_seen_ = Clock::now();
+    }
+}
+
+void Bridge::on_command(const Requester& from, const CommandLong& command) {
+    switch (command.command) {
+        case mav_cmd::kRequestMessage:
+            request_message(from, command);
+            break;
+        case mav_cmd::kImageStartCapture:
+        case mav_cmd::kVideoStartCapture:
+        case mav_cmd::kVideoStopCapture:
+            camera(from, command);
+            break;
+        default:
+            ack(from, command.command, mav_result::kUnsupported);
+            break;
+    }
+}
+
+void Bridge::request_message(const Requester& from, const CommandLong& command) {
+    const auto id = static_cast<std::uint32_t>(command.param[0]);
+    if (id == GimbalDeviceInformation::kId) {
+        ack(from, command.command, mav_result::kAccepted);
+        send(make_information(time_boot_ms(), limits_, options_.invert), from.origin);
+    } else if (id == Heartbeat::kId) {
+        ack(from, command.command, mav_result::kAccepted);
+        send_heartbeat(from.origin);
+    } else {
+        ack(from, command.command, mav_result::kDenied);
+    }
+}
+
+void Bridge::camera(const Requester& from, const CommandLong& command) {
+    if (!connected_) {
+        ack(from, command.command, mav_result::kTemporarilyRejected);
+        return;
+    }
+    const std::uint16_t cmd = command.command;
+    if (cmd == mav_cmd::kImageStartCapture) {
+        gportd_.async_photo([this, from, cmd](std::optional<client::Error> e, client::Done) {
+            if (e) {
+                log_.warn("gportd refused photo", "gportd refused photo: " + e->message());
+            }
+            ack(from, cmd, e ? mav_result::kDenied : mav_result::kAccepted);
+        });
+        return;
+    }
+    record(from, cmd, cmd == mav_cmd::kVideoStartCapture, false);
+}
+
+// record on/off; while gportd's assumed state is unknown it refuses `on`
+// without force (-32602), so the request is repeated once with force: the
+// MAVLink command says which state the user wants.
+void Bridge::record(const Requester& from, std::uint16_t cmd, bool on, bool force) {
+    gportd_.async_record(
+        on, force,
+        [this, from, cmd, on, force](std::optional<client::Error> e, client::RecordResult) {
+            if (e && !force && e->is(client::ErrorCode::kInvalidParams)) {
+                spdlog::info("record {}: the recording state is unknown; forcing it",
+                             on ? "on" : "off");
+                record(from, cmd, on, true);
+                return;
+            }
+            if (e) {
+                log_.warn("gportd refused record", fmt::format("gportd refused record {}: {}",
+                                                               on ? "on" : "off", e->message()));
+            }
+            ack(from, cmd, e ? mav_result::kDenied : mav_result::kAccepted);
+        });
+}
+
+void Bridge::on_set_attitude(const GimbalDeviceSetAttitude& message) {
+    dispatch(map_set_attitude(message, options_.invert, vehicle_yaw_deg_));
+}
+
+void Bridge::on_autopilot_state(const AutopilotStateForGimbalDevice& message) {
+    if (auto euler = to_euler(message.q, "q")) {
+        vehicle_yaw_deg_ = euler->yaw;
+    }
+    if (!std::isnan(message.angular_velocity_z)) {
+        vehicle_yaw_rate_dps_ = to_degrees(message.angular_velocity_z);
+    }
+}
+
+void Bridge::ack(const Requester& to, std::uint16_t command, std::uint8_t result) {
+    CommandAck a;
+    a.command = command;
+    a.result = result;
+    a.target_system = to.header.sysid;
+    a.target_component = to.header.compid;
+    send(a, to.origin);
+}
+
+void Bridge::send(const Message& message, const Origin& to) {
+    // With --sysid auto, before the vehicle is adopted only the heartbeat
+    // goes out, under the provisional id 1 (the autopilots' default), so that
+    // a udpout or serial peer (mavlink-router) learns of us and starts
+    // sending. udpin sends nothing before a frame was accepted (no peer).
+    const bool heartbeat = std::holds_alternative<Heartbeat>(message);
+    if (!transport_ || (!trust_.vehicle() && !heartbeat)) {
+        return;
+    }
+    const Header header{seq_++, trust_.vehicle().value_or(kProvisionalSysid), options_.compid};
+    Frame frame = encode(message, header, signing_ != nullptr);
+    if (signing_) {
+        signing_->sign(frame);
+    }
+    transport_->send_to(frame.bytes(), to);
+}
+
+}  // namespace gport::mavlink::bridge

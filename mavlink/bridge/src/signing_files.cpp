@@ -1,0 +1,202 @@
+#include "gport/mavlink/bridge/signing_files.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <string_view>
+
+namespace gport::mavlink::bridge {
+
+namespace {
+
+std::string errno_text(int error) {
+    return std::strerror(error);
+}
+
+// Closes a descriptor on every path.
+class Fd {
+  public:
+    explicit Fd(int fd) : fd_(fd) {}
+    Fd(const Fd&) = delete;
+    Fd& operator=(const Fd&) = delete;
+    ~Fd() {
+        if (fd_ >= 0) {
+            ::close(fd_);
+        }
+    }
+    int get() const { return fd_; }
+
+  private:
+    int fd_;
+};
+
+// Which of group and others may do what: "group-readable, world-writable".
+std::string loose_permissions(mode_t mode) {
+    static constexpr std::array<std::pair<mode_t, const char*>, 6> kBits{{
+        {S_IRGRP, "group-readable"},
+        {S_IWGRP, "group-writable"},
+        {S_IXGRP, "group-executable"},
+        {S_IROTH, "world-readable"},
+        {S_IWOTH, "world-writable"},
+        {S_IXOTH, "world-executable"},
+    }};
+    std::string out;
+    for (const auto& [bit, name] : kBits) {
+        if ((mode & bit) != 0) {
+            out += out.empty() ? "" : ", ";
+            out += name;
+        }
+    }
+    return out;
+}
+
+std::string_view trim(std::string_view text) {
+    constexpr std::string_view kSpace = " \t\r\n";
+    const auto first = text.find_first_not_of(kSpace);
+    if (first == std::string_view::npos) {
+        return {};
+    }
+    const auto last = text.find_last_not_of(kSpace);
+    return text.substr(first, last - first + 1);
+}
+
+// Reads at most `limit` + 1 bytes, so that a longer file is noticed.
+Result<std::string> read_small(int fd, std::size_t limit) {
+    std::string data(limit + 1, '\0');
+    std::size_t got = 0;
+    while (got < data.size()) {
+        const ssize_t n = ::read(fd, data.data() + got, data.size() - got);
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n < 0) {
+            return Error{"cannot be read: " + errno_text(errno)};
+        }
+        if (n == 0) {
+            break;
+        }
+        got += static_cast<std::size_t>(n);
+    }
+    data.resize(got);
+    return data;
+}
+
+void wipe(std::string& text) {
+    volatile char* p = text.data();
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        p[i] = 0;
+    }
+}
+
+}  // namespace
+
+Result<SecretKey> load_signing_key(const std::string& path) {
+    const std::string allowed =
+        "; allowed: a regular file that only its owner can read or write (chmod 600 or 400) "
+        "holding the 32-byte key as 64 hexadecimal digits";
+    // O_NONBLOCK: a FIFO opens at once (and is refused below) instead of hanging.
+    Fd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK));
+    if (fd.get() < 0) {
+        return Error{fmt::format("signing key {}: cannot be opened: {}{}", path, errno_text(errno),
+                                 allowed)};
+    }
+    struct stat st {};
+    if (::fstat(fd.get(), &st) != 0) {
+        return Error{
+            fmt::format("signing key {}: cannot be examined: {}", path, errno_text(errno))};
+    }
+    if (!S_ISREG(st.st_mode)) {
+        return Error{fmt::format("signing key {}: is not a regular file{}", path, allowed)};
+    }
+    if ((st.st_mode & 077) != 0) {
+        return Error{fmt::format("signing key {}: mode {:04o} is {}{}", path, st.st_mode & 07777,
+                                 loose_permissions(st.st_mode), allowed)};
+    }
+    auto data = read_small(fd.get(), kMaxKeyFileSize);
+    if (!data) {
+        return Error{fmt::format("signing key {}: {}", path, data.error().message)};
+    }
+    if (data->size() > kMaxKeyFileSize) {
+        wipe(*data);
+        return Error{
+            fmt::format("signing key {}: is over {} bytes{}", path, kMaxKeyFileSize, allowed)};
+    }
+    auto key = parse_key_hex(trim(*data));
+    wipe(*data);
+    if (!key) {
+        return Error{fmt::format("signing key {}: {} (surrounding whitespace is allowed)", path,
+                                 key.error().message)};
+    }
+    return key;
+}
+
+TimestampFile::TimestampFile(const std::string& directory)
+    : path_(directory.empty() || directory.back() == '/' ? directory + kFileName
+                                                         : directory + "/" + kFileName) {}
+
+Result<std::uint64_t> TimestampFile::load() const {
+    Fd fd(::open(path_.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK));
+    if (fd.get() < 0 && errno == ENOENT) {
+        return std::uint64_t{0};
+    }
+    if (fd.get() < 0) {
+        return Error{fmt::format("{}: cannot be opened: {}", path_, errno_text(errno))};
+    }
+    auto data = read_small(fd.get(), 64);
+    if (!data) {
+        return Error{fmt::format("{}: {}", path_, data.error().message)};
+    }
+    const std::string_view text = trim(*data);
+    std::uint64_t value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || error != std::errc() || end != text.data() + text.size() ||
+        value > kMaxTimestamp) {
+        return Error{fmt::format(
+            "{}: does not hold a signing timestamp (one decimal number under 2^48); remove "
+            "it only if this machine's clock is right (the next start then begins at the "
+            "clock)",
+            path_)};
+    }
+    return value;
+}
+
+std::optional<Error> TimestampFile::save(std::uint64_t timestamp) const {
+    const std::string temporary = path_ + ".new";
+    Fd fd(::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0600));
+    if (fd.get() < 0) {
+        return Error{fmt::format("{}: cannot be created: {}", temporary, errno_text(errno))};
+    }
+    const std::string text = std::to_string(timestamp) + "\n";
+    const ssize_t n = ::write(fd.get(), text.data(), text.size());
+    if (n != static_cast<ssize_t>(text.size())) {
+        const int error = n < 0 ? errno : ENOSPC;
+        ::unlink(temporary.c_str());
+        return Error{fmt::format("{}: cannot be written: {}", temporary, errno_text(error))};
+    }
+    if (::fsync(fd.get()) != 0) {
+        const int error = errno;
+        ::unlink(temporary.c_str());
+        return Error{fmt::format("{}: cannot be synced: {}", temporary, errno_text(error))};
+    }
+    if (::rename(temporary.c_str(), path_.c_str()) != 0) {
+        const int error = errno;
+        ::unlink(temporary.c_str());
+        return Error{fmt::format("{}: cannot be replaced: {}", path_, errno_text(error))};
+    }
+    // The rename itself reaches the disk with the directory.
+    const auto slash = path_.rfind('/');
+    const std::string directory = slash == std::string::npos ? "." : path_.substr(0, slash + 1);
+    Fd dir(::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+    if (dir.get() >= 0) {
+        ::fsync(dir.get());
+    }
+    return std::nullopt;
+}
+
+}  // namespace gport::mavlink::bridge

@@ -1,0 +1,132 @@
+#include "signing_session.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "gport/mavlink/messages.hpp"
+
+namespace gport::mavlink::bridge {
+
+namespace {
+
+std::uint64_t now_timestamp() {
+    return signing_timestamp(std::chrono::system_clock::now());
+}
+
+std::string describe(const FrameView& frame) {
+    const MessageInfo* info = find_message(frame.msgid);
+    return fmt::format("{} from system {} component {}",
+                       info != nullptr ? info->name : std::string_view("message"),
+                       frame.header.sysid, frame.header.compid);
+}
+
+}  // namespace
+
+Result<std::unique_ptr<SigningSession>> SigningSession::open(SecretKey key,
+                                                             const std::string& state_dir,
+                                                             Logbook& log) {
+    TimestampFile file(state_dir);
+    const auto stored = file.load();
+    if (!stored) {
+        return stored.error();
+    }
+    const std::uint64_t now = now_timestamp();
+    std::unique_ptr<SigningSession> session(
+        new SigningSession(std::move(key), std::move(file), *stored, now, log));
+    if (auto error = session->reserve(session->clock_.current())) {
+        return *error;
+    }
+    spdlog::info(
+        "signing: on (link id {}); only correctly signed frames are taken; outgoing timestamps "
+        "above {} (stored {}, clock {}), kept in {}",
+        kLinkId, session->clock_.current(), *stored, now, session->file_.path());
+    return session;
+}
+
+SigningSession::SigningSession(SecretKey key, TimestampFile file, std::uint64_t stored,
+                               std::uint64_t now, Logbook& log)
+    : key_(key),
+      verifier_(std::move(key)),
+      file_(std::move(file)),
+      clock_(stored, now),
+      log_(log) {}
+
+std::optional<Error> SigningSession::reserve(std::uint64_t timestamp) {
+    reserved_ = std::min(timestamp + kReservation, kMaxTimestamp);
+    return file_.save(reserved_);
+}
+
+bool SigningSession::admit(const FrameView& frame) {
+    const std::uint64_t local = std::max(clock_.current(), now_timestamp());
+    const Verdict verdict = verifier_.check(frame.bytes, local);
+    ++counts_[static_cast<std::size_t>(verdict.check)];
+    if (verdict.check == SignatureCheck::kAccepted) {
+        clock_.observe(verdict.timestamp);
+        return true;
+    }
+    report(verdict.check, frame, verdict);
+    return false;
+}
+
+void SigningSession::report(SignatureCheck check, const FrameView& frame, const Verdict& verdict) {
+    const std::string kind = fmt::format("signing: {} frames dropped", to_string(check));
+    std::string text;
+    switch (check) {
+        case SignatureCheck::kUnsigned:
+            text = fmt::format(
+                "signing: dropped an unsigned {}: with a signing key only "
+                "correctly signed frames are taken",
+                describe(frame));
+            break;
+        case SignatureCheck::kBadSignature:
+            text = fmt::format(
+                "signing: dropped {} with a wrong signature (not made with our "
+                "key, or altered)",
+                describe(frame));
+            break;
+        case SignatureCheck::kReplayed:
+            text = fmt::format(
+                "signing: dropped a replayed {}: timestamp {} is not newer "
+                "than the last of its stream",
+                describe(frame), verdict.timestamp);
+            break;
+        case SignatureCheck::kTooOld:
+            text = fmt::format(
+                "signing: dropped {}: a new stream whose timestamp {} is more "
+                "than a minute behind ours ({}); is the sender's clock right?",
+                describe(frame), verdict.timestamp, clock_.current());
+            break;
+        case SignatureCheck::kStreamsFull:
+            text = fmt::format(
+                "signing: dropped {}: its stream is new and the table of {} "
+                "streams is full of recent ones",
+                describe(frame), verifier_.max_streams());
+            break;
+        case SignatureCheck::kAccepted:
+            return;
+    }
+    log_.warn(kind, text);
+}
+
+void SigningSession::sign(Frame& frame) {
+    const std::uint64_t timestamp = clock_.next(now_timestamp());
+    if (timestamp + kHeadroom > reserved_) {
+        if (auto error = reserve(timestamp)) {
+            log_.warn("signing: timestamp not saved",
+                      "signing: " + error->message +
+                          "; after a restart the bridge's frames may be refused as replays "
+                          "until its clock passes the last timestamp sent");
+        }
+    }
+    mavlink::sign(frame, key_, kLinkId, timestamp);
+}
+
+void SigningSession::close() {
+    if (auto error = file_.save(clock_.current())) {
+        spdlog::warn("signing: {}", error->message);
+    }
+}
+
+}  // namespace gport::mavlink::bridge

@@ -1,0 +1,85 @@
+// The acceptance rules for incoming frames on a signed link (mavlink.io,
+// guide/message_signing, "Timestamp Handling" and "Accepting Signed
+// Packets"), as a small pure state machine: the key, and a bounded table of
+// streams, a stream being a (system id, component id, link id) tuple.
+//
+// A frame is accepted only when, in this order:
+//   1. it is signed (no unsigned frame is accepted: no exceptions by
+//      message or link, unlike RADIO_STATUS in some autopilots);
+//   2. its signature block is whole and its signature is the key's;
+//   3. on a known stream, its timestamp is greater than the stream's last
+//      (equal is a replay too);
+//   4. on a new stream, its timestamp is not more than one minute (6,000,000
+//      units) behind our local timestamp, as the specification and the C
+//      library apply it;
+//   5. a new stream finds room in the table. When the table is full, a
+//      stream whose last timestamp is more than a minute behind the local
+//      one is forgotten to make room: any replay of it would be refused by
+//      rule 4 anyway. Otherwise the new stream is refused (kStreamsFull).
+// Only a frame that passes every rule updates its stream's timestamp:
+// unsigned, wrongly signed or refused frames change nothing, so nobody
+// without the key can touch the table.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "gport/mavlink/signing.hpp"
+
+namespace gport::mavlink {
+
+enum class SignatureCheck {
+    kAccepted,
+    kUnsigned,      // no signature (incompat flag 0x01 clear)
+    kBadSignature,  // a signature that is not the key's, or a malformed block
+    kReplayed,      // not newer than the last frame of its stream
+    kTooOld,        // a new stream more than a minute behind the local timestamp
+    kStreamsFull,   // a new stream and no room for it
+};
+
+// "unsigned", "bad signature", "replayed", "too old", "stream table full"
+// ("accepted" for kAccepted): the kinds the bridge counts and logs.
+std::string_view to_string(SignatureCheck check);
+
+struct StreamKey {
+    std::uint8_t sysid = 0;
+    std::uint8_t compid = 0;
+    std::uint8_t link_id = 0;
+    friend bool operator==(const StreamKey&, const StreamKey&) = default;
+};
+
+struct Verdict {
+    SignatureCheck check = SignatureCheck::kUnsigned;
+    std::uint64_t timestamp = 0;  // the frame's, when its signature block was read
+};
+
+class Verifier {
+  public:
+    static constexpr std::size_t kDefaultMaxStreams = 32;
+
+    explicit Verifier(SecretKey key, std::size_t max_streams = kDefaultMaxStreams);
+
+    // Judges a whole frame (FrameView::bytes) against `local`, our current
+    // timestamp (SendClock::current()). An accepted frame's timestamp
+    // becomes its stream's last; the caller passes it to SendClock::observe.
+    Verdict check(std::span<const std::uint8_t> frame, std::uint64_t local);
+
+    std::size_t streams() const { return streams_.size(); }
+    std::size_t max_streams() const { return max_streams_; }
+
+  private:
+    struct Stream {
+        StreamKey key;
+        std::uint64_t last = 0;
+    };
+    Verdict admit_new(const StreamKey& key, std::uint64_t timestamp, std::uint64_t local);
+
+    SecretKey key_;
+    std::size_t max_streams_;
+    std::vector<Stream> streams_;  // at most max_streams_, reserved up front
+};
+
+}  // namespace gport::mavlink

@@ -1,0 +1,149 @@
+// gport-mavlink's signing files (signing_files.hpp): the key file refused
+// when others could read or change it, or when it is anything but 64 hex
+// digits; the timestamp file written whole and read back strictly.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "gport/mavlink/bridge/signing_files.hpp"
+#include "signing_samples.hpp"
+
+namespace gport::mavlink::bridge {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SigningFiles : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("gport-mavlink-signing-" + std::to_string(::getpid()) + "-" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    std::string key_file(const std::string& text, mode_t mode) {
+        const auto path = (dir_ / "mavlink.key").string();
+        std::ofstream(path, std::ios::trunc) << text;
+        ::chmod(path.c_str(), mode);
+        return path;
+    }
+
+    fs::path dir_;
+};
+
+const std::string kKey(testing::kNodeKeyHex);
+
+TEST_F(SigningFiles, Mode0600And0400AreAccepted) {
+    for (mode_t mode : {0600, 0400}) {
+        const auto key = load_signing_key(key_file(kKey + "\n", mode));
+        ASSERT_TRUE(key) << key.error().message;
+        EXPECT_EQ(key->bytes()[0], 0x6b);
+    }
+}
+
+TEST_F(SigningFiles, SurroundingWhitespaceIsAllowed) {
+    EXPECT_TRUE(load_signing_key(key_file("  \n\t" + kKey + " \r\n\n", 0600)));
+}
+
+TEST_F(SigningFiles, GroupOrWorldPermissionsAreRefusedNamingFileAndMode) {
+    for (mode_t mode : {0640, 0604, 0620, 0602, 0660, 0644, 0610}) {
+        const auto path = key_file(kKey, mode);
+        const auto key = load_signing_key(path);
+        ASSERT_FALSE(key) << std::oct << mode;
+        const auto& text = key.error().message;
+        EXPECT_NE(text.find(path), std::string::npos) << text;
+        char octal[8];
+        std::snprintf(octal, sizeof octal, "%04o", static_cast<unsigned>(mode));
+        EXPECT_NE(text.find(std::string("mode ") + octal), std::string::npos) << text;
+        EXPECT_NE(text.find("chmod 600 or 400"), std::string::npos) << text;
+    }
+    const auto key = load_signing_key(key_file(kKey, 0640));
+    EXPECT_NE(key.error().message.find("group-readable"), std::string::npos);
+    EXPECT_NE(load_signing_key(key_file(kKey, 0604)).error().message.find("world-readable"),
+              std::string::npos);
+}
+
+TEST_F(SigningFiles, MalformedKeysAreRefusedWithoutShowingTheKey) {
+    std::string bad_hex = kKey;
+    bad_hex[5] = 'x';
+    for (const std::string& text : {bad_hex, kKey.substr(0, 63), kKey + "0", kKey + " " + kKey,
+                                    std::string(""), "key=" + kKey, std::string("passphrase")}) {
+        const auto path = key_file(text, 0600);
+        const auto key = load_signing_key(path);
+        ASSERT_FALSE(key) << text;
+        EXPECT_NE(key.error().message.find(path), std::string::npos);
+        EXPECT_NE(key.error().message.find("64 hexadecimal digits"), std::string::npos);
+        EXPECT_EQ(key.error().message.find(kKey.substr(0, 16)), std::string::npos);
+    }
+    const auto length = load_signing_key(key_file(kKey.substr(0, 63), 0600));
+    EXPECT_NE(length.error().message.find("63 characters"), std::string::npos);
+}
+
+TEST_F(SigningFiles, AnOversizedFileIsRefused) {
+    const auto key = load_signing_key(key_file(std::string(5000, ' ') + kKey, 0600));
+    ASSERT_FALSE(key);
+    EXPECT_NE(key.error().message.find("over 1024 bytes"), std::string::npos);
+}
+
+TEST_F(SigningFiles, MissingDirectoryAndFifoAreRefused) {
+    const auto missing = load_signing_key((dir_ / "absent.key").string());
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.error().message.find("cannot be opened"), std::string::npos);
+    const auto directory = load_signing_key(dir_.string());
+    ASSERT_FALSE(directory);
+    EXPECT_NE(directory.error().message.find("not a regular file"), std::string::npos);
+    const auto fifo = (dir_ / "fifo").string();
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const auto piped = load_signing_key(fifo);  // must not hang
+    ASSERT_FALSE(piped);
+    EXPECT_NE(piped.error().message.find("not a regular file"), std::string::npos);
+}
+
+TEST_F(SigningFiles, ASymlinkToAGoodKeyIsFollowed) {
+    const auto target = key_file(kKey, 0600);
+    const auto link = (dir_ / "link.key").string();
+    fs::create_symlink(target, link);
+    EXPECT_TRUE(load_signing_key(link));
+}
+
+TEST_F(SigningFiles, TimestampRoundTripAndFirstStart) {
+    const TimestampFile file(dir_.string());
+    EXPECT_EQ(file.path(), (dir_ / "signing-timestamp").string());
+    const auto first = file.load();
+    ASSERT_TRUE(first) << first.error().message;
+    EXPECT_EQ(*first, 0U);  // no file yet
+    ASSERT_FALSE(file.save(123456789));
+    EXPECT_EQ(*file.load(), 123456789U);
+    ASSERT_FALSE(file.save(kMaxTimestamp));
+    EXPECT_EQ(*file.load(), kMaxTimestamp);
+    EXPECT_FALSE(fs::exists(file.path() + ".new"));
+    EXPECT_EQ(fs::status(file.path()).permissions() & fs::perms::others_all, fs::perms::none);
+}
+
+TEST_F(SigningFiles, AMalformedTimestampFileStopsTheStart) {
+    const TimestampFile file(dir_.string() + "/");
+    for (const std::string text : {"", "abc", "12 34", "-5", "281474976710656", "1.5"}) {
+        std::ofstream(file.path(), std::ios::trunc) << text;
+        const auto value = file.load();
+        ASSERT_FALSE(value) << text;
+        EXPECT_NE(value.error().message.find(file.path()), std::string::npos);
+    }
+    std::ofstream(file.path(), std::ios::trunc) << " 42\n";
+    EXPECT_EQ(*file.load(), 42U);
+}
+
+TEST_F(SigningFiles, AnUnwritableStateDirectoryIsReported) {
+    const TimestampFile file((dir_ / "absent").string());
+    const auto error = file.save(1);
+    ASSERT_TRUE(error);
+    EXPECT_NE(error->message.find("signing-timestamp"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gport::mavlink::bridge

@@ -1,0 +1,256 @@
+'use strict';
+// A real autopilot against the real programs: ArduCopter SITL (ArduPilot's
+// software-in-the-loop copter, ../shared/tools/ardupilot-sitl) with
+// MNT1_TYPE 6 sends to gport-mavlink's default kind of endpoint (udpin on
+// 127.0.0.1) as system 1 component 1; gport-mavlink runs with its default
+// trust rules (vehicle 1, ground station 255) on gportd + gport-sim; a
+// node-mavlink ground station (255/190) talks to SITL's TCP port.
+//
+//   node sitl.js SITL_DIR GPORTD GPORT_SIM GPORT_MAVLINK WORKDIR MODE
+//
+// MODE "gimbal": discovery (STATUSTEXT "Mount: HEQUAV G-Port"), pitch and
+// yaw in the vehicle frame (flags 0) and the earth frame (16, YAW_LOCK,
+// turned into the vehicle frame with SITL's heading), RETRACT (a centre
+// frame), "PreArm: Mount: not healthy" once gportd's link is down.
+// MODE "quiet": gportd's and gport-mavlink's log lines while SITL streams
+// its 50 Hz targets (earth-frame yaw: a new angle almost every cycle) for
+// 4 s: at most 6 lines from gportd.
+// MODE "signed": the ground station gives SITL a signing key (SETUP_SIGNING,
+// the key of a passphrase as MAVProxy derives it) and gport-mavlink runs
+// with the same key (--signing-key): discovery and a pitch/yaw command
+// through a link where every frame both ways is signed and verified.
+//
+// Exits 77 (skipped, saying why) when SITL_DIR has no arducopter.
+const fs = require('fs');
+const net = require('net');
+const path = require('path');
+const { execFileSync } = require('child_process');
+const { PassThrough } = require('stream');
+const { MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2 } = require('node-mavlink');
+const h = require('./harness');
+
+const [sitlDir, gportdPath, simPath, bridgePath, workRoot, mode = 'gimbal'] = process.argv.slice(2);
+const { check, figures, sleep, until, commandLong, heartbeat } = h;
+const MAV_CMD_DO_MOUNT_CONTROL = 205;
+const MAV_CMD_COMPONENT_ARM_DISARM = 400;
+const MAV_CMD_SET_MESSAGE_INTERVAL = 511;
+const MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW = 1000;
+const ATTITUDE = 30;
+const YAW_LOCK = 16;
+
+// ---- the ground station on SITL's TCP port
+class GroundStation {
+  constructor() {
+    this.protocol = new MavLinkProtocolV2(255, 190);
+    this.signedProtocol = new MavLinkProtocolV2(255, 190, MavLinkProtocolV2.IFLAG_SIGNED);
+    this.key = null; // once set, every frame is signed
+    this.lastStamp = 0;
+    this.signedFromSitl = 0;
+    this.seq = 0;
+    this.texts = []; // {t, text}
+    this.acks = []; // {t, command, result}
+    this.headings = []; // VFR_HUD heading or ATTITUDE yaw, degrees
+  }
+  connect(port) {
+    return new Promise((resolve, reject) => {
+      this.socket = net.createConnection(port, '127.0.0.1');
+      this.socket.on('error', reject);
+      this.socket.on('connect', () => resolve());
+      const input = new PassThrough();
+      this.socket.pipe(input);
+      input.pipe(new MavLinkPacketSplitter()).pipe(new MavLinkPacketParser()).on('data', (packet) => {
+        if (packet.signature && this.key && packet.signature.matches(this.key)) this.signedFromSitl += 1;
+        const clazz = h.REGISTRY[packet.header.msgid];
+        if (!clazz) return;
+        const data = packet.protocol.data(packet.payload, clazz);
+        if (clazz.MSG_NAME === 'STATUSTEXT') this.texts.push({ t: Date.now(), text: data.text.replace(/\0+$/, '') });
+        if (clazz.MSG_NAME === 'COMMAND_ACK') this.acks.push({ t: Date.now(), command: data.command, result: data.result });
+        if (clazz.MSG_NAME === 'ATTITUDE') this.headings.push(h.deg(data.yaw));
+      });
+    });
+  }
+  send(message) {
+    const seq = this.seq++ & 255;
+    if (!this.key) { this.socket.write(this.protocol.serialize(message, seq)); return; }
+    this.lastStamp = Math.max(h.nowTimestamp(), this.lastStamp + 1);
+    this.socket.write(h.signBuffer(this.signedProtocol.serialize(message, seq), this.key, 0, this.lastStamp));
+  }
+  command(command, params) { this.send(commandLong(command, { params, targetSystem: 1, targetComponent: 1 })); }
+  text(re, since = 0) { return this.texts.find((m) => m.t >= since && re.test(m.text)); }
+  close() { this.socket.destroy(); }
+}
+
+function startSitl(gcsPort, udpPort) {
+  const dir = execFileSync(path.join(sitlDir, 'run'), [String(gcsPort), String(udpPort)], { encoding: 'utf8' }).trim();
+  const pid = Number(fs.readFileSync(path.join(dir, 'pid'), 'utf8'));
+  return { dir, pid };
+}
+
+// A base port for SITL whose next ten TCP ports are free (it takes some
+// above the base for its simulator I/O), below the ephemeral range.
+function tcpPortFree(port) {
+  return new Promise((resolve) => {
+    const s = net.createServer();
+    s.once('error', () => resolve(false));
+    s.listen(port, '127.0.0.1', () => s.close(() => resolve(true)));
+  });
+}
+async function freeBasePort() {
+  for (let attempt = 0; attempt < 50; attempt += 1) {
+    const base = 20000 + 10 * Math.floor(Math.random() * 1000);
+    let free = true;
+    for (let p = base; p < base + 10 && free; p += 1) free = await tcpPortFree(p);
+    if (free) return base;
+  }
+  throw new Error('no free range of 10 TCP ports for SITL');
+}
+
+async function connectGcs(gcs, port) {
+  for (let i = 0; i < 100; i += 1) {
+    try { await gcs.connect(port); return; } catch (e) { await sleep(100); }
+  }
+  throw new Error(`SITL's TCP port ${port} did not open`);
+}
+
+async function gimbalChecks(gcs, sitl, sim) {
+  // Pitch/yaw, vehicle frame (flags 0).
+  let t0 = Date.now();
+  gcs.command(MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW, [-30, 20, NaN, NaN, 0, 0, 0]);
+  const body = await until(() => h.angleFrames(t0, [0, -30, 20], 0.6).pop(), 8000, 'a vehicle-frame angle').catch(() => null);
+  check(body !== null, `PITCHYAW -30/20 flags 0 -> angle frame ${body && JSON.stringify(body.j.angle)}`);
+  // Earth frame: yaw 30 locked; the vehicle's heading turns it.
+  t0 = Date.now();
+  gcs.command(MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW, [-10, 30, NaN, NaN, YAW_LOCK, 0, 0]);
+  await sleep(1500);
+  const heading = gcs.headings.length ? gcs.headings[gcs.headings.length - 1] : NaN;
+  const expectedYaw = ((30 - heading + 540) % 360) - 180;
+  const earth = h.controlFrames(t0).filter((f) => f.j.mode === 'angle').pop();
+  const gotYaw = earth ? earth.j.angle[2] / 100 : NaN;
+  figures.push(`earth-frame yaw 30 with heading ${heading.toFixed(2)} -> vehicle-frame ${gotYaw} (expected ${expectedYaw.toFixed(2)})`);
+  check(earth && Math.abs(earth.j.angle[1] / 100 + 10) <= 0.6 && Math.abs(gotYaw - expectedYaw) <= 1.5,
+    `PITCHYAW -10/30 flags 16 (YAW_LOCK) -> angle ${earth && JSON.stringify(earth.j.angle)} (yaw 30 - heading ${heading.toFixed(1)} = ${expectedYaw.toFixed(1)})`);
+  // RETRACT (MAV_CMD_DO_MOUNT_CONTROL, mode 0) -> centre.
+  t0 = Date.now();
+  gcs.command(MAV_CMD_DO_MOUNT_CONTROL, [0, 0, 0, 0, 0, 0, 0]);
+  const centre = await until(() => h.controlFrames(t0).find((f) => f.j.mode === 'center'), 8000, 'a centre frame').catch(() => null);
+  check(centre !== null, 'DO_MOUNT_CONTROL RETRACT -> a centre frame');
+  // gportd's link down (gport-sim stopped): the autopilot refuses to arm.
+  // ArduPilot reports the mount's pre-arm check as "Arm: Mount: not healthy"
+  // on an arming attempt and as "PreArm: ..." in its periodic (30 s) report.
+  t0 = Date.now();
+  gcs.command(MAV_CMD_COMPONENT_ARM_DISARM, [1, 0, 0, 0, 0, 0, 0]);
+  await sleep(1500);
+  check(!gcs.text(/Mount: not healthy/, t0), 'while gportd\'s link is up, arming does not report the mount');
+  gcs.command(MAV_CMD_COMPONENT_ARM_DISARM, [0, 0, 0, 0, 0, 0, 0]);
+  sim.kill('SIGTERM');
+  await sleep(2500); // the link goes down; gport-mavlink reports COMMS_ERROR; SITL sees it within 1 s
+  t0 = Date.now();
+  gcs.command(MAV_CMD_COMPONENT_ARM_DISARM, [1, 0, 0, 0, 0, 0, 0]);
+  const prearm = await until(() => gcs.text(/^(Pre)?Arm: Mount: not healthy/, t0), 8000, 'PreArm: Mount: not healthy').catch(() => null);
+  check(prearm !== null, `gportd's link down -> "${prearm ? prearm.text : 'no PreArm message'}"`);
+  gcs.command(MAV_CMD_COMPONENT_ARM_DISARM, [0, 0, 0, 0, 0, 0, 0]);
+}
+
+// SETUP_SIGNING to the autopilot (over the ground station's link, as
+// MAVProxy's `signing setup` does), repeated until SITL signs its frames.
+async function setUpSigning(gcs, key) {
+  const setup = new h.common.SetupSigning();
+  setup.targetSystem = 1; setup.targetComponent = 1;
+  setup.secretKey = [...key];
+  setup.initialTimestamp = BigInt(h.nowTimestamp());
+  for (let i = 0; i < 40 && gcs.signedFromSitl === 0; i += 1) {
+    gcs.send(setup);
+    await sleep(250);
+    if (gcs.key === null) gcs.key = key; // to count SITL's signed frames (and sign ours)
+  }
+  check(gcs.signedFromSitl > 0, `SITL signs with the key after SETUP_SIGNING (${gcs.signedFromSitl} frames verified)`);
+}
+
+async function signedChecks(gcs, bridge) {
+  const t0 = Date.now();
+  gcs.command(MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW, [-25, -15, NaN, NaN, 0, 0, 0]);
+  const moved = await until(() => h.angleFrames(t0, [0, -25, -15], 0.6).pop(), 8000, 'a signed-link angle').catch(() => null);
+  check(moved !== null, `signed link: PITCHYAW -25/-15 -> angle frame ${moved && JSON.stringify(moved.j.angle)}`);
+  bridge.kill('SIGTERM');
+  await bridge.exited;
+  const counts = bridge.lines.find((l) => /signing: \d+ accepted/.test(l)) || '';
+  const accepted = Number((counts.match(/signing: (\d+) accepted/) || [])[1] || 0);
+  const bad = Number((counts.match(/(\d+) bad signature/) || [])[1] || -1);
+  figures.push(`signed link: ${accepted} frames from SITL verified by gport-mavlink, ${bad} with a bad signature`);
+  check(accepted >= 10 && bad === 0, `gport-mavlink verified ${accepted} of SITL's frames, ${bad} bad signatures`);
+}
+
+async function quietChecks(gcs, gportd, bridge) {
+  // Earth-frame target: SITL resends it at 50 Hz, turned by the drifting heading.
+  gcs.command(MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW, [-20, 40, NaN, NaN, YAW_LOCK, 0, 0]);
+  await sleep(2000);
+  const g0 = gportd.lines.length;
+  const b0 = bridge.lines.length;
+  const t0 = Date.now();
+  await sleep(4000);
+  const gportdLines = gportd.lines.slice(g0);
+  const bridgeLines = bridge.lines.slice(b0);
+  const angles = h.controlFrames(t0).filter((f) => f.j.mode === 'angle').length;
+  figures.push(`in 4 s of SITL's 50 Hz targets: ${angles} angle frames to the gimbal, ${gportdLines.length} gportd lines, ${bridgeLines.length} gport-mavlink lines`);
+  check(gportdLines.length <= 6, `gportd wrote ${gportdLines.length} lines in 4 s (at most 6)${gportdLines.length > 6 ? ': ' + gportdLines.slice(0, 3).join(' | ') : ''}`);
+  check(bridgeLines.length <= 2, `gport-mavlink wrote ${bridgeLines.length} lines in 4 s`);
+}
+
+async function main() {
+  if (!fs.existsSync(path.join(sitlDir, 'arducopter')) || !fs.existsSync(path.join(sitlDir, 'run'))) {
+    console.log(`SKIP: no ArduCopter SITL in ${sitlDir} (GPORT_ARDUPILOT_SITL_DIR; see docs/mavlink.md, "Tests")`);
+    process.exit(77);
+  }
+  fs.rmSync(workRoot, { recursive: true, force: true });
+  fs.mkdirSync(workRoot, { recursive: true });
+  const { sim, gportd, sock } = await h.startGimbal(workRoot, gportdPath, simPath);
+  const udpPort = await h.freeUdpPort();
+  const key = h.MavLinkPacketSignature.key('gport-mavlink sitl passphrase');
+  const bridgeArgs = ['--socket', sock, '--mavlink', `udpin:127.0.0.1:${udpPort}`];
+  if (mode === 'signed') {
+    const keyFile = path.join(workRoot, 'mavlink.key');
+    fs.writeFileSync(keyFile, key.toString('hex') + '\n', { mode: 0o600 });
+    fs.mkdirSync(path.join(workRoot, 'state'));
+    bridgeArgs.push('--signing-key', keyFile, '--state-dir', path.join(workRoot, 'state'));
+  }
+  const bridge = h.start(workRoot, 'gport-mavlink', bridgePath, bridgeArgs);
+  const gcsPort = await freeBasePort();
+  const started = Date.now();
+  const sitl = startSitl(gcsPort, udpPort);
+  process.on('exit', () => { try { process.kill(sitl.pid, 'SIGKILL'); } catch (e) { /* gone */ } });
+  const gcs = new GroundStation();
+  try {
+    await connectGcs(gcs, gcsPort);
+    const beat = () => {
+      gcs.send(heartbeat({ type: 6, autopilot: 8 }));
+      // The heading (ATTITUDE, 10 Hz), asked until it comes: SITL may not listen yet.
+      if (gcs.headings.length === 0) gcs.command(MAV_CMD_SET_MESSAGE_INTERVAL, [ATTITUDE, 100000, 0, 0, 0, 0, 0]);
+    };
+    beat();
+    const beats = setInterval(beat, 1000);
+    if (mode === 'signed') await setUpSigning(gcs, key);
+    const found = await until(() => gcs.text(/Mount: HEQUAV G-Port/), 40000, 'the Mount STATUSTEXT').catch(() => null);
+    figures.push(`discovery ${((Date.now() - started) / 1000).toFixed(1)} s after SITL started`);
+    check(found !== null, `discovery: "${found ? found.text : 'no Mount STATUSTEXT'}"`);
+    if (found) {
+      if (mode === 'quiet') await quietChecks(gcs, gportd, bridge);
+      else if (mode === 'signed') await signedChecks(gcs, bridge);
+      else await gimbalChecks(gcs, sitl, sim);
+    }
+    clearInterval(beats);
+    fs.writeFileSync(path.join(workRoot, 'statustext.log'), gcs.texts.map((m) => `${m.t - started} ${m.text}`).join('\n') + '\n');
+  } finally {
+    gcs.close();
+    try { process.kill(sitl.pid, 'SIGTERM'); } catch (e) { /* gone */ }
+  }
+  check(!bridge.lines.some((l) => /ignoring system|with a wrong signature|dropped a replayed|minute behind/.test(l)),
+    'SITL and the ground station were trusted (no "ignoring" or signature lines)');
+  if (h.failures.length === 0) fs.rmSync(sitl.dir, { recursive: true, force: true });
+  else console.log(`SITL's folder kept: ${sitl.dir}`);
+  h.finish(workRoot, [bridge, gportd, sim]);
+}
+
+main().catch((error) => {
+  console.error('FAIL ' + (error.stack || error.message) + `; logs in ${workRoot}`);
+  process.exit(1);
+});
