@@ -138,8 +138,8 @@ ParkAttack::ParkAttack(const std::string& socket, int threads, bool gone)
     ::posix_spawn_file_actions_init(&actions);
     ::posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], 3);
     const std::string count = std::to_string(threads);
-    std::vector<std::string> args = {"bench_e2e", "--park_thread-child", socket,
-                                     count,       gone ? "1" : "0",      "3"};
+    std::vector<std::string> args = {"bench_e2e", "--park-child",   socket,
+                                     count,       gone ? "1" : "0", "3"};
     std::vector<char*> argv;
     for (auto& a : args) {
         argv.push_back(a.data());
@@ -156,7 +156,7 @@ ParkAttack::ParkAttack(const std::string& socket, int threads, bool gone)
     std::string line;
     if (!read_line(read_end.get(), pending, line, 120'000) || line.rfind("parked ", 0) != 0) {
         stop();
-        throw std::runtime_error("park: the peer did not park_thread its threads: " + line);
+        throw std::runtime_error("park: the peer did not park its threads: " + line);
     }
     version_ = std::atoi(line.c_str() + 7);
     if (gone) {
