@@ -6,6 +6,10 @@
 # stop in one write, get_settings floods while the gimbal is silent, batch
 # clients that never read, hoarded idle connections, and SIGHUP every 3 s;
 # and the MAVLink-rogue attack on gport-mavlink (its own block below).
+# The attitude channel's attacks (bench/e2e/soak_channel.hpp, issue 22): two
+# peer processes with 500 threads each parked on their wake words, one of
+# them disconnected; clients asking for the channel in batches of 32 that
+# never read; a prober that must get both descriptors every 2 s.
 #
 #   scripts/soak.sh [SECONDS] [BUILD_DIR]        (defaults: 600, ./build)
 #

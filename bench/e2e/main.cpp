@@ -6,6 +6,7 @@
 // See docs/performance.md.
 #include <stdlib.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -13,15 +14,18 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "clients.hpp"
 #include "daemon_process.hpp"
 #include "fake_gimbal.hpp"
 #include "options.hpp"
+#include "park_attack.hpp"
 #include "posix.hpp"
 #include "report.hpp"
 #include "shm_readers.hpp"
 #include "socket_readers.hpp"
+#include "stop_pinger.hpp"
 #include "stop_probe.hpp"
 
 namespace gport::bench {
@@ -59,7 +63,16 @@ std::string tail_of(const std::string& path) {
     return text.size() > 2000 ? text.substr(text.size() - 2000) : text;
 }
 
-CellResult run_cell(const Options& options, const std::string& dir) {
+// What the futex-waiter attack and the stop pinger saw (issue 22).
+struct AttackResult {
+    int park_threads = 0;
+    bool park_gone = false;
+    int channel_version = 0;
+    PingStats pings;
+    std::string ping_error;
+};
+
+CellResult run_cell(const Options& options, const std::string& dir, AttackResult& attack) {
     CellResult r;
     r.rate_hz = options.rate_hz;
     r.subscribers = options.subscribers;
@@ -74,7 +87,7 @@ CellResult run_cell(const Options& options, const std::string& dir) {
     daemon_options.socket = dir + "/gportd.sock";
     daemon_options.config_path = dir + "/gportd.json";
     daemon_options.log_path = dir + "/gportd.log";
-    daemon_options.max_clients = options.subscribers + options.shm_readers + options.flooders + 16;
+    daemon_options.max_clients = options.subscribers + options.shm_readers + options.flooders + 20;
     daemon_options.realtime = options.daemon_fifo;
     daemon_options.realtime_priority = options.realtime_priority;
     DaemonProcess daemon(daemon_options);
@@ -110,6 +123,13 @@ CellResult run_cell(const Options& options, const std::string& dir) {
         *control, pending,
         {{"id", 2}, {"method", "speed"}, {"params", {{"yaw", 5.0}, {"duration_ms", duration_ms}}}});
 
+    std::unique_ptr<ParkAttack> park;
+    if (options.park_threads > 0) {
+        park = std::make_unique<ParkAttack>(daemon_options.socket, options.park_threads,
+                                            options.park_gone);
+        attack.channel_version = park->version();
+    }
+    StopPinger pinger(daemon_options.socket, std::max(options.stop_every_ms, 1));
     StopProbe probe(daemon_options.socket, gimbal, options.stops, options.seconds);
     r.load_start = load_average();
     const auto before = sample_process(daemon.pid());
@@ -119,10 +139,21 @@ CellResult run_cell(const Options& options, const std::string& dir) {
     if (options.stops > 0) {
         probe.start();
     }
+    if (options.stop_every_ms > 0) {
+        pinger.start();
+    }
     hub.run_for(static_cast<int>(options.seconds * 1000) + 20);
     const auto t1 = now_ns();
     probe.join();
     const auto after = sample_process(daemon.pid());
+    pinger.stop();
+    if (park) {
+        park->stop();
+    }
+    attack.park_threads = options.park_threads;
+    attack.park_gone = options.park_gone;
+    attack.pings = pinger.stats();
+    attack.ping_error = pinger.error();
     hub.stop_flood();
     hub.run_for(300);  // lines still on their way
     gimbal.stop_stream();
@@ -170,14 +201,30 @@ int run(const Options& options) {
     if (dir == nullptr) {
         throw std::runtime_error(std::string("mkdtemp: ") + std::strerror(errno));
     }
-    const auto result = run_cell(options, dir);
+    AttackResult attack;
+    const auto result = run_cell(options, dir, attack);
     if (!options.no_header) {
         std::cout << table_header();
     }
-    std::cout << table_row(result) << stop_table(result.stops) << std::flush;
+    std::cout << table_row(result) << stop_table(result.stops);
+    if (attack.park_threads > 0) {
+        std::cout << "  futex-waiter attack: " << attack.park_threads
+                  << " threads parked by a read-only peer"
+                  << (attack.park_gone ? " that disconnected (+ 1 real holder)" : "")
+                  << ", channel version " << attack.channel_version << "\n";
+    }
+    if (options.stop_every_ms > 0) {
+        std::cout << ping_line(attack.pings, options.stop_every_ms);
+    }
+    std::cout << std::flush;
     if (!options.json_path.empty()) {
+        auto summary = to_json(result);
+        summary["park"] = {{"threads", attack.park_threads},
+                           {"gone", attack.park_gone},
+                           {"channel_version", attack.channel_version}};
+        summary["stop_round_trip"] = to_json(attack.pings);
         std::ofstream out(options.json_path);
-        out << to_json(result).dump(2) << "\n";
+        out << summary.dump(2) << "\n";
     }
     for (const char* name : {"gportd.json", "gportd.log"}) {
         std::remove((std::string(dir) + "/" + name).c_str());
@@ -198,6 +245,10 @@ int run(const Options& options) {
                   << (s.error.empty() ? "" : "; " + s.error) << "\n";
         return 1;
     }
+    if (!attack.ping_error.empty()) {
+        std::cerr << "bench_e2e: " << attack.ping_error << "\n";
+        return 1;
+    }
     return result.daemon_exit == 0 ? 0 : 1;
 }
 
@@ -205,6 +256,9 @@ int run(const Options& options) {
 }  // namespace gport::bench
 
 int main(int argc, char** argv) {
+    if (argc > 1 && std::string_view(argv[1]) == "--park-child") {
+        return gport::bench::park_child_main(argc - 2, argv + 2);  // the attack's peer
+    }
     const auto options = gport::bench::parse_options(argc, argv);
     if (!options) {
         return 64;  // EX_USAGE; parse_options printed why

@@ -55,6 +55,15 @@ std::string usage() {
            "                     max per cause); a stop that never reaches the pty fails the\n"
            "                     run, a slow one never does. 0-1000, at most 12.5 per\n"
            "                     second of --seconds\n"
+           "  --park-threads N   the futex-waiter attack (issue 22): a read-only peer, a process\n"
+           "                     of its own, opens the attitude channel and parks N threads\n"
+           "                     (0-20000) on the word gportd wakes (version 1: the ring's;\n"
+           "                     version 2: its connection's wake block); implies\n"
+           "                     --stop-every 20 unless given\n"
+           "  --park-gone        the parking peer closes its socket once parked, keeping its\n"
+           "                     threads; another connection keeps the channel open\n"
+           "  --stop-every MS    a commander sends `stop` every MS ms (1-1000) and the stop\n"
+           "                     round trip (write to reply) is reported: count, p50, p99, max\n"
            "  -h, --help         this text\n";
 }
 
@@ -62,6 +71,7 @@ std::optional<Options> parse_options(int argc, char** argv) {
     Options o;
     o.gportd = GPORT_BENCH_GPORTD;
     bool subscribers_given = false;
+    bool stop_every_given = false;
     for (int i = 1; i < argc; ++i) {
         const std::string_view arg = argv[i];
         if (arg == "-h" || arg == "--help") {
@@ -78,6 +88,10 @@ std::optional<Options> parse_options(int argc, char** argv) {
         }
         if (arg == "--daemon-fifo") {
             o.daemon_fifo = true;
+            continue;
+        }
+        if (arg == "--park-gone") {
+            o.park_gone = true;
             continue;
         }
         if (i + 1 >= argc) {
@@ -112,6 +126,13 @@ std::optional<Options> parse_options(int argc, char** argv) {
         } else if (arg == "--stops") {
             n = number(arg, value, 0, 1000);
             o.stops = static_cast<int>(n.value_or(0));
+        } else if (arg == "--park-threads") {
+            n = number(arg, value, 0, 20000);
+            o.park_threads = static_cast<int>(n.value_or(0));
+        } else if (arg == "--stop-every") {
+            n = number(arg, value, 1, 1000);
+            o.stop_every_ms = static_cast<int>(n.value_or(0));
+            stop_every_given = true;
         } else if (arg == "--gportd") {
             o.gportd = value;
         } else if (arg == "--json") {
@@ -134,6 +155,13 @@ std::optional<Options> parse_options(int argc, char** argv) {
     }
     if (o.shm_readers > 0 && !subscribers_given) {
         o.subscribers = 0;
+    }
+    if (o.park_gone && o.park_threads == 0) {
+        std::fprintf(stderr, "bench_e2e: --park-gone needs --park-threads N\n");
+        return std::nullopt;
+    }
+    if (o.park_threads > 0 && !stop_every_given) {
+        o.stop_every_ms = 20;
     }
     return o;
 }

@@ -21,6 +21,9 @@ struct Options {
     int realtime_priority = 0;        // gportd's own realtime.priority (+ lock_memory); 0 = off
     bool daemon_fifo = false;         // run gportd SCHED_FIFO (diagnosis of scheduling delays)
     int stops = 0;                    // stop probe: motions ended by each cause (0 = off)
+    int park_threads = 0;             // futex-waiter attack: threads parked by a peer (0 = off)
+    bool park_gone = false;           // ... whose connection closed, plus one real holder
+    int stop_every_ms = 0;            // a commander sends `stop` this often (0 = off)
     bool help = false;
 };
 

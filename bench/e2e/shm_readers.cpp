@@ -15,6 +15,7 @@
 #include "gport/base/attitude_ring.hpp"
 #include "gport/base/descriptors.hpp"
 #include "gport/base/futex.hpp"
+#include "gport/base/wake_block.hpp"
 
 namespace gport::bench {
 namespace {
@@ -31,11 +32,18 @@ std::uint32_t counter_of(const base::RingSample& sample) {
            kCounterBase * static_cast<std::uint32_t>(std::lround(sample.imu[1] * 100));
 }
 
-// Reads the reply line to attitude_channel with recvmsg; returns the
-// descriptor that came with it and the block's size.
-std::pair<Fd, std::size_t> receive_channel(int socket) {
+struct Received {
+    Fd ring;
+    Fd wake;
+    std::size_t size = 0;
+};
+
+// Reads the reply line to attitude_channel with recvmsg; returns the two
+// descriptors that came with it (the ring, the connection's wake block)
+// and the ring's size.
+Received receive_channel(int socket) {
     std::string text;
-    std::deque<int> received;  // gportd sends exactly one, with the reply
+    std::deque<int> received;  // gportd sends two, with a connection's first reply
     const auto deadline = now_ns() + 10'000'000'000LL;
     while (text.find('\n') == std::string::npos) {
         if (now_ns() > deadline) {
@@ -52,14 +60,25 @@ std::pair<Fd, std::size_t> receive_channel(int socket) {
         }
         text.append(data, static_cast<std::size_t>(n));
     }
-    Fd descriptor;
-    descriptor.reset(base::take_descriptor(received));
+    Received r;
+    r.ring.reset(base::take_descriptor(received));
+    r.wake.reset(base::take_descriptor(received));
     base::close_descriptors(received);
     const auto reply = nlohmann::json::parse(text.substr(0, text.find('\n')));
-    if (!reply.contains("result") || !descriptor.valid()) {
+    if (!reply.contains("result") || !r.ring.valid() || !r.wake.valid()) {
         throw std::runtime_error("attitude_channel: " + reply.dump());
     }
-    return {std::move(descriptor), reply["result"]["size"].get<std::size_t>()};
+    r.size = reply["result"]["size"].get<std::size_t>();
+    return r;
+}
+
+const void* map_read_only(int fd, std::size_t size) {
+    void* memory = ::mmap(nullptr, size, PROT_READ, MAP_SHARED, fd, 0);
+    if (memory == MAP_FAILED) {
+        throw std::runtime_error(std::string("mmap of the attitude channel: ") +
+                                 std::strerror(errno));
+    }
+    return memory;
 }
 
 }  // namespace
@@ -68,14 +87,23 @@ struct ShmReaders::Reader {
     Fd socket;  // kept open: a reader that disconnects is no longer woken
     const void* memory = nullptr;
     std::size_t size = 0;
-    Subscriber result;  // its reported_dropped counts the samples missed
+    const void* wake = nullptr;  // this connection's wake block
+    Subscriber result;           // its reported_dropped counts the samples missed
     std::uint64_t cursor = 0;
     std::uint32_t last = 0;
     std::atomic<std::uint64_t> wakes{0};
 
+    bool owner = true;  // false: it shares another reader's connection and mappings
+
     ~Reader() {
+        if (!owner) {
+            return;
+        }
         if (memory != nullptr) {
             ::munmap(const_cast<void*>(memory), size);
+        }
+        if (wake != nullptr) {
+            ::munmap(const_cast<void*>(wake), base::kWakeBlockBytes);
         }
     }
 };
@@ -85,6 +113,19 @@ ShmReaders::ShmReaders(const std::string& socket, int count, std::size_t expecte
     : thread_count_(threads > 0 && threads < count ? threads : count) {
     for (int i = 0; i < count; ++i) {
         auto reader = std::make_unique<Reader>();
+        if (i >= thread_count_) {
+            // Readers sharing a thread share its connection, as readers in
+            // one process share their Client's channel (one wake block:
+            // gportd wakes that process once per sample).
+            const Reader& first = *readers_[static_cast<std::size_t>(i % thread_count_)];
+            reader->owner = false;
+            reader->memory = first.memory;
+            reader->size = first.size;
+            reader->wake = first.wake;
+            reader->result.receipts.reserve(expected_samples + 16);
+            readers_.push_back(std::move(reader));
+            continue;
+        }
         auto connected = connect_unix_retry(socket, 10000);  // gportd may still be starting
         if (!connected) {
             throw std::runtime_error("shm reader: gportd never listened on " + socket);
@@ -93,15 +134,14 @@ ShmReaders::ShmReaders(const std::string& socket, int count, std::size_t expecte
         if (!write_all(reader->socket.get(), kOpen)) {
             throw std::runtime_error("shm reader " + std::to_string(i) + ": cannot send");
         }
-        auto [fd, size] = receive_channel(reader->socket.get());
-        void* memory = ::mmap(nullptr, size, PROT_READ, MAP_SHARED, fd.get(), 0);
-        if (memory == MAP_FAILED) {
-            throw std::runtime_error(std::string("mmap of the attitude channel: ") +
-                                     std::strerror(errno));
+        const auto received = receive_channel(reader->socket.get());
+        reader->memory = map_read_only(received.ring.get(), received.size);
+        reader->size = received.size;
+        reader->wake = map_read_only(received.wake.get(), base::kWakeBlockBytes);
+        if (auto error = base::RingReader::check(reader->memory, reader->size)) {
+            throw std::runtime_error("attitude channel: " + *error);
         }
-        reader->memory = memory;
-        reader->size = size;
-        if (auto error = base::RingReader::check(memory, size)) {
+        if (auto error = base::check_wake_block(reader->wake, base::kWakeBlockBytes)) {
             throw std::runtime_error("attitude channel: " + *error);
         }
         reader->result.receipts.reserve(expected_samples + 16);
@@ -133,7 +173,7 @@ void ShmReaders::stop() {
 
 // Takes every new sample of one reader; false once the channel is closed.
 bool ShmReaders::take(Reader& reader) {
-    const base::RingReader ring(reader.memory);
+    const base::RingReader ring(reader.memory, reader.size);
     auto& out = reader.result;
     while (auto sample = ring.next(reader.cursor, out.reported_dropped)) {
         const auto t = now_ns();
@@ -145,12 +185,12 @@ bool ShmReaders::take(Reader& reader) {
     return !ring.closed();
 }
 
-// Takes every new sample of its readers, then sleeps on the futex word
-// (the first reader's mapping; all map the same block) until the next.
+// Takes every new sample of its readers, then sleeps on their connection's
+// wake word (gportd bumps it per sample and wakes one waiter) until the next.
 void ShmReaders::run(const std::vector<Reader*>& readers) {
-    const base::RingReader ring(readers.front()->memory);
+    const auto& word = base::wake_word(readers.front()->wake);
     while (!stop_.load(std::memory_order_relaxed)) {
-        const auto seen = ring.wake_word().load(std::memory_order_acquire);
+        const auto seen = word.load(std::memory_order_acquire);
         bool open = true;
         for (Reader* reader : readers) {
             open = take(*reader) && open;
@@ -158,7 +198,7 @@ void ShmReaders::run(const std::vector<Reader*>& readers) {
         if (!open) {
             break;
         }
-        if (base::futex_wait(ring.wake_word(), seen, std::chrono::milliseconds(100)) ==
+        if (base::futex_wait(word, seen, std::chrono::milliseconds(100)) ==
             base::FutexWait::kWoken) {
             readers.front()->wakes.fetch_add(1, std::memory_order_relaxed);
         }

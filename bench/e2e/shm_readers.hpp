@@ -1,9 +1,11 @@
 // Readers of gportd's shared-memory attitude channel for the benchmarks
-// (docs/performance.md, "Shared-memory channel"). Each reader has its own
-// connection, receives the memfd with recvmsg and maps it read-only. By
-// default each runs on its own thread blocking in futex_wait, as separate
-// processes would; with `threads` > 0 the readers share that many threads
-// (round robin), so the daemon wakes only that many waiters per sample.
+// (docs/performance.md, "Shared-memory channel"). By default each reader has
+// its own connection and mappings and runs on its own thread blocking in
+// futex_wait, as separate processes would; with `threads` > 0 the readers
+// share that many threads (round robin) and each thread's readers share one
+// connection (as the readers of one process share their Client's channel),
+// so the daemon wakes only that many connections per sample. Each reader
+// keeps its own cursor.
 // Every sample is stamped when it is read, on the clock the socket
 // subscribers use, so both give latencies from the frame's last byte.
 #pragma once

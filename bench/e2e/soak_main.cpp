@@ -18,6 +18,7 @@
 
 #include "posix.hpp"
 #include "soak_attacks.hpp"
+#include "soak_channel.hpp"
 #include "soak_checks.hpp"
 #include "soak_probe.hpp"
 #include "soak_worker.hpp"
@@ -39,6 +40,8 @@ struct SoakOptions {
     std::string trace_path;  // gport-sim's --trace output, for the burst check
     AttackOptions attacks;
     double max_gap_ms = 500;
+    int park_threads = 500;       // per parking peer of the channel attacks (0: none)
+    bool channel_attacks = true;  // (f) and (g) and the channel prober
 };
 
 std::optional<SoakOptions> parse(int argc, char** argv) {
@@ -72,6 +75,10 @@ std::optional<SoakOptions> parse(int argc, char** argv) {
             o.attacks.idle_timeout_s = std::atoi(value);
         } else if (arg == "--max-gap-ms") {
             o.max_gap_ms = std::atof(value);
+        } else if (arg == "--park-threads") {
+            o.park_threads = std::atoi(value);
+        } else if (arg == "--channel-attacks") {
+            o.channel_attacks = std::atoi(value) != 0;
         } else {
             std::cerr << "gport_soak: unknown option " << arg << "\n";
             return std::nullopt;
@@ -82,7 +89,8 @@ std::optional<SoakOptions> parse(int argc, char** argv) {
                      "         [--clients N (>= 1)] [--seed N] [--rss-limit-mib N]\n"
                      "         [--rss-margin-kib N] [--json FILE] [--trace SIM_TRACE]\n"
                      "         [--sighup-every-ms N (0: none)] [--hoarders N]\n"
-                     "         [--idle-timeout-s N] [--max-gap-ms N]\n";
+                     "         [--idle-timeout-s N] [--max-gap-ms N] [--park-threads N]\n"
+                     "         [--channel-attacks 0|1]\n";
         return std::nullopt;
     }
     o.attacks.socket = o.socket;
@@ -105,6 +113,7 @@ class Soak {
         : o_(std::move(o)),
           deadman_(1'000'000'000),
           attacks_(o_.attacks),
+          channel_attacks_(ChannelAttackOptions{o_.socket, o_.park_threads}),
           probe_(o_.socket, o_.max_gap_ms) {}
     int run();
 
@@ -126,6 +135,7 @@ class Soak {
     bool daemon_died_ = false;
     RssVerdict rss_verdict_;
     Attacks attacks_;
+    ChannelAttacks channel_attacks_;  // (f) futex waiters, (g) descriptor hoarding
     SubscriberProbe probe_;
     TraceVerdict trace_verdict_;
 };
@@ -155,6 +165,7 @@ int Soak::run() {
     }
     serve(now_ns() + 1'500'000'000, false);
     attacks_.finish();
+    channel_attacks_.finish();
     probe_.stop();
     if (!o_.trace_path.empty()) {
         trace_verdict_ = check_burst_trace(o_.trace_path, attacks_.bursts());
@@ -186,6 +197,9 @@ void Soak::serve(std::int64_t until_ns, bool act) {
         }
         if (act) {
             attacks_.act(t);
+            if (o_.channel_attacks) {
+                channel_attacks_.act(t);
+            }
         }
         fds.assign(1, pollfd{watcher_.fd.get(), POLLIN, 0});
         owners.assign(1, nullptr);
@@ -256,8 +270,10 @@ void Soak::sample(std::int64_t t) {
 
 bool Soak::attacks_pass() const {
     const auto probe = probe_.figures();
-    return attacks_.problems().empty() && trace_verdict_.problems.empty() && probe.connected &&
-           !probe.closed_by_daemon && probe.attitude_lines > 0 && probe.gaps_over_limit == 0;
+    return attacks_.problems().empty() &&
+           (!o_.channel_attacks || channel_attacks_.problems().empty()) &&
+           trace_verdict_.problems.empty() && probe.connected && !probe.closed_by_daemon &&
+           probe.attitude_lines > 0 && probe.gaps_over_limit == 0;
 }
 
 json Soak::summary(bool pass) const {
@@ -304,6 +320,8 @@ json Soak::summary(bool pass) const {
           {"ok", rss_verdict_.ok}}},
         {"attacks", attacks_.figures()},
         {"attack_problems", attacks_.problems()},
+        {"channel_attacks", channel_attacks_.figures()},
+        {"channel_attack_problems", channel_attacks_.problems()},
         {"burst_trace",
          {{"checked", trace_verdict_.checked},
           {"excused_by_vanish", trace_verdict_.excused},
@@ -324,6 +342,9 @@ json Soak::summary(bool pass) const {
 }  // namespace gport::bench
 
 int main(int argc, char** argv) {
+    if (argc > 1 && std::string_view(argv[1]) == "--park-child") {
+        return gport::bench::park_child_main(argc - 2, argv + 2);  // the futex-waiter peer
+    }
     ::signal(SIGPIPE, SIG_IGN);
     const auto options = gport::bench::parse(argc, argv);
     if (!options) {

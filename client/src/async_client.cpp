@@ -153,6 +153,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         char chunk[65536];
         const auto n = base::receive_with_descriptors(socket.native_handle(), chunk, sizeof(chunk),
                                                       descriptors, MSG_DONTWAIT);
+        base::keep_descriptors(descriptors, 2 * channel_requests);  // none nobody asked for
         if (n < 0) {
             if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
                 return std::nullopt;
@@ -188,33 +189,43 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         }
     }
 
-    int take_descriptor() { return base::take_descriptor(descriptors); }
-
     // ---- the shared-memory attitude channel ---------------------------------
+    // The connection's channel: mapped from its first reply's descriptors,
+    // shared by every later one ("descriptors":0).
     void open_channel(Handler<AttitudeChannel> done) {
         std::weak_ptr<Impl> weak = weak_from_this();
+        ++channel_requests;  // until its reply: two descriptors may be kept for it
         call("attitude_channel", json::object(),
              [weak, done = std::move(done)](std::optional<Error> error, const json& reply) {
                  AttitudeChannel channel;
-                 if (!error) {
-                     try {
-                         codec::result_of(reply);
-                         const auto self = weak.lock();
-                         const int fd = self ? self->take_descriptor() : -1;
-                         channel = AttitudeChannel::Impl::adopt(fd);
-                     } catch (const Error& e) {
-                         error = e;
-                     }
+                 const auto self = weak.lock();
+                 if (!error && !self) {
+                     error = Error(ErrorCode::kTransport, "the client was destroyed");
+                 }
+                 if (!error) {  // a reply (a lost connection fails the call and resets the count)
+                     error = self->claim(reply, channel);
                  }
                  done(std::move(error), std::move(channel));
              });
+    }
+
+    std::optional<Error> claim(const json& reply, AttitudeChannel& channel) {
+        channel_requests -= channel_requests > 0 ? 1 : 0;
+        std::optional<Error> error;
+        try {
+            channel = claim_channel(reply, descriptors, channel_cache);
+        } catch (const Error& e) {
+            error = e;
+        }
+        base::keep_descriptors(descriptors, 2 * channel_requests);
+        return error;
     }
 
     // Attitude from the ring from now on: the waker's eventfd on the loop.
     void start_ring(AttitudeChannel channel) {
         stop_ring();
         channel.impl()->skip_to_newest();
-        waker = std::make_unique<RingWaker>(channel.impl()->reader);
+        waker = std::make_unique<RingWaker>(channel.impl()->mapping);
         ring = std::move(channel);
         ring_wait = std::make_unique<asio::posix::stream_descriptor>(io, ::dup(waker->fd()));
         wait_ring(ring_generation);
@@ -311,6 +322,8 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         outbox.clear();
         input.clear();
         base::close_descriptors(descriptors);
+        channel_requests = 0;
+        channel_cache.reset();
         stop_ring();
         fail_pending(Error(ErrorCode::kTransport, why));
     }
@@ -340,7 +353,9 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     bool open = false;
     std::function<void(const Notification&)> on_notification;
     std::function<void(const Error&)> on_disconnect;
-    std::deque<int> descriptors;  // received, not yet claimed by an attitude_channel reply
+    std::deque<int> descriptors;       // received, not yet claimed by an attitude_channel reply
+    std::size_t channel_requests = 0;  // attitude_channel requests awaiting their reply
+    std::shared_ptr<ChannelMapping> channel_cache;  // this connection's channel, once received
     // Transparent shared-memory attitude (async_subscribe with shared_memory).
     std::optional<AttitudeChannel> ring;
     std::unique_ptr<RingWaker> waker;

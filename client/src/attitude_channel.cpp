@@ -1,8 +1,6 @@
 #include "gport/client/attitude_channel.hpp"
 
 #include <sys/eventfd.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -21,10 +19,6 @@ namespace {
 // it at once).
 constexpr auto kWakerSlice = std::chrono::milliseconds(500);
 
-Error channel_error(const std::string& what) {
-    return Error(ErrorCode::kBadReply, "attitude channel: " + what);
-}
-
 }  // namespace
 
 AttitudeSample to_attitude(const base::RingSample& s, std::uint64_t dropped) {
@@ -41,55 +35,17 @@ AttitudeSample to_attitude(const base::RingSample& s, std::uint64_t dropped) {
     return a;
 }
 
-std::unique_ptr<AttitudeChannel::Impl> AttitudeChannel::Impl::map(int fd) {
-    struct stat info {};
-    if (::fstat(fd, &info) != 0) {
-        throw channel_error(std::string("cannot examine the descriptor: ") + std::strerror(errno));
-    }
-    if (info.st_size <= 0) {
-        throw channel_error("the block is empty");
-    }
-    const auto size = static_cast<std::size_t>(info.st_size);
-    void* memory = ::mmap(nullptr, size, PROT_READ, MAP_SHARED, fd, 0);
-    if (memory == MAP_FAILED) {
-        throw channel_error(std::string("cannot map the block: ") + std::strerror(errno));
-    }
-    if (auto problem = base::RingReader::check(memory, size)) {
-        ::munmap(memory, size);
-        throw channel_error(*problem);
-    }
-    return std::make_unique<Impl>(memory, size);
-}
-
-AttitudeChannel AttitudeChannel::Impl::adopt(int fd) {
-    if (fd < 0) {
-        throw Error(ErrorCode::kBadReply,
-                    "attitude channel: gportd's reply carried no file descriptor");
-    }
-    try {
-        auto impl = map(fd);
-        ::close(fd);
-        return AttitudeChannel(std::move(impl));
-    } catch (...) {
-        ::close(fd);
-        throw;
-    }
-}
-
-AttitudeChannel::Impl::~Impl() {
-    ::munmap(const_cast<void*>(memory), size);
-}
-
 std::optional<AttitudeSample> AttitudeChannel::Impl::take() {
-    if (from_first && reader.published() > 0) {
+    const auto& ring = reader();
+    if (from_first && ring.published() > 0) {
         from_first = false;
-        if (auto first = reader.read(1)) {
+        if (auto first = ring.read(1)) {
             cursor = 1;
             return to_attitude(*first, missed.load(std::memory_order_relaxed));
         }
     }
     std::uint64_t lost = missed.load(std::memory_order_relaxed);
-    auto sample = reader.next(cursor, lost);
+    auto sample = ring.next(cursor, lost);
     missed.store(lost, std::memory_order_relaxed);
     if (!sample) {
         return std::nullopt;
@@ -101,22 +57,24 @@ std::optional<AttitudeSample> AttitudeChannel::Impl::next(std::chrono::milliseco
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (true) {
         // Read the word before looking for samples: a sample published after
-        // the look changes it, and the wait then returns at once.
-        const std::uint32_t seen = reader.wake_word().load(std::memory_order_acquire);
+        // the look changes it, and the wait then returns at once. A new value
+        // is passed on to this process's other waiters first.
+        const std::uint32_t seen = mapping->load();
+        mapping->relay(seen);
         if (auto sample = take()) {
             return sample;
         }
         const auto left = deadline - std::chrono::steady_clock::now();
-        if (reader.closed() || left <= std::chrono::steady_clock::duration::zero()) {
+        if (reader().closed() || left <= std::chrono::steady_clock::duration::zero()) {
             return std::nullopt;
         }
-        base::futex_wait(reader.wake_word(), seen, left);
+        mapping->wait(seen, left);
     }
 }
 
-RingWaker::RingWaker(const base::RingReader& reader)
-    : word_(reader.wake_word()),
-      seen_(word_.load(std::memory_order_acquire)),
+RingWaker::RingWaker(std::shared_ptr<ChannelMapping> mapping)
+    : mapping_(std::move(mapping)),
+      seen_(mapping_->load()),
       eventfd_(::eventfd(1, EFD_CLOEXEC | EFD_NONBLOCK)) {
     if (eventfd_ < 0) {
         throw Error(
@@ -128,9 +86,9 @@ RingWaker::RingWaker(const base::RingReader& reader)
 
 RingWaker::~RingWaker() {
     stop_.store(true, std::memory_order_release);
-    // FUTEX_WAKE only needs read access; it may also wake other readers of
-    // the block, which find nothing new and sleep again.
-    base::futex_wake_all(const_cast<std::atomic<std::uint32_t>&>(word_));
+    // FUTEX_WAKE only needs read access; it may also wake this process's
+    // other readers of the connection, which find nothing new and sleep again.
+    base::futex_wake_all(mapping_->word());
     thread_.join();
     ::close(eventfd_);
 }
@@ -143,8 +101,9 @@ void RingWaker::reset() noexcept {
 void RingWaker::run() {
     std::uint32_t seen = seen_;
     while (!stop_.load(std::memory_order_acquire)) {
-        base::futex_wait(word_, seen, kWakerSlice);
-        const std::uint32_t now = word_.load(std::memory_order_acquire);
+        mapping_->wait(seen, kWakerSlice);
+        const std::uint32_t now = mapping_->load();
+        mapping_->relay(now);
         if (now != seen) {
             seen = now;
             const std::uint64_t one = 1;
@@ -167,7 +126,7 @@ std::optional<AttitudeSample> AttitudeChannel::latest() const {
     if (!impl_) {
         return std::nullopt;
     }
-    auto sample = impl_->reader.latest();
+    auto sample = impl_->reader().latest();
     if (!sample) {
         return std::nullopt;
     }
@@ -179,7 +138,7 @@ std::uint64_t AttitudeChannel::missed() const {
 }
 
 bool AttitudeChannel::closed() const {
-    return !impl_ || impl_->reader.closed();
+    return !impl_ || impl_->reader().closed();
 }
 
 }  // namespace gport::client

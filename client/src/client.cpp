@@ -20,6 +20,11 @@ struct Client::Impl {
 
     // Calls a method; notifications meanwhile are kept or handed on.
     json call(const std::string& method, const json& params = json::object()) {
+        return codec::result_of(call_raw(method, params));
+    }
+
+    // The same, returning the whole reply (the result or gportd's error).
+    json call_raw(const std::string& method, const json& params = json::object()) {
         if (connection.closed()) {
             throw Error(ErrorCode::kTransport, "not connected to gportd (connect again)");
         }
@@ -31,7 +36,7 @@ struct Client::Impl {
         if (callback) {
             drain_ring(false);  // ring samples reach the callback during calls too
         }
-        return codec::result_of(*reply);
+        return *reply;
     }
 
     // Hands a notification to the callback, or queues it (always, when
@@ -89,9 +94,11 @@ struct Client::Impl {
     }
 
     // ---- the shared-memory attitude channel ---------------------------------
+    // The connection's channel: mapped from its first reply's descriptors,
+    // shared by every later one.
     AttitudeChannel open_channel() {
-        call("attitude_channel");
-        return AttitudeChannel::Impl::adopt(connection.take_descriptor());
+        connection.expect_channel();
+        return connection.channel_from(call_raw("attitude_channel"));
     }
 
     // Attitude from the ring from now on, woken through the connection's poll.
@@ -101,7 +108,7 @@ struct Client::Impl {
         }
         auto channel = open_channel();
         channel.impl()->skip_to_newest();
-        waker = std::make_unique<RingWaker>(channel.impl()->reader);
+        waker = std::make_unique<RingWaker>(channel.impl()->mapping);
         ring = std::move(channel);
         connection.watch(waker->fd());
     }

@@ -15,7 +15,6 @@
 #include "connect_error.hpp"
 #include "gport/base/descriptors.hpp"
 #include "gport/client/error.hpp"
-#include "ring_channel.hpp"
 
 namespace gport::client {
 namespace {
@@ -75,6 +74,8 @@ Connection::Connection(Connection&& other) noexcept
       lines_(std::move(other.lines_)),
       closed_(other.closed_),
       descriptors_(std::exchange(other.descriptors_, {})),
+      channel_requests_(std::exchange(other.channel_requests_, 0)),
+      channel_(std::move(other.channel_)),
       watched_(std::exchange(other.watched_, -1)),
       call_timeout_(other.call_timeout_),
       failure_(std::move(other.failure_)) {}
@@ -88,6 +89,8 @@ Connection& Connection::operator=(Connection&& other) noexcept {
         lines_ = std::move(other.lines_);
         closed_ = other.closed_;
         descriptors_ = std::exchange(other.descriptors_, {});
+        channel_requests_ = std::exchange(other.channel_requests_, 0);
+        channel_ = std::move(other.channel_);
         watched_ = std::exchange(other.watched_, -1);
         call_timeout_ = other.call_timeout_;
         failure_ = std::move(other.failure_);
@@ -105,21 +108,9 @@ void Connection::close() noexcept {
         fd_ = -1;
     }
     close_descriptors();
+    channel_requests_ = 0;
+    channel_.reset();
     closed_ = true;
-}
-
-AttitudeChannel Connection::attitude_channel(
-    const std::function<void(const nlohmann::json&)>& on_notification) {
-    const auto reply = call("attitude_channel", nlohmann::json::object(), on_notification);
-    if (!reply) {
-        throw Error(ErrorCode::kTransport, "the connection to gportd was lost");
-    }
-    codec::result_of(*reply);
-    return AttitudeChannel::Impl::adopt(take_descriptor());
-}
-
-int Connection::take_descriptor() noexcept {
-    return base::take_descriptor(descriptors_);
 }
 
 void Connection::close_descriptors() noexcept {
@@ -198,6 +189,7 @@ bool Connection::fill(Deadline deadline) {
 void Connection::receive() {
     char chunk[65536];
     const auto n = base::receive_with_descriptors(fd_, chunk, sizeof(chunk), descriptors_);
+    base::keep_descriptors(descriptors_, 2 * channel_requests_);  // none nobody asked for
     if (n < 0 && errno == EINTR) {
         return;
     }

@@ -1,34 +1,90 @@
-// The library's side of the shared-memory attitude channel: the mapping of
-// gportd's block with a base::RingReader over it (AttitudeChannel::Impl),
-// and RingWaker, which turns the ring's futex wakes into a pollable eventfd
-// for Client::next_notification and AsyncClient (docs/client-cpp.md).
+// The library's side of the shared-memory attitude channel (docs/api.md,
+// "Shared-memory attitude channel"; docs/client-cpp.md):
+//
+// - ChannelMapping: one connection's two blocks (the ring and its wake
+//   block), checked before they are mapped (size, seals) and after (header),
+//   mapped read-only, and the relay state every reader of the connection in
+//   this process shares. gportd wakes ONE waiter per sample on the
+//   connection's word; the first thread of this process to see a new value
+//   of the word wakes the others (relay()), so many threads cost gportd
+//   nothing more. A Connection or AsyncClient caches its mapping: later
+//   attitude_channel replies carry "descriptors":0 and share it.
+// - AttitudeChannel::Impl: a reader with its own cursor over a mapping.
+// - RingWaker: a thread that turns the word's changes into a pollable
+//   eventfd for Client::next_notification and AsyncClient.
 #pragma once
 
 #include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <thread>
 
 #include "gport/base/attitude_ring.hpp"
+#include "gport/base/futex.hpp"
 #include "gport/client/attitude_channel.hpp"
 #include "gport/client/types.hpp"
 
 namespace gport::client {
 
-struct AttitudeChannel::Impl {
-    // Maps the memfd read-only and checks it; throws Error (kBadReply)
-    // naming the problem. Does not close `fd`.
-    static std::unique_ptr<Impl> map(int fd);
-    // Claims the descriptor: maps it, then closes it (also on failure); -1
-    // (the reply carried none) throws Error (kBadReply).
-    static AttitudeChannel adopt(int fd);
+// What an attitude_channel result says, checked: version 2, a power-of-two
+// slot count up to base::kRingMaxSlots, size == ring_bytes(slots), and 0 or
+// 2 descriptors. Throws Error (kBadReply) naming what is wrong.
+struct ChannelReply {
+    std::uint32_t slots = 0;
+    std::size_t size = 0;
+    std::size_t descriptors = 0;
+    static ChannelReply parse(const nlohmann::json& result);
+};
 
-    Impl(const void* block, std::size_t bytes) : memory(block), size(bytes), reader(block) {}
-    Impl(const Impl&) = delete;
-    Impl& operator=(const Impl&) = delete;
-    ~Impl();
+class ChannelMapping {
+  public:
+    // Checks both descriptors (fstat size: the ring's as the reply says,
+    // the wake block's 64; seals: F_SEAL_SHRINK and a write seal), maps
+    // them read-only and checks their headers. Throws Error (kBadReply)
+    // naming the block and the problem; the descriptors stay the caller's.
+    static std::shared_ptr<ChannelMapping> map(int ring_fd, int wake_fd, const ChannelReply& reply);
+    ~ChannelMapping();
+    ChannelMapping(const ChannelMapping&) = delete;
+    ChannelMapping& operator=(const ChannelMapping&) = delete;
+
+    const base::RingReader& reader() const { return reader_; }
+    const std::atomic<std::uint32_t>& word() const { return *word_; }
+    // The word's value now (read it before looking for samples).
+    std::uint32_t load() const { return word_->load(std::memory_order_acquire); }
+    // Passes a wake on: when `seen` (a value of the word just loaded) was
+    // not relayed yet, wakes every other waiter of this process.
+    void relay(std::uint32_t seen);
+    // Sleeps while the word holds `seen`, at most `timeout`.
+    base::FutexWait wait(std::uint32_t seen, std::chrono::nanoseconds timeout) const {
+        return base::futex_wait(*word_, seen, timeout);
+    }
+
+  private:
+    ChannelMapping(const void* ring, std::size_t ring_size, const void* wake);
+
+    const void* ring_;
+    std::size_t ring_size_;
+    const void* wake_;
+    base::RingReader reader_;
+    const std::atomic<std::uint32_t>* word_;
+    std::atomic<std::uint32_t> relayed_;
+};
+
+// Claims the channel an attitude_channel reply announces: with
+// "descriptors":2 the first two of `fds` (the ring, then the wake block),
+// mapped and checked, and closed here whatever happens; with 0 the cached
+// mapping of this connection. Replaces `cache` with a new mapping. Throws
+// Error: gportd's own error, or kBadReply naming what is wrong.
+AttitudeChannel claim_channel(const nlohmann::json& reply, std::deque<int>& fds,
+                              std::shared_ptr<ChannelMapping>& cache);
+
+struct AttitudeChannel::Impl {
+    explicit Impl(std::shared_ptr<ChannelMapping> m) : mapping(std::move(m)) {}
 
     // The next sample without waiting (see base::RingReader::next).
     std::optional<AttitudeSample> take();
@@ -36,26 +92,25 @@ struct AttitudeChannel::Impl {
     // From now on, take() gives only samples published after this call,
     // each of them (from sample 1 when none was published yet).
     void skip_to_newest() {
-        cursor = reader.published();
+        cursor = reader().published();
         from_first = cursor == 0;
     }
+    const base::RingReader& reader() const { return mapping->reader(); }
 
-    const void* memory;
-    std::size_t size;
-    base::RingReader reader;
+    std::shared_ptr<ChannelMapping> mapping;
     std::uint64_t cursor = 0;
     bool from_first = false;  // cursor 0 means "the newest" to RingReader
     std::atomic<std::uint64_t> missed{0};
 };
 
-// One thread per channel that sleeps on the ring's futex word and makes an
-// eventfd readable whenever the word changed (a sample, or the close). The
-// consumer polls fd(), calls reset() and then takes every sample there is.
-// The eventfd starts readable, so the consumer looks once after making it.
-// Costs the client one thread and one wake per sample; gportd does not know.
+// One thread per channel that sleeps on the connection's futex word and
+// makes an eventfd readable whenever the word changed (a sample, or the
+// close), relaying the wake like any reader. The consumer polls fd(), calls
+// reset() and then takes every sample there is. The eventfd starts
+// readable, so the consumer looks once after making it.
 class RingWaker {
   public:
-    explicit RingWaker(const base::RingReader& reader);
+    explicit RingWaker(std::shared_ptr<ChannelMapping> mapping);
     RingWaker(const RingWaker&) = delete;
     RingWaker& operator=(const RingWaker&) = delete;
     ~RingWaker();
@@ -66,7 +121,7 @@ class RingWaker {
   private:
     void run();
 
-    const std::atomic<std::uint32_t>& word_;
+    std::shared_ptr<ChannelMapping> mapping_;
     std::uint32_t seen_;
     int eventfd_ = -1;
     std::atomic<bool> stop_{false};

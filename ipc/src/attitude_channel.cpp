@@ -6,8 +6,8 @@
 
 #include <cerrno>
 #include <cstring>
+#include <utility>
 
-#include "gport/base/futex.hpp"
 #include "json_common.hpp"
 
 namespace gport::ipc::detail {
@@ -81,16 +81,65 @@ std::optional<std::string> AttitudeChannel::open() {
     return std::nullopt;
 }
 
+std::variant<std::size_t, std::string> AttitudeChannel::open_for(std::uint64_t client,
+                                                                 bool deliver) {
+    if (auto error = open()) {
+        return *error;
+    }
+    auto it = readers_.find(client);
+    if (it == readers_.end()) {
+        auto made = WakeBlock::make();
+        if (auto* error = std::get_if<std::string>(&made)) {
+            return *error;
+        }
+        it = readers_.emplace(client, Reader{std::move(std::get<0>(made))}).first;
+    }
+    if (!deliver || it->second.delivery != Delivery::kUnsent) {
+        return std::size_t{0};  // a reply nobody sends, or they are on their way or there
+    }
+    it->second.delivery = Delivery::kQueued;
+    return kDescriptors;
+}
+
+std::array<int, 2> AttitudeChannel::descriptors(std::uint64_t client) const {
+    const auto it = readers_.find(client);
+    if (it == readers_.end() || fd_ < 0 || it->second.block->fd() < 0) {
+        return {-1, -1};
+    }
+    return {fd_, it->second.block->fd()};
+}
+
+void AttitudeChannel::delivered(std::uint64_t client, int error) {
+    const auto it = readers_.find(client);
+    if (it == readers_.end()) {
+        return;
+    }
+    if (error != 0) {
+        it->second.delivery = Delivery::kUnsent;
+        return;
+    }
+    it->second.delivery = Delivery::kSent;
+    it->second.block->forget_descriptor();  // the mapping is all gportd needs
+}
+
+void AttitudeChannel::forget(std::uint64_t client) {
+    readers_.erase(client);
+}
+
 void AttitudeChannel::publish(const daemon::AttitudeSample& sample) {
     if (writer_ && !closed_) {
         writer_->publish(ring_sample(sample));
     }
 }
 
-void AttitudeChannel::wake() {
-    if (writer_) {
-        base::futex_wake_all(writer_->wake_word());
+std::size_t AttitudeChannel::wake() {
+    std::size_t woken = 0;
+    for (auto& [id, reader] : readers_) {
+        if (reader.delivery == Delivery::kSent) {  // nobody can wait on the others yet
+            woken += reader.block->bump_and_wake() > 0 ? 1 : 0;
+        }
     }
+    return woken;
 }
 
 void AttitudeChannel::close() {
@@ -99,7 +148,9 @@ void AttitudeChannel::close() {
     }
     closed_ = true;
     writer_->close();
-    wake();
+    for (auto& [id, reader] : readers_) {
+        reader.block->bump_and_wake();
+    }
 }
 
 }  // namespace gport::ipc::detail

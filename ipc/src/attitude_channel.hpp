@@ -1,28 +1,36 @@
 // The daemon's end of the shared-memory attitude channel (docs/api.md,
 // "Shared-memory attitude channel"): one sealed memfd holding a
 // base::RingWriter ring, made on the first request and shared by every
-// client that asks for it.
+// client that asks for it, and one wake block per connection that opened
+// it (wake_block.hpp), whose futex word only that connection can wait on.
 //
 //   AttitudeChannel channel;
-//   if (auto error = channel.open()) { ... -32603 "attitude channel unavailable: " + *error }
-//   send channel.fd() to the client (SCM_RIGHTS);
-//   channel.publish(sample);      // every 0x87 sample, then
-//   channel.wake();               // only while a connected client opened it
-//   channel.close();              // on shutdown: readers see closed(), waiters wake
+//   auto opened = channel.open_for(id);  // the descriptors to send now (2 or 0), or why not
+//   channel.descriptors(id);              // {ring, wake block}: sent with the reply's first byte
+//   channel.delivered(id, error);         // 0: sent (gportd forgets its wake fd); else resend next
+//   time channel.publish(sample);              // every 0x87 sample, then channel.wake(); // one
+//   bump and FUTEX_WAKE(1) per reader connection channel.forget(id);                   // the
+//   connection closed: its block is never touched again channel.close();                      // on
+//   shutdown: closed flag, then a last wake per reader
 //
-// The block is mapped read-write here and sealed afterwards (F_SEAL_SHRINK,
-// F_SEAL_GROW, F_SEAL_FUTURE_WRITE, F_SEAL_SEAL): this mapping keeps writing,
-// while every other mapping of the descriptor can only be read-only.
+// The blocks are mapped read-write here and sealed afterwards (F_SEAL_SHRINK,
+// F_SEAL_GROW, F_SEAL_FUTURE_WRITE, F_SEAL_SEAL): these mappings keep writing,
+// while every other mapping of the descriptors can only be read-only.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
+#include <variant>
 
 #include "gport/base/attitude_ring.hpp"
 #include "gport/daemon/events.hpp"
+#include "wake_block.hpp"
 
 namespace gport::ipc::detail {
 
@@ -36,33 +44,60 @@ class AttitudeChannel {
   public:
     static constexpr std::uint32_t kSlots = 64;
     static constexpr std::size_t kBytes = base::ring_bytes(kSlots);
+    // Descriptors sent with a connection's first attitude_channel result.
+    static constexpr std::size_t kDescriptors = 2;
 
     AttitudeChannel() = default;
     ~AttitudeChannel();
     AttitudeChannel(const AttitudeChannel&) = delete;
     AttitudeChannel& operator=(const AttitudeChannel&) = delete;
 
-    // Makes the block the first time (later calls do nothing). The error
+    // Makes the ring the first time (later calls do nothing). The error
     // names the step that failed and why; nothing is kept then, so the next
     // call tries again.
     std::optional<std::string> open();
 
-    // The sealed memfd (-1 before open()); it stays open until destruction.
+    // The ring, then connection `client`'s wake block (made on its first
+    // request). Returns how many descriptors its reply carries: 2 when they
+    // have not been sent (or queued) on this connection yet and the reply
+    // will be sent (`deliver`), else 0; or the error when a block could not
+    // be made.
+    std::variant<std::size_t, std::string> open_for(std::uint64_t client, bool deliver = true);
+    // {ring, wake block} for the reply being sent; -1s when `client` has no block.
+    std::array<int, 2> descriptors(std::uint64_t client) const;
+    // The reply carrying them went out (error 0) or sendmsg refused it
+    // (errno): the next request sends them again.
+    void delivered(std::uint64_t client, int error);
+    // The connection closed: its block is unmapped and never bumped again.
+    void forget(std::uint64_t client);
+    // Connections that opened the channel.
+    std::size_t readers() const { return readers_.size(); }
+    bool has_reader(std::uint64_t client) const { return readers_.count(client) != 0; }
+
+    // The ring's memfd (-1 before open()); it stays open until destruction.
     int fd() const { return fd_; }
     std::uint64_t published() const { return writer_ ? writer_->published() : 0; }
 
     // Writes one sample into the ring; nothing before open() or after close().
     void publish(const daemon::AttitudeSample& sample);
-    // Wakes every reader waiting on the futex word.
-    void wake();
-    // No more samples: sets the closed flag and wakes every waiter. Idempotent.
+    // Bumps each reader connection's word and wakes one waiter on it; returns
+    // the waiters woken in all.
+    std::size_t wake();
+    // No more samples: sets the closed flag and wakes every reader. Idempotent.
     void close();
 
   private:
+    enum class Delivery { kUnsent, kQueued, kSent };
+    struct Reader {
+        std::unique_ptr<WakeBlock> block;
+        Delivery delivery = Delivery::kUnsent;
+    };
+
     int fd_ = -1;
     void* memory_ = nullptr;
     std::optional<base::RingWriter> writer_;
     bool closed_ = false;
+    std::unordered_map<std::uint64_t, Reader> readers_;
 };
 
 }  // namespace gport::ipc::detail

@@ -150,8 +150,8 @@ void run_request(const json& request, detail::MethodContext& context, const Repl
     const json id = notification ? json(nullptr) : *id_it;
     detail::Respond respond = [done, id, notification](Reply reply) {
         if (!notification) {
-            const std::size_t descriptors =
-                std::holds_alternative<detail::ChannelResult>(reply) ? 1 : 0;
+            const auto* channel = std::get_if<detail::ChannelResult>(&reply);
+            const std::size_t descriptors = channel != nullptr ? channel->descriptors : 0;
             done(reply_object(id, std::move(reply)), descriptors);
         }
     };
@@ -166,7 +166,9 @@ void run_request(const json& request, detail::MethodContext& context, const Repl
         return;
     }
     auto params = request.find("params");
+    context.notification = notification;
     run_method(handler, context, params == request.end() ? json(nullptr) : *params, respond);
+    context.notification = false;
     if (name != "status") {
         context.status_cache.invalidate();  // what it changed shows in the next status
     }
@@ -219,7 +221,7 @@ class Batch {
 
     std::vector<std::string> replies_;  // empty: a notification's slot
     LineSink sink_;
-    std::size_t descriptors_ = 0;  // attitude_channel results among the replies
+    std::size_t descriptors_ = 0;  // the channel's, when a member's result carries them
     std::size_t outstanding_ = 0;
     bool dispatched_ = false;
     bool sent_ = false;

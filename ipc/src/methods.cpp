@@ -157,8 +157,8 @@ void unsubscribe(MethodContext& c, const json& params, Respond respond) {
     respond(subscriptions_json(subs));
 }
 
-// The shared-memory attitude channel: the transport sends its descriptor
-// with this reply line.
+// The shared-memory attitude channel: the transport sends its descriptors
+// with a connection's first reply ("descriptors":2), none with later ones.
 void attitude_channel(MethodContext& c, const json& params, Respond respond) {
     Params(params).only({});
     if (c.channel == nullptr) {
@@ -166,7 +166,9 @@ void attitude_channel(MethodContext& c, const json& params, Respond respond) {
             RpcError{rpc_error::kInternal, std::string(detail::kUnavailable) + "not served here"});
         return;
     }
-    auto opened = c.channel->open_attitude_channel(c.client);
+    // A notification's reply is never sent: it must not use up the
+    // connection's one set of descriptors.
+    auto opened = c.channel->open_attitude_channel(c.client, !c.notification);
     if (auto* error = std::get_if<std::string>(&opened)) {
         respond(RpcError{rpc_error::kInternal, std::string(detail::kUnavailable) + *error});
         return;
@@ -175,7 +177,9 @@ void attitude_channel(MethodContext& c, const json& params, Respond respond) {
     respond(ChannelResult{json{{"version", info.version},
                                {"slots", info.slots},
                                {"size", info.size},
-                               {"published", info.published}}});
+                               {"published", info.published},
+                               {"descriptors", info.descriptors}},
+                          info.descriptors});
 }
 
 // ---- motion and camera ------------------------------------------------------------

@@ -22,9 +22,10 @@ struct RawJson {
     std::string text;
 };
 
-// A result whose reply line carries the attitude channel's descriptor.
+// A result whose reply line may carry the attitude channel's descriptors.
 struct ChannelResult {
     nlohmann::json result;
+    std::size_t descriptors = 0;  // 2 or 0
 };
 
 // A method's answer: its result, or an error.
@@ -38,6 +39,8 @@ struct MethodContext {
     const std::function<ServerStats()>& stats;
     StatusCache& status_cache;
     ChannelHost* channel;  // nullptr: the attitude channel is not served
+    // The request running is a notification: its reply is never sent.
+    bool notification = false;
 };
 
 using Handler = void (*)(MethodContext& context, const nlohmann::json& params, Respond respond);

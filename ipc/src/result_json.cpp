@@ -76,6 +76,7 @@ json shared_status_json(const daemon::Status& status, const ServerStats& stats) 
             {"counters", counters_json(status.counters, stats.dropped_notifications)},
             {"clients", stats.clients},
             {"attitude_channel_clients", stats.attitude_channel_clients},
+            {"attitude_channel_failures", stats.attitude_channel_failures},
             {"dropped_notifications", stats.dropped_notifications},
             {"motion", motion_json(status.motion)},
             {"controller", optional_client(status.controller)},

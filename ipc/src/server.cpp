@@ -6,6 +6,7 @@
 
 #include <boost/asio/post.hpp>
 #include <cerrno>
+#include <cstring>
 #include <stdexcept>
 #include <utility>
 
@@ -62,7 +63,7 @@ Server::Server(asio::io_context& io, daemon::Api& api, config::SocketConfig conf
       dispatcher_(std::make_unique<Dispatcher>(
           api,
           [this] {
-              return ServerStats{clients(), dropped_total_, channel_clients_};
+              return ServerStats{clients(), dropped_total_, channel_->readers(), channel_failures_};
           })),
       channel_(std::make_unique<detail::AttitudeChannel>()),
       max_clients_(config_.max_clients),
@@ -132,7 +133,7 @@ void Server::close() {
         return;
     }
     closed_ = true;
-    channel_->close();  // before the sockets: readers learn of it from the ring
+    channel_->close();  // before the sockets: readers learn of it from the ring and their word
     if (started_) {
         api_.set_observer(nullptr);
     }
@@ -196,9 +197,7 @@ void Server::session_closed(const Session& session) {
     const auto info = session.info();
     log_->debug("client {} (pid {}) disconnected", info.id, info.pid);
     dispatcher_->invalidate_status();
-    if (session.opened_attitude_channel()) {
-        --channel_clients_;  // its mapping stays its own; it is no longer woken
-    }
+    channel_->forget(info.id);  // its mappings stay its own; its word is never bumped again
     if (walking_ > 0) {
         closed_ids_.push_back(info.id);
     } else {
@@ -235,35 +234,60 @@ bool Server::holds_control_or_motion(const daemon::ClientInfo& client) const {
 
 // ---- the attitude channel -------------------------------------------------------------
 
-std::variant<ChannelInfo, std::string> Server::open_attitude_channel(ClientState& client) {
+std::variant<ChannelInfo, std::string> Server::open_attitude_channel(ClientState& client,
+                                                                     bool deliver) {
     if (closed_) {
         return std::string("gportd is stopping");
     }
-    if (auto error = channel_->open()) {
-        log_->warn("client {} (pid {}): attitude channel unavailable: {}", client.info.id,
-                   client.info.pid, *error);
+    auto opened = channel_->open_for(client.info.id, deliver);
+    if (auto* error = std::get_if<std::string>(&opened)) {
+        channel_failed(client.info, *error);
         return *error;
     }
     if (!client.attitude_channel) {
         client.attitude_channel = true;
-        ++channel_clients_;
+        dispatcher_->invalidate_status();
     }
     return ChannelInfo{base::kRingVersion, detail::AttitudeChannel::kSlots,
-                       detail::AttitudeChannel::kBytes, channel_->published()};
+                       detail::AttitudeChannel::kBytes, channel_->published(),
+                       std::get<std::size_t>(opened)};
 }
 
-int Server::attitude_channel_fd() const {
-    return channel_->fd();
+std::size_t Server::attitude_channel_clients() const {
+    return channel_->readers();
+}
+
+std::array<int, 2> Server::channel_descriptors(const daemon::ClientInfo& client) const {
+    return channel_->descriptors(client.id);
+}
+
+void Server::channel_delivered(const daemon::ClientInfo& client, int error) {
+    channel_->delivered(client.id, error);
+    if (error != 0) {
+        channel_failed(client, std::string("sending its descriptors: ") + std::strerror(error));
+    }
+}
+
+// Out of descriptors (EMFILE, ENFILE, ETOOMANYREFS) or memory: the client
+// gets -32603 and may ask again; the journal gets the first failure, then a
+// summary at most once a minute.
+void Server::channel_failed(const daemon::ClientInfo& client, const std::string& why) {
+    ++channel_failures_;
+    dispatcher_->invalidate_status();
+    if (const auto count = channel_failure_log_.occur()) {
+        log_->warn(
+            "attitude channel unavailable {} time(s) since the last report; the latest: client "
+            "{} (pid {}): {}",
+            *count, client.id, client.pid, why);
+    }
 }
 
 // ---- events -------------------------------------------------------------------------
 
 void Server::on_attitude(const daemon::AttitudeSample& sample) {
     channel_->publish(sample);
-    if (channel_clients_ > 0) {
-        channel_->wake();
-    }
-    Line line;  // built on first use: nothing is encoded when nobody listens
+    channel_->wake();  // one bump and FUTEX_WAKE(1) per reader connection, none without
+    Line line;         // built on first use: nothing is encoded when nobody listens
     for_each_session([&](Session& session) {
         if (session.subscriptions().attitude) {
             if (!line) {

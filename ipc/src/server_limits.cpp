@@ -21,6 +21,8 @@ using Clock = std::chrono::steady_clock;
 // the simulator's pty pair, the listening socket, epoll, timers, signals,
 // the journal, and a client being refused.
 constexpr std::size_t kOtherDescriptors = 32;
+// A client's socket and, for a while, its attitude channel's wake block.
+constexpr std::size_t kDescriptorsPerClient = 2;
 // How long accepting pauses when descriptors run out: long enough not to
 // spin, short enough that a freed slot is used soon.
 constexpr auto kAcceptPause = std::chrono::milliseconds(250);
@@ -40,15 +42,19 @@ bool due(Clock::time_point last, Clock::time_point now) {
 
 }  // namespace
 
-// Each client costs a descriptor: make sure max_clients of them fit under
-// RLIMIT_NOFILE, raising the soft limit up to the hard one if needed, or
-// serve fewer clients (with a warning) rather than fail at accept.
+// Each client costs up to two descriptors: its socket, and the wake block of
+// its attitude channel from its first attitude_channel request until that
+// reply went out (gportd then closes its copy and keeps the mapping). Make
+// sure max_clients of them fit under RLIMIT_NOFILE, raising the soft limit
+// up to the hard one if needed, or serve fewer clients (with a warning)
+// rather than fail at accept. Descriptors in flight (SCM_RIGHTS) count
+// against the same limit: at most two per client, so they fit too.
 void Server::fit_descriptor_limit() {
     rlimit limit{};
     if (::getrlimit(RLIMIT_NOFILE, &limit) != 0) {
         return;
     }
-    const rlim_t needed = config_.max_clients + kOtherDescriptors;
+    const rlim_t needed = kDescriptorsPerClient * config_.max_clients + kOtherDescriptors;
     if (limit.rlim_cur != RLIM_INFINITY && limit.rlim_cur < needed) {
         rlimit raised = limit;
         raised.rlim_cur =
@@ -60,8 +66,9 @@ void Server::fit_descriptor_limit() {
     if (limit.rlim_cur == RLIM_INFINITY || limit.rlim_cur >= needed) {
         return;
     }
-    const auto fit =
-        limit.rlim_cur > kOtherDescriptors + 1 ? limit.rlim_cur - kOtherDescriptors : 1;
+    const auto fit = limit.rlim_cur > kOtherDescriptors + kDescriptorsPerClient
+                         ? (limit.rlim_cur - kOtherDescriptors) / kDescriptorsPerClient
+                         : 1;
     max_clients_ = std::min<std::size_t>(config_.max_clients, fit);
     log_->warn(
         "socket.max_clients is {} but the open-file limit (RLIMIT_NOFILE) is {} (hard {}); "

@@ -1,13 +1,13 @@
-// A session's replies that carry the attitude channel's descriptor: each is
-// sent with its own sendmsg, SCM_RIGHTS on its first byte, after every line
-// queued before it (docs/api.md, "Shared-memory attitude channel").
+// A session's reply that carries the attitude channel's descriptors (the
+// ring and this connection's wake block, once per connection): sent with
+// its own sendmsg, SCM_RIGHTS on its first byte, after every line queued
+// before it (docs/api.md, "Shared-memory attitude channel").
 #include <sys/socket.h>
 
 #include <cerrno>
 #include <cstring>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <vector>
 
 #include "attitude_channel.hpp"
 #include "gport/ipc/json_rpc.hpp"
@@ -18,16 +18,16 @@ namespace {
 
 using nlohmann::json;
 
-// The reply to send instead when the descriptor could not be sent: every
-// attitude_channel result in it (the only results with "slots") becomes
-// -32603 with the same id.
+// The reply to send instead when the descriptors could not be sent: the
+// attitude_channel result in it that announced them ("descriptors" > 0)
+// becomes -32603 with the same id.
 std::string unsent_reply(const std::string& line, const std::string& why) {
     json reply = json::parse(line, nullptr, false);
     const json error = {{"code", rpc_error::kInternal},
                         {"message", std::string(detail::kUnavailable) + why}};
     const auto replace = [&error](json& member) {
         if (member.is_object() && member.contains("result") && member["result"].is_object() &&
-            member["result"].contains("slots")) {
+            member["result"].contains("slots") && member["result"].value("descriptors", 0) > 0) {
             member.erase("result");
             member["error"] = error;
         }
@@ -54,23 +54,26 @@ bool client_gone(int error) {
 // write, or the client is gone.
 bool Session::send_with_descriptors() {
     const Line line = outbox_.front();
-    const int channel = host_.attitude_channel_fd();
-    const std::size_t count = channel < 0 ? 0 : outbox_.front_descriptors();
-    const std::vector<int> fds(count, channel);
-    std::vector<char> control(CMSG_SPACE(sizeof(int) * count));
+    const auto fds = host_.channel_descriptors(state_.info);
+    if (fds[0] < 0 || fds[1] < 0) {  // cannot happen: the block lives as long as the session
+        outbox_.replace_front(std::make_shared<const std::string>(
+            unsent_reply(*line, "its descriptors are gone; ask again")));
+        host_.channel_delivered(state_.info, EBADF);
+        return true;
+    }
+    const std::size_t count = fds.size();
+    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * 2)]{};
     iovec iov{const_cast<char*>(line->data()), line->size()};
     msghdr message{};
     message.msg_iov = &iov;
     message.msg_iovlen = 1;
-    if (count > 0) {
-        message.msg_control = control.data();
-        message.msg_controllen = control.size();
-        cmsghdr* header = CMSG_FIRSTHDR(&message);
-        header->cmsg_level = SOL_SOCKET;
-        header->cmsg_type = SCM_RIGHTS;
-        header->cmsg_len = CMSG_LEN(sizeof(int) * count);
-        std::memcpy(CMSG_DATA(header), fds.data(), sizeof(int) * count);
-    }
+    message.msg_control = control;
+    message.msg_controllen = sizeof(control);
+    cmsghdr* header = CMSG_FIRSTHDR(&message);
+    header->cmsg_level = SOL_SOCKET;
+    header->cmsg_type = SCM_RIGHTS;
+    header->cmsg_len = CMSG_LEN(sizeof(int) * count);
+    std::memcpy(CMSG_DATA(header), fds.data(), sizeof(int) * count);
     ssize_t sent = -1;
     do {
         sent = ::sendmsg(socket_.native_handle(), &message, MSG_DONTWAIT | MSG_NOSIGNAL);
@@ -84,10 +87,12 @@ bool Session::send_with_descriptors() {
         } else {  // ETOOMANYREFS, ENOMEM, ENOBUFS...: nothing was sent
             outbox_.replace_front(
                 std::make_shared<const std::string>(unsent_reply(*line, std::strerror(error))));
+            host_.channel_delivered(state_.info, error);
             return true;
         }
         return false;
     }
+    host_.channel_delivered(state_.info, 0);
     outbox_.pop_front();
     if (static_cast<std::size_t>(sent) == line->size()) {
         return true;

@@ -1,5 +1,6 @@
-// The shared-memory attitude ring: layout checks, reading what was
-// published, readers that fall behind, and waking a waiter in another
+// The shared-memory attitude ring (version 2) and the wake block: layout
+// checks, reading what was published, readers that fall behind, a writer
+// that rewrites the header after the check, and waking a waiter in another
 // process through a memfd mapped read-only.
 #include "gport/base/attitude_ring.hpp"
 
@@ -8,12 +9,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
 
 #include "gport/base/futex.hpp"
+#include "gport/base/wake_block.hpp"
 
 namespace gport::base {
 namespace {
@@ -44,15 +47,17 @@ void expect_same(const RingSample& a, const RingSample& b) {
 
 // Zero-filled, 8-byte-aligned memory for a ring of `slots` slots.
 struct Block {
-    explicit Block(std::uint32_t slots) : words(ring_bytes(slots) / 8 + 1, 0) {}
+    explicit Block(std::uint32_t slots) : bytes(ring_bytes(slots)), words(bytes / 8 + 1, 0) {}
     void* data() { return words.data(); }
+    std::size_t size() const { return bytes; }
+    std::size_t bytes;
     std::vector<std::uint64_t> words;
 };
 
 TEST(AttitudeRing, AnEmptyRingHasNothingToRead) {
     Block block(8);
     RingWriter writer(block.data(), 8);
-    RingReader reader(block.data());
+    RingReader reader(block.data(), block.size());
     EXPECT_EQ(RingReader::check(block.data(), ring_bytes(8)), std::nullopt);
     EXPECT_EQ(reader.published(), 0U);
     EXPECT_FALSE(reader.latest());
@@ -65,19 +70,19 @@ TEST(AttitudeRing, AnEmptyRingHasNothingToRead) {
 TEST(AttitudeRing, ReadsBackEveryFieldOfWhatWasPublished) {
     Block block(8);
     RingWriter writer(block.data(), 8);
-    RingReader reader(block.data());
+    RingReader reader(block.data(), block.size());
     writer.publish(sample(41));
     writer.publish(sample(42));
     ASSERT_TRUE(reader.latest());
     expect_same(*reader.latest(), sample(42));
     expect_same(*reader.read(1), sample(41));
-    EXPECT_EQ(reader.wake_word().load(), 2U);
+    EXPECT_EQ(static_cast<const RingHeader*>(block.data())->reserved_wake, 0U);  // version 2
 }
 
 TEST(AttitudeRing, NextStartsAtTheNewestAndThenTakesEachInTurn) {
     Block block(8);
     RingWriter writer(block.data(), 8);
-    RingReader reader(block.data());
+    RingReader reader(block.data(), block.size());
     for (std::uint64_t i = 1; i <= 3; ++i) {
         writer.publish(sample(i));
     }
@@ -95,7 +100,7 @@ TEST(AttitudeRing, NextStartsAtTheNewestAndThenTakesEachInTurn) {
 TEST(AttitudeRing, AReaderLappedByTheWriterSkipsAheadAndCountsWhatItMissed) {
     Block block(8);
     RingWriter writer(block.data(), 8);
-    RingReader reader(block.data());
+    RingReader reader(block.data(), block.size());
     writer.publish(sample(1));
     std::uint64_t cursor = 0;
     std::uint64_t missed = 0;
@@ -121,7 +126,7 @@ TEST(AttitudeRing, AReaderLappedByTheWriterSkipsAheadAndCountsWhatItMissed) {
 TEST(AttitudeRing, AWriterStoppedInsideTheSlotANearlyLappedReaderWantsDoesNotHangIt) {
     Block block(8);
     RingWriter writer(block.data(), 8);
-    RingReader reader(block.data());
+    RingReader reader(block.data(), block.size());
     writer.publish(sample(1));
     std::uint64_t cursor = 0;
     std::uint64_t missed = 0;
@@ -142,69 +147,131 @@ TEST(AttitudeRing, AWriterStoppedInsideTheSlotANearlyLappedReaderWantsDoesNotHan
 TEST(AttitudeRing, CheckNamesWhatIsWrongWithABlock) {
     Block block(8);
     RingWriter writer(block.data(), 8);
+    EXPECT_EQ(RingReader::check(block.data(), ring_bytes(8)), std::nullopt);
     EXPECT_EQ(RingReader::check(block.data(), 10), "the block is smaller than a ring header");
     EXPECT_EQ(RingReader::check(block.data(), ring_bytes(8) - 1),
               "the block is smaller than its ring");
+    EXPECT_EQ(RingReader::check(block.data(), ring_bytes(8) + 128),
+              "the block is larger than its ring");
     auto* header = static_cast<RingHeader*>(block.data());
-    header->version = 2;
+    header->version = 1;  // a version 1 reader would sleep on a word nobody bumps any more
     EXPECT_EQ(RingReader::check(block.data(), ring_bytes(8)),
-              "attitude ring version 2 is not supported (1 is)");
+              "attitude ring version 1 is not supported (2 is)");
     header->version = kRingVersion;
     header->slot_count = 6;
     EXPECT_EQ(RingReader::check(block.data(), ring_bytes(8)),
-              "attitude ring slot count is not a power of two");
+              "attitude ring slot count 6 is not a power of two from 1 to 65536");
+    header->slot_count = 1U << 31;
+    EXPECT_EQ(RingReader::check(block.data(), ring_bytes(8)),
+              "attitude ring slot count 2147483648 is not a power of two from 1 to 65536");
     header->magic = 0;
     EXPECT_EQ(RingReader::check(block.data(), ring_bytes(8)), "not an attitude ring (bad magic)");
+}
+
+// A hostile writer that keeps a writable mapping rewrites slot_count after
+// the reader checked it: 0 made the modulo divide by zero (SIGFPE), 2^31
+// sent the index far outside the mapping (SIGSEGV). The reader uses the
+// count it derived from the mapping's size, once.
+TEST(AttitudeRing, ARewrittenSlotCountAfterTheCheckChangesNothingForTheReader) {
+    Block block(8);
+    RingWriter writer(block.data(), 8);
+    ASSERT_EQ(RingReader::check(block.data(), block.size()), std::nullopt);
+    RingReader reader(block.data(), block.size());
+    for (std::uint64_t i = 1; i <= 5; ++i) {
+        writer.publish(sample(i));
+    }
+    auto* header = static_cast<RingHeader*>(block.data());
+    for (const std::uint32_t hostile : {0U, 1U << 31, 3U, 0xffffffffU}) {
+        header->slot_count = hostile;
+        EXPECT_EQ(reader.slot_count(), 8U);
+        expect_same(*reader.latest(), sample(5));
+        std::uint64_t cursor = 1;
+        std::uint64_t missed = 0;
+        EXPECT_EQ(reader.next(cursor, missed)->seq, 2U);
+    }
+    header->published.store(1ULL << 62);  // and `published` far beyond the ring: nothing, no crash
+    EXPECT_FALSE(reader.latest());
+    std::array<std::uint64_t, kRingSampleWords> words{};
+    EXPECT_FALSE(ring_read_words(block.data(), 8, 1ULL << 62, words));
+    EXPECT_FALSE(ring_read_words(block.data(), 0, 1, words));
 }
 
 TEST(AttitudeRing, CloseIsSeenByReaders) {
     Block block(4);
     RingWriter writer(block.data(), 4);
-    RingReader reader(block.data());
-    const auto before = reader.wake_word().load();
+    RingReader reader(block.data(), block.size());
     writer.close();
     EXPECT_TRUE(reader.closed());
-    EXPECT_NE(reader.wake_word().load(), before);
 }
 
-TEST(AttitudeRing, AWaiterInAnotherProcessIsWokenThroughAReadOnlyMapping) {
+TEST(WakeBlock, AFormattedBlockPassesItsCheckAndCheckNamesWhatIsWrong) {
+    alignas(64) std::array<std::byte, kWakeBlockBytes> memory{};
+    format_wake_block(memory.data());
+    EXPECT_EQ(check_wake_block(memory.data(), kWakeBlockBytes), std::nullopt);
+    EXPECT_EQ(wake_word(memory.data()).load(), 0U);
+    EXPECT_EQ(check_wake_block(memory.data(), 4096), "the wake block is 4096 bytes, not 64");
+    auto* block = reinterpret_cast<WakeBlock*>(memory.data());
+    block->size = 128;
+    EXPECT_EQ(check_wake_block(memory.data(), kWakeBlockBytes),
+              "the wake block's header gives size 128, not 64");
+    block->version = 7;
+    EXPECT_EQ(check_wake_block(memory.data(), kWakeBlockBytes),
+              "wake block version 7 is not supported (1 is)");
+    block->magic = kRingMagic;
+    EXPECT_EQ(check_wake_block(memory.data(), kWakeBlockBytes),
+              "not an attitude channel wake block (bad magic)");
+}
+
+TEST(AttitudeRing, AWaiterInAnotherProcessIsWokenThroughReadOnlyMappings) {
     const int fd = memfd_create("attitude-ring-test", MFD_CLOEXEC);
+    const int wake_fd = memfd_create("attitude-wake-test", MFD_CLOEXEC);
     ASSERT_GE(fd, 0);
+    ASSERT_GE(wake_fd, 0);
     const std::size_t size = ring_bytes(16);
     ASSERT_EQ(ftruncate(fd, static_cast<off_t>(size)), 0);
+    ASSERT_EQ(ftruncate(wake_fd, static_cast<off_t>(kWakeBlockBytes)), 0);
     void* rw = mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    void* wake_rw = mmap(nullptr, kWakeBlockBytes, PROT_READ | PROT_WRITE, MAP_SHARED, wake_fd, 0);
     ASSERT_NE(rw, MAP_FAILED);
+    ASSERT_NE(wake_rw, MAP_FAILED);
     RingWriter writer(rw, 16);
+    WakeBlock* wake = format_wake_block(wake_rw);
 
     const pid_t child = fork();
     ASSERT_GE(child, 0);
     if (child == 0) {
         const void* ro = mmap(nullptr, size, PROT_READ, MAP_SHARED, fd, 0);
-        if (ro == MAP_FAILED || RingReader::check(ro, size)) {
+        const void* wake_ro = mmap(nullptr, kWakeBlockBytes, PROT_READ, MAP_SHARED, wake_fd, 0);
+        if (ro == MAP_FAILED || wake_ro == MAP_FAILED || RingReader::check(ro, size) ||
+            check_wake_block(wake_ro, kWakeBlockBytes)) {
             _exit(2);
         }
-        RingReader reader(ro);
+        RingReader reader(ro, size);
+        const auto& word = wake_word(wake_ro);
         std::uint64_t cursor = 0;
         std::uint64_t missed = 0;
         for (int waits = 0; waits < 500; ++waits) {
-            const auto seen = reader.wake_word().load(std::memory_order_acquire);
+            const auto seen = word.load(std::memory_order_acquire);
             if (auto s = reader.next(cursor, missed); s && s->seq == 7) {
                 _exit(0);
             }
-            futex_wait(reader.wake_word(), seen, 100ms);
+            futex_wait(word, seen, 100ms);
         }
         _exit(3);
     }
     for (std::uint64_t i = 1; i <= 7; ++i) {
         writer.publish(sample(i));
-        futex_wake_all(writer.wake_word());
+        wake->wake.fetch_add(1, std::memory_order_release);
+        futex_wake(wake->wake, 1);
     }
     int status = 0;
     ASSERT_EQ(waitpid(child, &status, 0), child);
     EXPECT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 0);
     munmap(rw, size);
+    munmap(wake_rw, kWakeBlockBytes);
     close(fd);
+    close(wake_fd);
 }
 
 TEST(AttitudeRing, FutexWaitReturnsAtOnceWhenTheWordAlreadyChanged) {

@@ -1,7 +1,9 @@
 // The shared-memory attitude channel in libgport-client against a fake
-// gportd (fake_server.hpp): the descriptor FIFO, the checks of the block,
-// next/latest/missed/closed, and the transparent subscription of Client and
-// AsyncClient. The real daemon: attitude_channel_e2e_test.cpp.
+// gportd (fake_server.hpp): a connection's two blocks shared by its later
+// requests, the checks of the blocks, next/latest/missed/closed, waking one
+// waiter per connection and passing it on, and the transparent subscription
+// of Client and AsyncClient. A hostile server: channel_attacks_test.cpp.
+// The real daemon: attitude_channel_e2e_test.cpp.
 #include "gport/client/attitude_channel.hpp"
 
 #include <gtest/gtest.h>
@@ -9,7 +11,9 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
+#include <thread>
 #include <variant>
+#include <vector>
 
 #include "fake_server.hpp"
 #include "gport/client/async_client.hpp"
@@ -152,39 +156,43 @@ TEST(AttitudeChannel, ABlockThatFailsItsChecksIsAnErrorNamingTheProblem) {
     EXPECT_EQ(open_descriptors(), before);  // the refused blocks' descriptors were closed
 }
 
-TEST(AttitudeChannel, AReplyWithoutADescriptorIsAnError) {
+TEST(AttitudeChannel, AReplyWithoutItsDescriptorsIsAnError) {
     FakeServer server;
     server.offer(nullptr);
     auto client = gc::Client::connect(server.path());
     std::string message;
     EXPECT_EQ(error_code([&] { client.attitude_channel(); }, message),
               static_cast<int>(gc::ErrorCode::kBadReply));
-    EXPECT_NE(message.find("no file descriptor"), std::string::npos) << message;
+    EXPECT_NE(message.find("carried 0 file descriptor(s), not the 2 it announced"),
+              std::string::npos)
+        << message;
 }
 
-TEST(AttitudeChannel, DescriptorsAreClaimedInArrivalOrderAndUnclaimedOnesClosed) {
+TEST(AttitudeChannel, LaterRequestsShareTheConnectionsMappingEachWithItsOwnCursor) {
     FakeServer server;
-    RingBlock first;
-    RingBlock second;
+    RingBlock block;
     RingBlock stray;
-    first.publish(100);
-    second.publish(200);
-    server.offer(&first);
-    server.offer(&second);
+    server.offer(&block);
     const auto before = open_descriptors();
     {
         auto client = gc::Client::connect(server.path());
-        EXPECT_EQ(client.attitude_channel().latest()->seq, 100U);
-        EXPECT_EQ(client.attitude_channel().latest()->seq, 200U);
-        // A descriptor nobody claims (on a notification line): kept, then
-        // closed with the connection.
+        auto first = client.attitude_channel();
+        block.publish(1);
+        auto second = client.attitude_channel();  // "descriptors":0
+        EXPECT_EQ(first.next(1s)->seq, 1U);
+        EXPECT_EQ(second.next(1s)->seq, 1U);
+        block.publish(2);
+        EXPECT_EQ(first.next(1s)->seq, 2U);
+        first = gc::AttitudeChannel();
+        EXPECT_EQ(second.next(1s)->seq, 2U);  // still mapped
+        // Descriptors nobody asked for (on a notification line) are closed at once.
         const auto connected = open_descriptors();
         server.push({{"jsonrpc", "2.0"}, {"method", "link"}, {"params", {{"state", "up"}}}},
-                    stray.fd());
+                    {stray.fd(), stray.wake_fd()});
         const auto n = client.next_notification(5s);
         ASSERT_TRUE(n);
         EXPECT_TRUE(std::holds_alternative<gc::LinkEvent>(*n));
-        EXPECT_EQ(open_descriptors(), connected + 1);  // the stray one, held
+        EXPECT_EQ(open_descriptors(), connected);
     }
     for (int i = 0; i < 200 && open_descriptors() != before; ++i) {
         std::this_thread::sleep_for(10ms);  // the fake server closes its side
@@ -276,18 +284,47 @@ TEST(AttitudeChannel, AClosedConnectionEndsTheTransparentDelivery) {
     EXPECT_EQ(open_descriptors(), before);
 }
 
+// gportd wakes ONE waiter per connection and sample; the first thread of
+// the process to see the word change wakes the others.
+TEST(AttitudeChannel, OneWakePerConnectionReachesEveryWaitingThreadOfTheProcess) {
+    FakeServer server;
+    RingBlock block;
+    block.wakes = 1;  // as gportd
+    server.offer(&block);
+    auto client = gc::Client::connect(server.path());
+    std::vector<gc::AttitudeChannel> channels;
+    for (int i = 0; i < 4; ++i) {
+        channels.push_back(client.attitude_channel());
+    }
+    std::vector<std::uint64_t> got(channels.size(), 0);
+    std::vector<std::thread> readers;
+    for (std::size_t i = 0; i < channels.size(); ++i) {
+        readers.emplace_back([&, i] {
+            auto sample = channels[i].next(5s);
+            got[i] = sample ? sample->seq : 0;
+        });
+    }
+    std::this_thread::sleep_for(300ms);  // all four in FUTEX_WAIT
+    const auto start = std::chrono::steady_clock::now();
+    block.publish(9);
+    for (auto& reader : readers) {
+        reader.join();
+    }
+    EXPECT_EQ(got, (std::vector<std::uint64_t>{9, 9, 9, 9}));
+    EXPECT_LT(std::chrono::steady_clock::now() - start, 4s);  // not the 5 s timeout
+}
+
 TEST(AttitudeChannel, AsyncClientOpensTheChannelAndSubscribesTransparently) {
     FakeServer server;
     RingBlock first;
-    RingBlock second;
     first.publish(41);
     server.offer(&first);
-    server.offer(&second);
     boost::asio::io_context io;
     gc::AsyncClient client(io);
     boost::asio::steady_timer guard(io, 10s);
     guard.async_wait([&](auto) { client.close(); });
     std::optional<gc::AttitudeChannel> channel;
+    std::uint64_t latest = 0;
     std::vector<std::uint64_t> seen;
     std::vector<std::string> topics;
     client.on_notification([&](const gc::Notification& n) {
@@ -304,13 +341,14 @@ TEST(AttitudeChannel, AsyncClientOpensTheChannelAndSubscribesTransparently) {
         client.async_attitude_channel([&](std::optional<gc::Error> e, gc::AttitudeChannel c) {
             ASSERT_FALSE(e) << e->what();
             channel = std::move(c);
+            latest = channel->latest()->seq;
             client.async_subscribe({"attitude", "motion"}, gc::SubscribeOptions{std::nullopt, true},
                                    [&](std::optional<gc::Error> e2, gc::Subscription s) {
                                        ASSERT_FALSE(e2) << e2->what();
                                        topics = s.topics;
                                        std::thread([&] {
-                                           second.publish(1);
-                                           second.publish(2);
+                                           first.publish(1);
+                                           first.publish(2);
                                        }).detach();
                                    });
         });
@@ -318,7 +356,7 @@ TEST(AttitudeChannel, AsyncClientOpensTheChannelAndSubscribesTransparently) {
     std::thread runner([&] { io.run_for(15s); });
     runner.join();
     ASSERT_TRUE(channel);
-    EXPECT_EQ(channel->latest()->seq, 41U);
+    EXPECT_EQ(latest, 41U);
     EXPECT_EQ(topics, (std::vector<std::string>{"motion", "attitude"}));
     EXPECT_EQ(server.last_subscribe(), nlohmann::json({"motion"}));
     EXPECT_EQ(seen, (std::vector<std::uint64_t>{1, 2}));

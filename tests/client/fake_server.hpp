@@ -1,11 +1,13 @@
 // A stand-in for gportd in the shared-memory channel tests: a listening Unix
 // socket in a temporary directory and a thread that answers one connection
-// at a time. `attitude_channel` is answered with a memfd the test formats
-// with base::RingWriter (or corrupts), attached with SCM_RIGHTS to the reply
-// line, as gportd does (docs/api.md); `subscribe` / `unsubscribe` echo the
-// topics; the test may also push lines, with or without a descriptor.
+// at a time. `attitude_channel` is answered as gportd does (docs/api.md): the
+// next offer's ring and wake block, formatted by the test, attached with
+// SCM_RIGHTS to the reply line ("descriptors":2), or with no offer left
+// "descriptors":0; `subscribe` / `unsubscribe` echo the topics; the test may
+// also push lines, with or without descriptors.
 #pragma once
 
+#include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -13,6 +15,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <climits>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -26,14 +29,19 @@
 
 #include "gport/base/attitude_ring.hpp"
 #include "gport/base/futex.hpp"
+#include "gport/base/wake_block.hpp"
 
 namespace gport::testing {
 
-// A memfd holding a ring, mapped read-write for the test to publish into.
-class RingBlock {
+// The seals gportd puts on both blocks.
+inline constexpr unsigned kSeals = F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL;
+
+// A memfd of `size` bytes mapped read-write for the test, sealed with
+// `seals` afterwards (0: none), as gportd makes its blocks.
+class SealedMemory {
   public:
-    explicit RingBlock(std::uint32_t slots = 64) : size_(base::ring_bytes(slots)) {
-        fd_ = ::memfd_create("fake-gportd-attitude", MFD_CLOEXEC);
+    SealedMemory(const char* name, std::size_t size, unsigned seals) : size_(size) {
+        fd_ = ::memfd_create(name, MFD_CLOEXEC | MFD_ALLOW_SEALING);
         if (fd_ < 0 || ::ftruncate(fd_, static_cast<off_t>(size_)) != 0) {
             throw std::runtime_error("memfd_create/ftruncate failed");
         }
@@ -41,16 +49,48 @@ class RingBlock {
         if (memory_ == MAP_FAILED) {
             throw std::runtime_error("mmap failed");
         }
-        writer_.emplace(memory_, slots);
+        seals_ = seals;
     }
-    RingBlock(const RingBlock&) = delete;
-    RingBlock& operator=(const RingBlock&) = delete;
-    ~RingBlock() {
+    SealedMemory(const SealedMemory&) = delete;
+    SealedMemory& operator=(const SealedMemory&) = delete;
+    ~SealedMemory() {
         ::munmap(memory_, size_);
         ::close(fd_);
     }
+    // Seals it (after the test formatted it).
+    void seal() {
+        if (seals_ != 0 && ::fcntl(fd_, F_ADD_SEALS, seals_) != 0) {
+            throw std::runtime_error("F_ADD_SEALS failed");
+        }
+    }
+    void* memory() const { return memory_; }
+    int fd() const { return fd_; }
+    std::size_t size() const { return size_; }
 
-    // Publishes sample number `seq` (imu roll = seq / 10) and wakes readers.
+  private:
+    std::size_t size_;
+    int fd_ = -1;
+    void* memory_ = nullptr;
+    unsigned seals_ = 0;
+};
+
+// A ring and its connection's wake block, mapped read-write for the test to
+// publish into; the test keeps its writable mappings, so it can also play a
+// hostile server that rewrites the blocks after the client checked them.
+class RingBlock {
+  public:
+    explicit RingBlock(std::uint32_t slots = 64, unsigned seals = kSeals)
+        : ring_("fake-gportd-attitude", base::ring_bytes(slots), seals),
+          wake_("fake-gportd-wake", base::kWakeBlockBytes, seals),
+          slots_(slots) {
+        writer_.emplace(ring_.memory(), slots);
+        word_ = &base::format_wake_block(wake_.memory())->wake;
+        ring_.seal();
+        wake_.seal();
+    }
+
+    // Publishes sample number `seq` (imu roll = seq / 10), bumps the word
+    // and wakes `wakes` waiters (gportd: 1).
     void publish(std::uint64_t seq, bool rates = false) {
         base::RingSample s;
         s.seq = seq;
@@ -61,23 +101,43 @@ class RingBlock {
         s.hall_rates = {1, 2, 3};
         s.imu_rates = {4, 5, 6};
         writer_->publish(s);
-        base::futex_wake_all(writer_->wake_word());
+        bump();
     }
     void close() {
         writer_->close();
-        base::futex_wake_all(writer_->wake_word());
+        bump();
     }
-    // Overwrites the header's first word (magic) for the bad-block tests.
-    void corrupt_magic() { *static_cast<std::uint32_t*>(memory_) = 0xdeadbeef; }
-    void set_version(std::uint32_t v) { static_cast<std::uint32_t*>(memory_)[1] = v; }
-    int fd() const { return fd_; }
-    std::size_t size() const { return size_; }
+    void bump() {
+        word_->fetch_add(1, std::memory_order_release);
+        base::futex_wake(*word_, wakes);
+    }
+    // Overwrites a header word (u32 index) of the ring.
+    void set_header(std::size_t index, std::uint32_t value) {
+        static_cast<std::uint32_t*>(ring_.memory())[index] = value;
+    }
+    void corrupt_magic() { set_header(0, 0xdeadbeef); }
+    void set_version(std::uint32_t v) { set_header(1, v); }
+    int fd() const { return ring_.fd(); }
+    int wake_fd() const { return wake_.fd(); }
+    std::size_t size() const { return ring_.size(); }
+    std::uint32_t slots() const { return slots_; }
+    int wakes = INT_MAX;  // waiters each bump wakes
 
   private:
-    std::size_t size_;
-    int fd_ = -1;
-    void* memory_ = nullptr;
+    SealedMemory ring_;
+    SealedMemory wake_;
+    std::uint32_t slots_;
     std::optional<base::RingWriter> writer_;
+    std::atomic<std::uint32_t>* word_ = nullptr;
+};
+
+// What one attitude_channel request is answered with: `block` as gportd
+// sends it (nullptr: no descriptor), or a hostile variant: `fds` attached
+// instead (when set), `result` members changed.
+struct Offer {
+    const RingBlock* block = nullptr;
+    std::optional<std::vector<int>> fds;
+    nlohmann::json result = nlohmann::json::object();
 };
 
 inline std::size_t open_descriptors() {
@@ -121,17 +181,19 @@ class FakeServer {
 
     const std::string& path() const { return path_; }
 
-    // What `attitude_channel` answers with: the block's descriptor (or none).
-    void offer(const RingBlock* block) {
+    // What the next `attitude_channel` answers with: the block's descriptors
+    // (nullptr: none, though "descriptors":2 is announced).
+    void offer(const RingBlock* block) { offer(Offer{block, std::nullopt, {}}); }
+    void offer(Offer offer) {
         std::lock_guard lock(mutex_);
-        offers_.push_back(block);
+        offers_.push_back(std::move(offer));
     }
-    // Sends a line to the connected client, with `fd` attached when >= 0.
-    void push(const nlohmann::json& message, int fd = -1) {
+    // Sends a line to the connected client, with `fds` attached.
+    void push(const nlohmann::json& message, std::vector<int> fds = {}) {
         for (int i = 0; i < 500; ++i) {  // the accept may lag the client's connect
             std::unique_lock lock(mutex_);
             if (client_ >= 0) {
-                send_line(message.dump() + "\n", fd);
+                send_line(message.dump() + "\n", fds);
                 return;
             }
             lock.unlock();
@@ -190,18 +252,9 @@ class FakeServer {
         std::lock_guard lock(mutex_);
         const std::string method = request.at("method");
         nlohmann::json reply = {{"jsonrpc", "2.0"}, {"id", request.at("id")}};
-        int fd = -1;
+        std::vector<int> fds;
         if (method == "attitude_channel") {
-            const RingBlock* block = nullptr;
-            if (!offers_.empty()) {
-                block = offers_.front();
-                offers_.erase(offers_.begin());
-            }
-            reply["result"] = {{"version", 1},
-                               {"slots", 64},
-                               {"size", block ? block->size() : 0},
-                               {"published", 0}};
-            fd = block ? block->fd() : -1;
+            reply["result"] = channel_result(fds);
         } else if (method == "subscribe" || method == "unsubscribe") {
             const auto params = request.value("params", nlohmann::json::object());
             if (method == "subscribe") {
@@ -211,24 +264,51 @@ class FakeServer {
         } else {
             reply["error"] = {{"code", -32601}, {"message", "unknown method " + method}};
         }
-        send_line(reply.dump() + "\n", fd);
+        send_line(reply.dump() + "\n", fds);
     }
 
-    // Caller holds mutex_. The descriptor goes with the line's first byte.
-    void send_line(const std::string& line, int fd) {
+    // Caller holds mutex_. The next offer, or "descriptors":0 without one.
+    nlohmann::json channel_result(std::vector<int>& fds) {
+        nlohmann::json result = {{"version", 2},
+                                 {"slots", 64},
+                                 {"size", base::ring_bytes(64)},
+                                 {"published", 0},
+                                 {"descriptors", 0}};
+        if (offers_.empty()) {
+            return result;
+        }
+        Offer offer = std::move(offers_.front());
+        offers_.erase(offers_.begin());
+        result["descriptors"] = 2;
+        if (offer.block != nullptr) {
+            result["slots"] = offer.block->slots();
+            result["size"] = offer.block->size();
+            fds = {offer.block->fd(), offer.block->wake_fd()};
+        }
+        if (offer.fds) {
+            fds = *offer.fds;
+        }
+        if (offer.result.is_object()) {
+            result.update(offer.result);
+        }
+        return result;
+    }
+
+    // Caller holds mutex_. The descriptors go with the line's first byte.
+    void send_line(const std::string& line, const std::vector<int>& fds) {
         iovec io{const_cast<char*>(line.data()), line.size()};
         msghdr message{};
         message.msg_iov = &io;
         message.msg_iovlen = 1;
-        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))]{};
-        if (fd >= 0) {
-            message.msg_control = control;
-            message.msg_controllen = sizeof(control);
+        std::vector<char> control(CMSG_SPACE(sizeof(int) * fds.size()));
+        if (!fds.empty()) {
+            message.msg_control = control.data();
+            message.msg_controllen = control.size();
             cmsghdr* c = CMSG_FIRSTHDR(&message);
             c->cmsg_level = SOL_SOCKET;
             c->cmsg_type = SCM_RIGHTS;
-            c->cmsg_len = CMSG_LEN(sizeof(int));
-            std::memcpy(CMSG_DATA(c), &fd, sizeof(int));
+            c->cmsg_len = CMSG_LEN(sizeof(int) * fds.size());
+            std::memcpy(CMSG_DATA(c), fds.data(), sizeof(int) * fds.size());
         }
         if (client_ >= 0) {
             [[maybe_unused]] const auto n = ::sendmsg(client_, &message, MSG_NOSIGNAL);
@@ -241,7 +321,7 @@ class FakeServer {
     int client_ = -1;
     std::atomic<bool> stopping_{false};
     std::mutex mutex_;
-    std::vector<const RingBlock*> offers_;
+    std::vector<Offer> offers_;
     nlohmann::json last_subscribe_;
     std::thread thread_;
 };

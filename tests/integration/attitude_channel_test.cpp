@@ -1,6 +1,9 @@
 // The shared-memory attitude channel end to end: the real gportd on
-// gport-sim, clients that receive the memfd with recvmsg and map it
-// read-only (docs/api.md, "Shared-memory attitude channel").
+// gport-sim, clients that receive the ring and their connection's wake
+// block with recvmsg and map them read-only (docs/api.md, "Shared-memory
+// attitude channel"); and the attacks: threads parked on a word, by a
+// connection that stays or one that left, and descriptors asked for in
+// batches by a peer that never reads.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/mman.h>
@@ -48,20 +51,33 @@ std::string plain_call(int fd, const std::string& request) {
     return reply;
 }
 
-// Opens the channel on `client` and maps it; the descriptor is closed.
-std::unique_ptr<RingMapping> open_channel(DescriptorClient& client) {
+// A connection's channel: the ring and its own wake block.
+struct Channel {
+    std::unique_ptr<RingMapping> ring;
+    std::unique_ptr<WakeMapping> wake;
+    const base::RingReader reader() const { return ring->reader(); }
+    const std::atomic<std::uint32_t>& word() const { return wake->word(); }
+};
+
+// Opens the channel on `client` and maps it; the descriptors are closed.
+Channel open_channel(DescriptorClient& client) {
     const auto reply = client.call("attitude_channel");
     EXPECT_TRUE(reply.contains("result")) << reply;
-    const int fd = client.take_descriptor();
-    EXPECT_GE(fd, 0);
-    auto ring = std::make_unique<RingMapping>(fd, kBytes);
-    ::close(fd);
-    return ring;
+    EXPECT_EQ(reply["result"]["descriptors"], 2) << reply;
+    const int ring = client.take_descriptor();
+    const int wake = client.take_descriptor();
+    EXPECT_GE(ring, 0);
+    EXPECT_GE(wake, 0);
+    Channel c{std::make_unique<RingMapping>(ring, kBytes), std::make_unique<WakeMapping>(wake)};
+    ::close(ring);
+    ::close(wake);
+    return c;
 }
 
 // Takes samples in order, waiting on the futex, until `stop` or closed.
 struct RingFollower {
-    explicit RingFollower(const base::RingReader& reader) : reader_(reader) {
+    explicit RingFollower(const Channel& channel)
+        : reader_(channel.reader()), word_(channel.word()) {
         thread_ = std::thread([this] { run(); });
     }
     ~RingFollower() { finish(); }
@@ -74,7 +90,7 @@ struct RingFollower {
     void run() {
         std::uint64_t cursor = 0;
         while (!stop) {
-            const auto seen = reader_.wake_word().load();
+            const auto seen = word_.load();
             bool took = false;
             while (auto sample = reader_.next(cursor, missed)) {
                 samples.push_back(*sample);
@@ -84,15 +100,15 @@ struct RingFollower {
                 closed_seen = true;
                 return;
             }
-            if (!took &&
-                base::futex_wait(reader_.wake_word(), seen, std::chrono::milliseconds(200)) ==
-                    base::FutexWait::kWoken) {
+            if (!took && base::futex_wait(word_, seen, std::chrono::milliseconds(200)) ==
+                             base::FutexWait::kWoken) {
                 ++woken;
             }
         }
     }
 
     base::RingReader reader_;
+    const std::atomic<std::uint32_t>& word_;
     std::atomic<bool> stop{false};
     std::vector<base::RingSample> samples;
     std::uint64_t missed = 0;
@@ -111,10 +127,12 @@ class AttitudeChannelTest : public SimDaemonTest {
 
 TEST_F(AttitudeChannelTest, SamplesArriveInOrderAsTheSocketSendsThemAndWakeTheReader) {
     DescriptorClient reader(daemon_->socket());
-    auto ring = open_channel(reader);
+    auto channel = open_channel(reader);
+    auto& ring = channel.ring;
     ASSERT_TRUE(ring->mapped());
     ASSERT_EQ(ring->check(), std::nullopt);
-    RingFollower follower(ring->reader());
+    ASSERT_EQ(channel.wake->check(), std::nullopt);
+    RingFollower follower(channel);
     ASSERT_EQ(client_->call("subscribe", {{"topics", {"attitude"}}})["result"]["topics"].size(),
               1u);
     std::map<std::uint64_t, Json> socket_samples;
@@ -156,9 +174,16 @@ TEST_F(AttitudeChannelTest, TheSealsLeaveOnlyReadOnlyMappings) {
     DescriptorClient reader(daemon_->socket());
     ASSERT_TRUE(reader.call("attitude_channel").contains("result"));
     const int fd = reader.take_descriptor();
+    const int wake_fd = reader.take_descriptor();
     ASSERT_GE(fd, 0);
-    EXPECT_EQ(::fcntl(fd, F_GET_SEALS),
-              F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL);
+    ASSERT_GE(wake_fd, 0);
+    const int seals = F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL;
+    EXPECT_EQ(::fcntl(fd, F_GET_SEALS), seals);
+    EXPECT_EQ(::fcntl(wake_fd, F_GET_SEALS), seals);
+    EXPECT_NE(::fcntl(wake_fd, F_GETFD) & FD_CLOEXEC, 0);
+    EXPECT_EQ(::mmap(nullptr, 64, PROT_READ | PROT_WRITE, MAP_SHARED, wake_fd, 0), MAP_FAILED);
+    EXPECT_EQ(::ftruncate(wake_fd, 0), -1);
+    ::close(wake_fd);
     EXPECT_NE(::fcntl(fd, F_GETFD) & FD_CLOEXEC, 0);  // MSG_CMSG_CLOEXEC
     const char byte = 'x';
     EXPECT_EQ(::pwrite(fd, &byte, 1, 0), -1);
@@ -179,9 +204,9 @@ TEST_F(AttitudeChannelTest, TheSealsLeaveOnlyReadOnlyMappings) {
     ::close(fd);
     // Samples still arrive: nothing the client tried reached the daemon's block.
     DescriptorClient again(daemon_->socket());
-    auto ring = open_channel(again);
-    const auto before = ring->reader().published();
-    EXPECT_TRUE(eventually([&] { return ring->reader().published() > before; }));
+    auto channel = open_channel(again);
+    const auto before = channel.reader().published();
+    EXPECT_TRUE(eventually([&] { return channel.reader().published() > before; }));
 }
 
 TEST_F(AttitudeChannelTest, AClientReadingWithPlainReadLosesOnlyTheDescriptor) {
@@ -199,14 +224,14 @@ TEST_F(AttitudeChannelTest, AClientReadingWithPlainReadLosesOnlyTheDescriptor) {
     }
     EXPECT_TRUE(eventually(
         [&] { return client_->call("status")["result"]["attitude_channel_clients"] == 0; }));
-    EXPECT_LE(open_descriptors(daemon_pid()), baseline + 1);  // at most the memfd
+    EXPECT_LE(open_descriptors(daemon_pid()), baseline + 1);  // at most the ring's memfd
 }
 
 // A client that asks for the channel between many replies and does not read:
 // its socket fills, the descriptor's line waits for room, nobody else waits.
 TEST_F(AttitudeChannelTest, AClientThatNeverReadsItsSocketHurtsNobody) {
     DescriptorClient stuck(daemon_->socket());
-    auto stuck_ring = open_channel(stuck);
+    auto stuck_channel = open_channel(stuck);
     std::string flood;
     const auto add = [&flood](int id, const char* method) {
         flood += R"({"id":)" + std::to_string(id) + R"(,"method":")" + method + "\"}\n";
@@ -216,8 +241,8 @@ TEST_F(AttitudeChannelTest, AClientThatNeverReadsItsSocketHurtsNobody) {
     }
     ASSERT_TRUE(stuck.send(flood));
     DescriptorClient reader(daemon_->socket());
-    auto ring = open_channel(reader);
-    RingFollower follower(ring->reader());
+    auto channel = open_channel(reader);
+    RingFollower follower(channel);
     client_->call("subscribe", {{"topics", {"attitude"}}});
     for (int i = 0; i < 20; ++i) {
         ASSERT_TRUE(client_->notification("attitude"));
@@ -226,9 +251,9 @@ TEST_F(AttitudeChannelTest, AClientThatNeverReadsItsSocketHurtsNobody) {
     EXPECT_TRUE(client_->call("status")["result"].is_object());
     follower.finish();
     EXPECT_EQ(follower.missed, 0u);
-    EXPECT_GT(stuck_ring->reader().published(), 0u);  // the same block
-    // Now it reads, slowly: every reply in order, one descriptor per channel
-    // reply (some of which found the socket full and waited for room).
+    EXPECT_GT(stuck_channel.reader().published(), 0u);  // the same block
+    // Now it reads, slowly: every reply in order, and no descriptor: the
+    // connection has its channel already ("descriptors":0).
     stuck.read_chunk(300);
     int expected = 100;
     while (expected < 400) {
@@ -236,9 +261,12 @@ TEST_F(AttitudeChannelTest, AClientThatNeverReadsItsSocketHurtsNobody) {
         ASSERT_TRUE(line) << "no reply " << expected;
         ASSERT_EQ((*line)["id"], expected);
         ASSERT_TRUE(line->contains("result")) << *line;
+        if (expected % 2 == 1) {
+            EXPECT_EQ((*line)["result"]["descriptors"], 0) << *line;
+        }
         ++expected;
     }
-    EXPECT_EQ(stuck.descriptors(), 150u);
+    EXPECT_EQ(stuck.descriptors(), 0u);
 }
 
 TEST_F(AttitudeChannelTest, StatusCountsTheClientsThatOpenedIt) {
@@ -256,33 +284,41 @@ TEST_F(AttitudeChannelTest, StatusCountsTheClientsThatOpenedIt) {
 
 TEST_F(AttitudeChannelTest, ShutdownSetsClosedAndWakesAWaiter) {
     DescriptorClient reader(daemon_->socket());
-    auto ring = open_channel(reader);
-    RingFollower follower(ring->reader());
+    auto channel = open_channel(reader);
+    RingFollower follower(channel);
     ASSERT_TRUE(eventually([&] { return follower.woken.load() > 0; }));
     daemon_->process().signal(SIGTERM);
     ASSERT_TRUE(daemon_->process().wait());
     EXPECT_TRUE(eventually([&] { return follower.closed_seen.load(); }));
-    EXPECT_TRUE(ring->reader().closed());
-    EXPECT_GT(ring->reader().published(), 0u);  // the mapping outlives the daemon
+    EXPECT_TRUE(channel.reader().closed());
+    EXPECT_GT(channel.reader().published(), 0u);  // the mapping outlives the daemon
 }
 
 TEST_F(AttitudeChannelTest, AHundredClientsShareOneBlock) {
     const auto baseline = open_descriptors(daemon_pid());
     std::vector<std::unique_ptr<DescriptorClient>> clients;
     std::set<ino_t> blocks;
+    std::set<ino_t> wakes;
     for (int i = 0; i < 100; ++i) {
         clients.push_back(std::make_unique<DescriptorClient>(daemon_->socket()));
         ASSERT_TRUE(clients.back()->call("attitude_channel").contains("result"));
         const int fd = clients.back()->take_descriptor();
+        const int wake = clients.back()->take_descriptor();
         ASSERT_GE(fd, 0);
+        ASSERT_GE(wake, 0);
         struct stat info {};
         ASSERT_EQ(::fstat(fd, &info), 0);
         blocks.insert(info.st_ino);
+        ASSERT_EQ(::fstat(wake, &info), 0);
+        wakes.insert(info.st_ino);
         ::close(fd);
+        ::close(wake);
     }
-    EXPECT_EQ(blocks.size(), 1u);
+    EXPECT_EQ(blocks.size(), 1u);   // one ring for all
+    EXPECT_EQ(wakes.size(), 100u);  // a wake block each
     EXPECT_EQ(client_->call("status")["result"]["attitude_channel_clients"], 100);
-    // One socket per client and one memfd: nothing per client beyond its socket.
+    // One socket per client and one memfd: gportd keeps only the mapping of
+    // each wake block once it was sent.
     EXPECT_LE(open_descriptors(daemon_pid()), baseline + 100 + 1);
 }
 

@@ -1,10 +1,13 @@
 """The shared-memory attitude channel against a fake gportd (fake_gportd.py):
-the descriptor FIFO, the block's checks, next/latest/missed/closed, and the
-transparent ``shared_memory=True`` subscription of both clients."""
+the two blocks of a connection, shared by its later requests; the checks
+of each block; next/latest/missed/closed; waking one waiter per connection
+and passing it on; the transparent ``shared_memory=True`` subscription of
+both clients. The attacks of a hostile server are in test_channel_attacks.py."""
 
 from __future__ import annotations
 
 import asyncio
+import os
 import threading
 import time
 from typing import Iterator
@@ -12,7 +15,10 @@ from typing import Iterator
 import pytest
 
 import gport
-from fake_gportd import FakeServer, RingBlock, open_descriptors
+from fake_gportd import FakeServer, Offer, RingBlock, open_descriptors
+
+# The tests load the built libgport-client, except in a sanitizer build ("none").
+FENCED = os.environ.get("GPORT_CLIENT_LIBRARY", "") not in ("", "none")
 
 
 @pytest.fixture
@@ -42,6 +48,7 @@ def test_next_gives_the_newest_first_then_every_sample(
 ) -> None:
     server.offers.append(block)
     with gport.Client(server.path) as client, client.attitude_channel() as channel:
+        assert channel.fenced == FENCED  # the built libgport-client (GPORT_CLIENT_LIBRARY)
         assert channel.latest() is None
         assert channel.next(0) is None
         block.publish(1)
@@ -110,7 +117,11 @@ def test_a_closed_channel_gives_what_is_left_then_none_at_once(
 
 @pytest.mark.parametrize(
     "offset, value, problem",
-    [(0, 0xDEADBEEF, "bad magic"), (4, 9, r"version 9 is not supported \(1 is\)")],
+    [
+        (0, 0xDEADBEEF, "bad magic"),
+        (4, 1, r"version 1 is not supported \(2 is\)"),
+        (16, 32, "the block is larger than its ring"),
+    ],
 )
 def test_a_bad_block_raises_bad_channel_naming_the_problem(
     server: FakeServer, block: RingBlock, offset: int, value: int, problem: str
@@ -124,30 +135,75 @@ def test_a_bad_block_raises_bad_channel_naming_the_problem(
     assert settle(before) == before
 
 
-def test_a_reply_without_a_descriptor_raises_bad_channel(server: FakeServer) -> None:
-    server.offers.append(None)
+def test_a_version_1_daemon_is_named(server: FakeServer, block: RingBlock) -> None:
+    server.offers.append(Offer(block, result={"version": 1}))
     with gport.Client(server.path) as client:
-        with pytest.raises(gport.BadChannel, match="no file descriptor"):
+        with pytest.raises(gport.BadChannel, match=r"version 1; .* \(update gportd\)"):
             client.attitude_channel()
 
 
-def test_descriptors_are_claimed_in_order_and_unclaimed_ones_closed(server: FakeServer) -> None:
-    first, second, stray = RingBlock(), RingBlock(), RingBlock()
-    first.publish(100)
-    second.publish(200)
-    server.offers += [first, second]
+def test_a_reply_without_its_descriptors_raises_bad_channel(server: FakeServer) -> None:
+    server.offers.append(Offer(None, result={"descriptors": 2}))
+    with gport.Client(server.path) as client:
+        with pytest.raises(gport.BadChannel, match=r"carried 0 file descriptor\(s\), not the 2"):
+            client.attitude_channel()
+
+
+def test_descriptors_0_without_a_channel_on_the_connection_is_a_clear_error(
+    server: FakeServer,
+) -> None:
+    with gport.Client(server.path) as client:  # no offer: "descriptors":0
+        with pytest.raises(gport.BadChannel, match="this connection has none; reconnect"):
+            client.attitude_channel()
+
+
+def test_later_requests_share_the_connections_mapping_each_with_its_own_cursor(
+    server: FakeServer, block: RingBlock
+) -> None:
+    server.offers.append(block)
     before = open_descriptors()
     with gport.Client(server.path) as client:
-        with client.attitude_channel() as a, client.attitude_channel() as b:
-            assert (a.latest() or pytest.fail()).seq == 100
-            assert (b.latest() or pytest.fail()).seq == 200
-        connected = open_descriptors()
-        server.push({"jsonrpc": "2.0", "method": "link", "params": {"state": "up"}}, stray.fd)
-        assert isinstance(client.next_notification(timeout=5), gport.Link)
-        assert open_descriptors() == connected + 1  # the stray one, held
+        first = client.attitude_channel()
+        block.publish(1)
+        second = client.attitude_channel()  # "descriptors":0
+        assert (first.next(1) or pytest.fail()).seq == 1
+        assert (second.next(1) or pytest.fail()).seq == 1
+        block.publish(2)
+        assert (first.next(1) or pytest.fail()).seq == 2
+        first.close()
+        assert (second.next(1) or pytest.fail()).seq == 2  # still mapped
+        # The client's socket and the fake's end of it; both blocks' descriptors closed.
+        assert open_descriptors() == before + 2
     assert settle(before) == before
-    for ring in (first, second, stray):
-        ring.release()
+
+
+def test_one_wake_per_connection_reaches_every_waiting_thread_of_the_process(
+    server: FakeServer, block: RingBlock
+) -> None:
+    """gportd wakes ONE waiter on a connection's word; the first thread to
+    see the new value passes it on to the others."""
+    server.offers.append(block)
+    with gport.Client(server.path) as client:
+        readers = [client.attitude_channel() for _ in range(4)]
+        got: list[int] = []
+        lock = threading.Lock()
+
+        def read(channel: gport.AttitudeChannel) -> None:
+            sample = channel.next(5)
+            with lock:
+                got.append(-1 if sample is None else sample.seq)
+
+        threads = [threading.Thread(target=read, args=(r,)) for r in readers]
+        for thread in threads:
+            thread.start()
+        time.sleep(0.3)  # all four in FUTEX_WAIT
+        start = time.monotonic()
+        block.wake.wakes = 1  # as gportd: one waiter per connection
+        block.publish(9)
+        for thread in threads:
+            thread.join()
+        assert sorted(got) == [9, 9, 9, 9]
+        assert time.monotonic() - start < 4  # not the 5 s timeout
 
 
 def test_shared_memory_subscription_delivers_samples_and_socket_notifications(
@@ -168,12 +224,18 @@ def test_shared_memory_subscription_delivers_samples_and_socket_notifications(
         client.unsubscribe("attitude")
         block.publish(3)
         assert client.next_notification(timeout=0.1) is None
+        client.subscribe("attitude", shared_memory=True)  # again: the cached mapping
+        block.wake.wakes = 1
+        block.publish(4)
+        again = client.next_notification(timeout=5)
+        assert isinstance(again, gport.Attitude) and again.seq == 4
 
 
 def test_attitude_stream_from_shared_memory(server: FakeServer, block: RingBlock) -> None:
     server.offers.append(block)
     with gport.Client(server.path) as client:
         stream = client.attitude_stream(shared_memory=True, timeout=5)
+
         def publish() -> None:
             for n in (1, 2, 3):
                 block.publish(n)
@@ -188,9 +250,8 @@ def test_attitude_stream_from_shared_memory(server: FakeServer, block: RingBlock
 def test_async_client_channel_and_shared_memory_subscription(
     server: FakeServer, block: RingBlock
 ) -> None:
-    other = RingBlock()
-    other.publish(41)
-    server.offers += [other, block]
+    block.publish(41)
+    server.offers += [block]
 
     async def run() -> None:
         async with gport.AsyncClient(server.path) as client:
@@ -207,7 +268,6 @@ def test_async_client_channel_and_shared_memory_subscription(
     before = open_descriptors()
     asyncio.run(run())
     assert settle(before) == before
-    other.release()
 
 
 def test_async_client_rejects_a_bad_block(server: FakeServer, block: RingBlock) -> None:

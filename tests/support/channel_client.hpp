@@ -1,6 +1,7 @@
 // Test support: a raw client of gportd's socket that reads with recvmsg and
 // keeps the descriptors that come with the lines (the attitude_channel
-// reply), and a read-only mapping of the shared-memory attitude channel.
+// reply: the ring and the connection's wake block), and read-only mappings
+// of the shared-memory attitude channel's two blocks.
 // Header-only; the ipc, integration and benchmark code may all use it.
 #pragma once
 
@@ -19,6 +20,7 @@
 
 #include "gport/base/attitude_ring.hpp"
 #include "gport/base/descriptors.hpp"
+#include "gport/base/wake_block.hpp"
 #include "unix_connect.hpp"
 
 namespace gport::testing {
@@ -131,11 +133,36 @@ class RingMapping {
     void* memory() const { return memory_; }
     std::size_t size() const { return size_; }
     std::optional<std::string> check() const { return base::RingReader::check(memory_, size_); }
-    base::RingReader reader() const { return base::RingReader(memory_); }
+    base::RingReader reader() const { return base::RingReader(memory_, size_); }
 
   private:
     void* memory_ = nullptr;
     std::size_t size_;
+};
+
+// A read-only, shared mapping of a connection's wake block.
+class WakeMapping {
+  public:
+    explicit WakeMapping(int fd) {
+        void* memory = ::mmap(nullptr, base::kWakeBlockBytes, PROT_READ, MAP_SHARED, fd, 0);
+        memory_ = memory == MAP_FAILED ? nullptr : memory;
+    }
+    ~WakeMapping() {
+        if (memory_ != nullptr) {
+            ::munmap(memory_, base::kWakeBlockBytes);
+        }
+    }
+    WakeMapping(const WakeMapping&) = delete;
+    WakeMapping& operator=(const WakeMapping&) = delete;
+
+    bool mapped() const { return memory_ != nullptr; }
+    std::optional<std::string> check() const {
+        return base::check_wake_block(memory_, base::kWakeBlockBytes);
+    }
+    const std::atomic<std::uint32_t>& word() const { return base::wake_word(memory_); }
+
+  private:
+    void* memory_ = nullptr;
 };
 
 }  // namespace gport::testing

@@ -48,11 +48,21 @@ def _short(detail: object) -> str:
     return text if len(text) <= _DETAIL_CHARS else text[:_DETAIL_CHARS] + "..."
 
 
-# Descriptors accepted per recvmsg (gportd sends one per attitude_channel
-# reply); the kernel closes any beyond.
+# Descriptors accepted per recvmsg (gportd sends two, with a connection's
+# first attitude_channel reply); the kernel closes any beyond.
 MAX_DESCRIPTORS = 8
 _CONTROL_SPACE = socket.CMSG_SPACE(MAX_DESCRIPTORS * array.array("i").itemsize)
 CHANNEL_METHOD = "attitude_channel"
+
+
+def announced_descriptors(reply: Reply) -> int:
+    """How many descriptors an attitude_channel reply says it carries (0 or
+    2; anything else claims none and the result is refused later)."""
+    result = reply.result
+    if reply.error is not None or not isinstance(result, dict):
+        return 0
+    count = result.get("descriptors")
+    return 2 if count == 2 and not isinstance(count, bool) else 0
 
 
 def receive(sock: socket.socket, size: int = 65536) -> tuple[bytes, list[int]]:
@@ -116,8 +126,9 @@ def nested_deeper_than(line: bytes, limit: int) -> bool:
 
 class Descriptors:
     """Descriptors received on one connection, in arrival order, until an
-    ``attitude_channel`` reply claims the first unclaimed one; close() closes
-    what nobody claimed (not thread-safe)."""
+    ``attitude_channel`` reply claims the ones it announced; keep() closes
+    any beyond what the requests awaiting their reply may bring (two each),
+    close() what nobody claimed (not thread-safe)."""
 
     def __init__(self) -> None:
         self._fds: deque[int] = deque()
@@ -125,8 +136,14 @@ class Descriptors:
     def extend(self, fds: Iterable[int]) -> None:
         self._fds.extend(fds)
 
-    def claim(self) -> int | None:
-        return self._fds.popleft() if self._fds else None
+    def take(self, count: int) -> list[int]:
+        """Up to ``count`` of the oldest, now the caller's."""
+        return [self._fds.popleft() for _ in range(min(count, len(self._fds)))]
+
+    def keep(self, count: int) -> None:
+        """Closes the newest beyond the first ``count`` (nobody asked for them)."""
+        while len(self._fds) > count:
+            close_quietly(self._fds.pop())
 
     def __len__(self) -> int:
         return len(self._fds)

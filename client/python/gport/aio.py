@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import asyncio
-import os
 import socket
 import threading
 import time
@@ -12,8 +11,9 @@ from contextlib import asynccontextmanager
 from typing import Any, AsyncGenerator, AsyncIterator, Iterable, Mapping
 
 from . import _protocol as p
-from .channel import AttitudeChannel, RingPump
-from .errors import BadChannel, ConnectionLost, GportError, Timeout
+from . import _ring
+from .channel import AttitudeChannel, RingPump, channel_from
+from .errors import ConnectionLost, GportError, Timeout
 from .moving import AsyncMovement, quietly_async
 from .results import (
     AngleResult,
@@ -62,8 +62,11 @@ class AsyncClient:
         self._lines = p.LineBuffer()
         self._fds = p.Descriptors()
         self._send_lock: asyncio.Lock | None = None
-        # attitude_channel requests in flight -> the descriptor their reply claimed
-        self._claims: dict[int, int | None] = {}
+        # attitude_channel requests awaiting their reply (two descriptors may
+        # come with each), and the descriptors each reply claimed
+        self._awaiting: set[int] = set()
+        self._claims: dict[int, list[int]] = {}
+        self._mapping: _ring.Mapping | None = None  # this connection's channel
         self._pump: RingPump | None = None
         self._shared_attitude = False
         self._alive = False
@@ -104,6 +107,7 @@ class AsyncClient:
         except OSError:
             data, fds = b"", []
         self._fds.extend(fds)
+        self._fds.keep(2 * len(self._awaiting))  # none nobody asked for
         if not data:
             self._detach(sock)
             self._lost()
@@ -144,20 +148,28 @@ class AsyncClient:
             if not future.done():
                 future.set_exception(ConnectionLost(p.closed_message(self._refused, self._reason)))
         self._pending.clear()
-        for fd in self._claims.values():
-            p.close_quietly(fd)
+        for fds in self._claims.values():
+            for fd in fds:
+                p.close_quietly(fd)
         self._claims.clear()
+        self._awaiting.clear()
+        self._mapping = None  # a new connection gets new blocks
         self._changed.set()
 
     def _dispatch(self, message: p.Message) -> None:
         if isinstance(message, p.Reply):
-            if message.id in self._claims:  # its descriptor came with its first byte
-                self._claims[message.id] = self._fds.claim()
             future = self._pending.pop(message.id, None)
+            if message.id in self._awaiting:  # its descriptors came with its first byte
+                self._awaiting.discard(message.id)
+                claimed = self._fds.take(p.announced_descriptors(message))
+                if future is not None and not future.done():
+                    self._claims[message.id] = claimed
+                else:  # the caller gave up waiting
+                    for fd in claimed:
+                        p.close_quietly(fd)
+                self._fds.keep(2 * len(self._awaiting))
             if future is not None and not future.done():
                 future.set_result(message)
-            else:
-                p.close_quietly(self._claims.pop(message.id, None))
         elif isinstance(message, p.Pushed):
             self._inbox.put(message.topic, message.item)
             self._changed.set()
@@ -220,8 +232,8 @@ class AsyncClient:
 
     async def _request(
         self, method: str, params: Mapping[str, Any] | None, limit: float | None
-    ) -> tuple[Any, int | None]:
-        """The result and, for attitude_channel, the descriptor its reply carried."""
+    ) -> tuple[Any, list[int]]:
+        """The result and, for attitude_channel, the descriptors its reply carried."""
         sock, lock = self._sock, self._send_lock
         if not self._alive or sock is None or lock is None:
             raise ConnectionLost(p.closed_message(self._refused, self._reason))
@@ -230,14 +242,14 @@ class AsyncClient:
         future: asyncio.Future[p.Reply] = asyncio.get_running_loop().create_future()
         self._pending[request_id] = future
         if method == p.CHANNEL_METHOD:
-            self._claims[request_id] = None
+            self._awaiting.add(request_id)
         started = time.monotonic()
         line = p.encode(request_id, method, params)
         try:
             await asyncio.wait_for(self._send_line(sock, lock, line), limit)
         except (OSError, asyncio.TimeoutError, ConnectionLost) as error:
             self._pending.pop(request_id, None)
-            self._claims.pop(request_id, None)
+            self._awaiting.discard(request_id)
             if future.done():
                 future.exception()  # seen: the error raised here tells it
             if isinstance(error, ConnectionLost):
@@ -256,14 +268,15 @@ class AsyncClient:
         try:
             reply = await asyncio.wait_for(future, left)
         except asyncio.TimeoutError:
-            # The claim stays: a late reply's descriptor is closed by _dispatch.
+            # Still awaited: a late reply's descriptors are closed by _dispatch.
             self._pending.pop(request_id, None)
             raise Timeout(f"no reply to {method} within {limit} s") from None
-        fd = self._claims.pop(request_id, None)
+        fds = self._claims.pop(request_id, [])
         if reply.error is not None:
-            p.close_quietly(fd)
+            for fd in fds:
+                p.close_quietly(fd)
             raise reply.error
-        return reply.result, fd
+        return reply.result, fds
 
     async def _send_line(self, sock: socket.socket, lock: asyncio.Lock, line: bytes) -> None:
         async with lock:  # whole lines: one sendall at a time
@@ -275,14 +288,11 @@ class AsyncClient:
         return parse_status(await self.call("status"))
 
     async def attitude_channel(self) -> AttitudeChannel:
-        """As gport.Client.attitude_channel: gportd's shared-memory attitude channel."""
-        _result, fd = await self._request(p.CHANNEL_METHOD, None, self.timeout)
-        if fd is None:
-            raise BadChannel("attitude channel: the daemon's reply carried no file descriptor")
-        try:
-            return AttitudeChannel(fd)
-        finally:
-            os.close(fd)
+        """As gport.Client.attitude_channel: gportd's shared-memory attitude
+        channel, received once per connection and shared by later calls."""
+        result, fds = await self._request(p.CHANNEL_METHOD, None, self.timeout)
+        channel, self._mapping = channel_from(result, fds, self._mapping)
+        return channel
 
     async def attitude(self) -> Attitude:
         return parse_attitude(await self.call("attitude"))

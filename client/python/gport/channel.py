@@ -1,106 +1,78 @@
 """The shared-memory attitude channel (docs/api.md, "Shared-memory attitude
-channel"): gportd hands a read-only memory block holding a ring of the latest
-attitude samples and wakes its readers once per sample.
+channel"): gportd hands a connection two read-only memory blocks, a ring of
+the latest attitude samples and a wake block of the connection's own, and
+wakes one of the connection's waiting threads per sample; the readers of
+this process pass the wake on to each other (_ring.py has the layouts, the
+checks and the reads).
 
-This is a reimplementation, with ctypes, of the reader of
-base/include/gport/base/attitude_ring.hpp (version 1). The block, in native
-(little-endian) byte order, is a 64-byte header and then ``slot_count``
-128-byte slots::
-
-    header  0 u32 magic 0x52415047 ("GPAR")   4 u32 version (1)
-            8 u32 header_size (64)            12 u32 slot_size (128)
-           16 u32 slot_count (a power of two) 20 u32 flags (1: closed)
-           24 u32 wake (the futex word)       28 u32 reserved
-           32 u64 published (n of the newest) 40..63 reserved
-    slot    0 u64 seq: 2n - 1 while sample n is written, 2n once complete
-            8 u64 sample seq   16 f64 t   24 f64 imu roll, pitch, yaw
-           48 f64 hall roll, pitch, yaw   72 u64 has_rates (0 or 1)
-           80 f64 hall_rates roll, pitch, yaw   104 f64 imu_rates x, y, z
-
-Sample n (1, 2, ...) is in slot (n - 1) % slot_count. A slot is read as a
-seqlock: its seq, then the words, then its seq again; the read counts only
-when both are 2n. The block is mapped with libc's mmap through ctypes
-(PROT_READ, MAP_SHARED) rather than Python's mmap module, because the futex
-needs the mapping's address, which a read-only ``mmap.mmap`` does not give;
-aligned 8-byte words are read with single loads (``ctypes.c_uint64``). The
-futex is ``syscall(SYS_futex, ...)`` (202 on x86_64, 98 on aarch64); on
-other machines the reader polls every millisecond instead.
+A connection receives the blocks once, with its first ``attitude_channel``
+reply (``"descriptors":2``); the client caches the mapping, and every later
+``attitude_channel()`` (``"descriptors":0``) is a new reader of it, with its
+own cursor.
 """
 
 from __future__ import annotations
 
-import ctypes
-import mmap
-import os
-import platform
-import struct
 import threading
 import time
-from typing import Callable
+from typing import Any, Callable, Sequence
 
+from . import _ring
+from ._ring import FLAG_CLOSED, HEADER_SIZE, MAGIC, SLOT_SIZE, VERSION, futex_available
 from .errors import BadChannel
 from .results import Attitude, Axes, ImuRates, Rates
 
-MAGIC = 0x52415047
-VERSION = 1
-HEADER_SIZE = 64
-SLOT_SIZE = 128
-FLAG_CLOSED = 1
-_OFF_SLOT_COUNT = 16
-_OFF_FLAGS = 20
-_OFF_WAKE = 24
-_OFF_PUBLISHED = 32
-_HEADER = struct.Struct("=IIIII")  # magic, version, header_size, slot_size, slot_count
-_WORDS = struct.Struct("=Qd3d3dQ3d3d")  # the 15 words after a slot's seq
+__all__ = [
+    "AttitudeChannel",
+    "RingPump",
+    "channel_from",
+    "futex_available",
+    "FLAG_CLOSED",
+    "HEADER_SIZE",
+    "MAGIC",
+    "SLOT_SIZE",
+    "VERSION",
+]
 
-_SYS_FUTEX = {"x86_64": 202, "aarch64": 98}.get(platform.machine())
-_FUTEX_WAIT = 0
-_FUTEX_WAKE = 1
-_POLL_SLICE = 0.001  # seconds, without a futex
 _PUMP_SLICE = 0.5  # RingPump looks at its stop flag at least this often
 
-_libc = ctypes.CDLL(None, use_errno=True)
-_libc.mmap.restype = ctypes.c_void_p
-_libc.mmap.argtypes = [
-    ctypes.c_void_p,
-    ctypes.c_size_t,
-    ctypes.c_int,
-    ctypes.c_int,
-    ctypes.c_int,
-    ctypes.c_long,
-]
-_libc.munmap.restype = ctypes.c_int
-_libc.munmap.argtypes = [ctypes.c_void_p, ctypes.c_size_t]
-_libc.syscall.restype = ctypes.c_long
-_MAP_FAILED = ctypes.c_void_p(-1).value
+
+def channel_from(
+    result: Any, fds: Sequence[int], cached: _ring.Mapping | None
+) -> tuple[AttitudeChannel, _ring.Mapping]:
+    """The channel an attitude_channel result announces, and the mapping the
+    connection caches from now on: with ``"descriptors":2`` a new mapping of
+    ``fds`` (the ring, then the wake block), with 0 the cached one. Closes
+    every descriptor in ``fds``; BadChannel naming what is wrong."""
+    try:
+        slots, size, descriptors = _ring.reply_fields(result)
+        if descriptors == 0:
+            if cached is None:
+                raise BadChannel(
+                    'attitude channel: gportd sent no descriptors ("descriptors":0: this '
+                    "connection should have them already) and this connection has none; "
+                    "reconnect to get them"
+                )
+            return AttitudeChannel(cached), cached
+        if len(fds) < 2:
+            raise BadChannel(
+                f"attitude channel: gportd's reply carried {len(fds)} file descriptor(s), "
+                "not the 2 it announced"
+            )
+        mapping = _ring.Mapping(fds[0], fds[1], slots, size)
+        return AttitudeChannel(mapping), mapping
+    finally:
+        for fd in fds:
+            _close(fd)
 
 
-class _Timespec(ctypes.Structure):
-    _fields_ = [("tv_sec", ctypes.c_long), ("tv_nsec", ctypes.c_long)]
+def _close(fd: int) -> None:
+    import os
 
-
-def futex_available() -> bool:
-    """True when waits sleep on the futex (x86_64, aarch64), False when they poll."""
-    return _SYS_FUTEX is not None
-
-
-def check(header: bytes, size: int) -> str | None:
-    """What is wrong with a block (its first bytes and its size), or None:
-    the checks of base::RingReader::check, with the same messages."""
-    if size < HEADER_SIZE or len(header) < _HEADER.size:
-        return "the block is smaller than a ring header"
-    magic, version, header_size, slot_size, slot_count = _HEADER.unpack_from(header)
-    if magic != MAGIC:
-        return "not an attitude ring (bad magic)"
-    if version != VERSION:
-        return f"attitude ring version {version} is not supported ({VERSION} is)"
-    if header_size != HEADER_SIZE or slot_size != SLOT_SIZE:
-        return "attitude ring header or slot size does not match version 1"
-    if slot_count == 0 or slot_count & (slot_count - 1):
-        return "attitude ring slot count is not a power of two"
-    if size < HEADER_SIZE + slot_count * SLOT_SIZE:
-        return "the block is smaller than its ring"
-    return None
+    try:
+        os.close(fd)
+    except OSError:
+        pass
 
 
 class AttitudeChannel:
@@ -110,57 +82,33 @@ class AttitudeChannel:
     call: the newest), waiting for it; ``latest()`` the newest; ``missed``
     counts samples skipped because this reader fell more than a ring behind;
     ``closed`` turns true when gportd stops. The mapping is this process's:
-    it outlives the connection; ``close()`` (or ``with``) unmaps it. One
-    thread should call next() at a time."""
+    it outlives the connection; ``close()`` (or ``with``) ends this reader
+    (the blocks are unmapped once no reader or client holds them). One
+    thread should call next() at a time; several readers of one connection
+    may wait in several threads."""
 
-    def __init__(self, fd: int) -> None:
-        """Maps ``fd`` read-only and checks it (BadChannel naming the
-        problem); the caller still owns ``fd``."""
-        self._address = 0
-        self._size = os.fstat(fd).st_size
-        if self._size <= 0:
-            raise BadChannel("attitude channel: the block is empty")
-        address = _libc.mmap(None, self._size, mmap.PROT_READ, mmap.MAP_SHARED, fd, 0)
-        if address is None or address == _MAP_FAILED:
-            error = ctypes.get_errno()
-            raise BadChannel(f"attitude channel: cannot map the block: {os.strerror(error)}")
-        self._address = int(address)
-        problem = check(ctypes.string_at(self._address, min(self._size, HEADER_SIZE)), self._size)
-        if problem is not None:
-            self.close()
-            raise BadChannel(f"attitude channel: {problem}")
-        self._slots = self._u32(_OFF_SLOT_COUNT)
+    def __init__(self, mapping: _ring.Mapping) -> None:
+        self._mapping: _ring.Mapping | None = mapping
         self._cursor = 0
         self._from_first = False
         self.missed = 0
 
-    # ---- raw access ---------------------------------------------------------
-    def _u32(self, offset: int) -> int:
-        return ctypes.c_uint32.from_address(self._address + offset).value
-
-    def _u64(self, offset: int) -> int:
-        return ctypes.c_uint64.from_address(self._address + offset).value
+    @property
+    def fenced(self) -> bool:
+        """True when slots are read through libgport-client (fences), False
+        for plain loads (x86_64 only)."""
+        return self._mapping is not None and self._mapping.fenced
 
     def _published(self) -> int:
-        return self._u64(_OFF_PUBLISHED)
+        return self._mapping.published() if self._mapping else 0
 
     def _wake_word(self) -> int:
-        return self._u32(_OFF_WAKE)
+        return self._mapping.wake_word() if self._mapping else 0
 
-    def _read(self, n: int) -> tuple[float, ...] | None:
-        """The words of sample n, if it is still in the ring and complete."""
-        if n == 0 or self._address == 0:
-            return None
-        slot = HEADER_SIZE + ((n - 1) % self._slots) * SLOT_SIZE
-        before = self._u64(slot)
-        if before != 2 * n:
-            return None
-        words = ctypes.string_at(self._address + slot + 8, _WORDS.size)
-        if self._u64(slot) != before:
-            return None
-        return _WORDS.unpack(words)
+    def _read(self, n: int) -> tuple[Any, ...] | None:
+        return self._mapping.read_words(n) if self._mapping else None
 
-    def _attitude(self, w: tuple[float, ...]) -> Attitude:
+    def _attitude(self, w: tuple[Any, ...]) -> Attitude:
         rates = None
         if w[8]:
             rates = Rates(Axes(w[9], w[10], w[11]), ImuRates(w[12], w[13], w[14]))
@@ -176,9 +124,10 @@ class AttitudeChannel:
     # ---- the reader ---------------------------------------------------------
     def take(self) -> Attitude | None:
         """The next sample without waiting (as base::RingReader::next)."""
-        if self._address == 0:
+        mapping = self._mapping
+        if mapping is None:
             return None
-        if self._from_first and self._published() > 0:
+        if self._from_first and mapping.published() > 0:
             self._from_first = False
             first = self._read(1)
             if first is not None:
@@ -186,14 +135,14 @@ class AttitudeChannel:
                 return self._attitude(first)
         lapped = False
         for _ in range(4):  # bounded: a writer stopped inside a slot never hangs us
-            newest = self._published()
+            newest = mapping.published()
             if newest <= self._cursor:
                 return None
             want = self._cursor + 1
             if self._cursor == 0:
                 want = newest
-            elif lapped or newest - self._cursor > self._slots:
-                want = max(self._cursor + 1, newest - self._slots // 2)
+            elif lapped or newest - self._cursor > mapping.slots:
+                want = max(self._cursor + 1, newest - mapping.slots // 2)
             words = self._read(want)
             if words is not None:
                 self.missed += 0 if self._cursor == 0 else want - self._cursor - 1
@@ -214,7 +163,7 @@ class AttitudeChannel:
         one comes or the channel closes); None on timeout or once closed."""
         deadline = None if timeout is None else time.monotonic() + timeout
         while True:
-            seen = self._wake_word() if self._address else 0
+            seen = self.relay()
             sample = self.take()
             if sample is not None:
                 return sample
@@ -223,41 +172,33 @@ class AttitudeChannel:
                 return None
             self.wait(seen, 1.0 if left is None else min(left, 1.0))
 
+    def relay(self) -> int:
+        """Loads the futex word and passes a new value on to this process's
+        other waiters (gportd wakes one per connection); returns the value."""
+        mapping = self._mapping
+        if mapping is None:
+            return 0
+        seen = mapping.wake_word()
+        mapping.relay(seen)
+        return seen
+
     def wait(self, seen: int, timeout: float) -> None:
         """Sleeps while the futex word still holds ``seen``, at most ``timeout`` s."""
-        if _SYS_FUTEX is None:
-            time.sleep(min(timeout, _POLL_SLICE))
-            return
-        whole = int(timeout)
-        span = _Timespec(whole, int((timeout - whole) * 1e9))
-        _libc.syscall(
-            ctypes.c_long(_SYS_FUTEX),
-            ctypes.c_void_p(self._address + _OFF_WAKE),
-            ctypes.c_int(_FUTEX_WAIT),
-            ctypes.c_uint32(seen),
-            ctypes.byref(span),
-            None,
-            ctypes.c_int(0),
-        )
+        mapping = self._mapping
+        if mapping is not None:
+            mapping.wait(seen, timeout)
 
     def wake(self) -> None:
-        """Wakes every waiter on the word (a read-only mapping is enough):
-        used to stop a thread blocked in next()."""
-        if _SYS_FUTEX is not None and self._address:
-            _libc.syscall(
-                ctypes.c_long(_SYS_FUTEX),
-                ctypes.c_void_p(self._address + _OFF_WAKE),
-                ctypes.c_int(_FUTEX_WAKE),
-                ctypes.c_int(2**31 - 1),
-                None,
-                None,
-                ctypes.c_int(0),
-            )
+        """Wakes every waiter of this process on the connection's word (a
+        read-only mapping is enough): used to stop a thread blocked in next()."""
+        mapping = self._mapping
+        if mapping is not None:
+            mapping.wake_all()
 
     def latest(self) -> Attitude | None:
         """The newest sample (next()'s cursor does not move); None before the first."""
         for _ in range(4):
-            words = self._read(self._published()) if self._address else None
+            words = self._read(self._published())
             if words is not None:
                 return self._attitude(words)
         return None
@@ -265,13 +206,12 @@ class AttitudeChannel:
     @property
     def closed(self) -> bool:
         """gportd stopped publishing (or close() was called)."""
-        return self._address == 0 or bool(self._u32(_OFF_FLAGS) & FLAG_CLOSED)
+        mapping = self._mapping
+        return mapping is None or mapping.closed()
 
     def close(self) -> None:
-        """Unmaps the block."""
-        if self._address:
-            _libc.munmap(ctypes.c_void_p(self._address), self._size)
-            self._address = 0
+        """Ends this reader; the blocks are unmapped once nobody holds them."""
+        self._mapping = None
 
     def __enter__(self) -> AttitudeChannel:
         return self
@@ -279,15 +219,13 @@ class AttitudeChannel:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def __del__(self) -> None:
-        self.close()
-
 
 class RingPump:
     """A thread that hands each new sample of a channel to ``deliver`` (the
     transparent ``subscribe(..., shared_memory=True)`` of both clients): it
-    sleeps on the futex and wakes once per sample. stop() wakes it, joins it
-    and unmaps the channel. The cost is this thread, in the client."""
+    sleeps on the connection's futex word, passes wakes on like any reader,
+    and wakes once per sample. stop() wakes it, joins it and ends the
+    channel. The cost is this thread, in the client."""
 
     def __init__(self, channel: AttitudeChannel, deliver: Callable[[Attitude], None]) -> None:
         self.channel = channel
@@ -307,7 +245,7 @@ class RingPump:
     def _pump(self) -> None:
         channel = self.channel
         while not self._stopping.is_set():
-            seen = channel._wake_word()
+            seen = channel.relay()
             sample = channel.take()
             if sample is not None:
                 try:

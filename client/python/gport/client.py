@@ -11,8 +11,9 @@ from contextlib import contextmanager
 from typing import Any, Generator, Iterable, Iterator, Mapping
 
 from . import _protocol as p
-from .channel import AttitudeChannel, RingPump
-from .errors import BadChannel, ConnectionLost, GportError, Timeout
+from . import _ring
+from .channel import AttitudeChannel, RingPump, channel_from
+from .errors import ConnectionLost, GportError, Timeout
 from .moving import Movement, quietly
 from .results import (
     AngleResult,
@@ -65,9 +66,12 @@ class Client:
         self._reader: threading.Thread | None = None
         self._alive = False
         self._refused: GportError | None = None
+        # attitude_channel requests awaiting their reply (two descriptors may
+        # come with each), and the descriptors each reply claimed
+        self._awaiting: set[int] = set()
+        self._claims: dict[int, list[int]] = {}
+        self._mapping: _ring.Mapping | None = None  # this connection's channel
         self._reason: str | None = None  # why the client ended the connection
-        # attitude_channel requests in flight -> the descriptor their reply claimed
-        self._claims: dict[int, int | None] = {}
         self._pump: RingPump | None = None
         self._shared_attitude = False
         self._open()
@@ -98,6 +102,8 @@ class Client:
             while True:
                 data, received = p.receive(sock)
                 fds.extend(received)
+                with self._cond:
+                    fds.keep(2 * len(self._awaiting))  # none nobody asked for
                 if not data:
                     break
                 for line in lines.feed(data):
@@ -129,12 +135,17 @@ class Client:
     def _dispatch(self, message: p.Message, fds: p.Descriptors) -> None:
         with self._cond:
             if isinstance(message, p.Reply):
-                if message.id in self._claims:  # its descriptor came with its first byte
-                    self._claims[message.id] = fds.claim()
+                if message.id in self._awaiting:  # its descriptors came with its first byte
+                    self._awaiting.discard(message.id)
+                    claimed = fds.take(p.announced_descriptors(message))
+                    if message.id in self._pending:
+                        self._claims[message.id] = claimed
+                    else:  # the caller gave up waiting
+                        for fd in claimed:
+                            p.close_quietly(fd)
+                    fds.keep(2 * len(self._awaiting))
                 if message.id in self._pending:
                     self._pending[message.id] = message
-                else:
-                    p.close_quietly(self._claims.pop(message.id, None))
             elif isinstance(message, p.Pushed):
                 self._inbox.put(message.topic, message.item)
             elif isinstance(message, p.Refused):
@@ -163,9 +174,12 @@ class Client:
         with self._cond:
             sock, self._sock, self._alive = self._sock, None, False
             self._pending.clear()
-            for fd in self._claims.values():
-                p.close_quietly(fd)
+            for fds in self._claims.values():
+                for fd in fds:
+                    p.close_quietly(fd)
             self._claims.clear()
+            self._awaiting.clear()
+            self._mapping = None  # a new connection gets new blocks
             self._cond.notify_all()
         if sock is not None:
             try:
@@ -222,7 +236,7 @@ class Client:
             request_id, sock = self._next_id, self._sock
             self._pending[request_id] = None
             if method == p.CHANNEL_METHOD:
-                self._claims[request_id] = None
+                self._awaiting.add(request_id)
         try:
             with self._write_lock:
                 taken = _write(sock, p.encode(request_id, method, params), limit)
@@ -236,7 +250,7 @@ class Client:
         if not taken:
             with self._cond:
                 self._pending.pop(request_id, None)
-                self._claims.pop(request_id, None)
+                self._awaiting.discard(request_id)
             self._end(sock, failure)  # a part of a line may have gone: the stream is unusable
             raise ConnectionLost(failure)
         return request_id
@@ -255,7 +269,7 @@ class Client:
                         break
                     self._cond.wait(left)
             finally:  # also when interrupted (Ctrl-C): a late reply is dropped
-                # A late reply's descriptor is closed by _dispatch (claim kept).
+                # A late reply's descriptors are closed by _dispatch.
                 self._pending.pop(request_id, None)
             if reply is None and not self._alive:
                 raise ConnectionLost(p.closed_message(self._refused, self._reason))
@@ -270,24 +284,23 @@ class Client:
 
     def attitude_channel(self) -> AttitudeChannel:
         """Opens gportd's shared-memory attitude channel (docs/api.md): a
-        read-only mapping of its ring of the latest samples. BadChannel when
-        the block fails its checks (the message names why)."""
+        read-only mapping of its ring of the latest samples and of this
+        connection's wake block, received with the connection's first
+        request and shared by every later one (each call gives a reader with
+        its own cursor). BadChannel when a block fails its checks (the
+        message names why)."""
         request_id = self._send(p.CHANNEL_METHOD, None, self.timeout)
-        answered = False
         try:
-            self._await_reply(request_id, p.CHANNEL_METHOD, self.timeout)
-            answered = True
-        finally:
+            result = self._await_reply(request_id, p.CHANNEL_METHOD, self.timeout)
+        except BaseException:
             with self._cond:
-                fd = self._claims.pop(request_id, None)
-            if not answered:
-                p.close_quietly(fd)
-        if fd is None:
-            raise BadChannel("attitude channel: the daemon's reply carried no file descriptor")
-        try:
-            return AttitudeChannel(fd)
-        finally:
-            os.close(fd)
+                for fd in self._claims.pop(request_id, []):
+                    p.close_quietly(fd)
+            raise
+        with self._cond:
+            fds = self._claims.pop(request_id, [])
+            channel, self._mapping = channel_from(result, fds, self._mapping)
+        return channel
 
     def attitude(self) -> Attitude:
         return parse_attitude(self.call("attitude"))

@@ -1,7 +1,9 @@
-// recvmsg with SCM_RIGHTS: gportd attaches a file descriptor to
-// `attitude_channel` replies (docs/api.md). The client library's transports,
-// the benchmarks and the tests read the socket with it and keep the
-// descriptors received in arrival order until claimed.
+// recvmsg with SCM_RIGHTS: gportd attaches the attitude channel's two
+// descriptors (the ring and the connection's wake block) to the first
+// `attitude_channel` reply of a connection (docs/api.md). The client
+// library's transports, the benchmarks and the tests read the socket with it
+// and keep the descriptors received in arrival order until claimed; a
+// client keeps no more than it asked for (keep_descriptors).
 #pragma once
 
 #include <sys/socket.h>
@@ -15,10 +17,10 @@
 
 namespace gport::base {
 
-// Descriptors accepted per recvmsg: gportd sends one per `attitude_channel`
-// result with the reply line that carries it, so a batch line carries up to
-// its 32 members' worth, and a Unix stream socket never hands over two lines'
-// descriptors in one read. The kernel would close any beyond (MSG_CTRUNC).
+// Descriptors accepted per recvmsg: gportd sends at most two per line (and
+// a Unix stream socket never hands over two lines' descriptors in one read);
+// the room for more only lets a client see, and close, what a hostile peer
+// sent. The kernel closes any beyond (MSG_CTRUNC).
 inline constexpr std::size_t kMaxDescriptors = 32;
 
 // One recvmsg (MSG_CMSG_CLOEXEC | flags) into `data`; the descriptors that
@@ -59,6 +61,19 @@ inline int take_descriptor(std::deque<int>& fds) noexcept {
     const int fd = fds.front();
     fds.pop_front();
     return fd;
+}
+
+// Closes the newest descriptors beyond the first `keep` (the ones nobody
+// asked for: a client keeps at most two per attitude_channel request
+// awaiting its reply). Returns how many it closed.
+inline std::size_t keep_descriptors(std::deque<int>& fds, std::size_t keep) noexcept {
+    std::size_t closed = 0;
+    while (fds.size() > keep) {
+        ::close(fds.back());
+        fds.pop_back();
+        ++closed;
+    }
+    return closed;
 }
 
 // Closes every descriptor nobody claimed.

@@ -1,8 +1,8 @@
 // Waiting on and waking a 32-bit word in shared memory (Linux futex(2)),
-// for the shared-memory attitude channel (attitude_ring.hpp). The word must
+// for the shared-memory attitude channel (wake_block.hpp). The word must
 // be in a MAP_SHARED mapping for waiters in other processes: these use the
 // shared (not _PRIVATE) futex operations. A read-only mapping is enough to
-// wait.
+// wait and to wake.
 #pragma once
 
 #include <linux/futex.h>
@@ -42,10 +42,17 @@ inline FutexWait futex_wait(const std::atomic<std::uint32_t>& word, std::uint32_
     }
 }
 
-// Wakes every waiter on `word`; returns how many were woken, or -1 (errno).
-inline long futex_wake_all(std::atomic<std::uint32_t>& word) {
-    return ::syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&word), FUTEX_WAKE, INT_MAX,
+// Wakes at most `count` waiters on `word`; returns how many were woken, or
+// -1 (errno). The kernel only reads the word's address: a read-only
+// mapping is enough.
+inline long futex_wake(const std::atomic<std::uint32_t>& word, int count) {
+    return ::syscall(SYS_futex, reinterpret_cast<const std::uint32_t*>(&word), FUTEX_WAKE, count,
                      nullptr, nullptr, 0);
+}
+
+// Wakes every waiter on `word`.
+inline long futex_wake_all(const std::atomic<std::uint32_t>& word) {
+    return futex_wake(word, INT_MAX);
 }
 
 static_assert(sizeof(std::atomic<std::uint32_t>) == sizeof(std::uint32_t));

@@ -9,17 +9,20 @@
 // most the call timeout (kDefaultCallTimeout unless set).
 //
 // The socket is read with recvmsg: file descriptors gportd attaches to a
-// reply (SCM_RIGHTS, only with `attitude_channel` results) are kept in
-// arrival order until take_descriptor() claims them; close() closes the
-// unclaimed ones.
+// reply (SCM_RIGHTS, only with a connection's first `attitude_channel`
+// result) are kept in arrival order, at most two per attitude_channel
+// request awaiting its reply; any others (with notifications, other
+// replies, or more than announced) are closed at once.
 //
 // Internal to the project (not installed): its symbols are exported from
 // libgport-client for gportctl, but its interface may change in any release.
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -31,6 +34,8 @@
 #include "gport/client/lines.hpp"
 
 namespace gport::client {
+
+class ChannelMapping;
 
 class GPORT_CLIENT_API Connection {
   public:
@@ -64,16 +69,18 @@ class GPORT_CLIENT_API Connection {
         const std::string& method, const nlohmann::json& params,
         const std::function<void(const nlohmann::json&)>& on_notification = {});
 
-    // Calls `attitude_channel` and maps the descriptor of its reply
-    // (AttitudeChannel); throws Error: the daemon's, kBadReply for a block
-    // that fails its checks or a reply without a descriptor, kTransport
-    // when the connection is lost.
+    // Calls `attitude_channel` and maps the descriptors of its reply
+    // (AttitudeChannel), or shares the mapping this connection already has
+    // ("descriptors":0); throws Error: the daemon's, kBadReply for a block
+    // that fails its checks or a reply without the descriptors it
+    // announced, kTransport when the connection is lost.
     AttitudeChannel attitude_channel(
         const std::function<void(const nlohmann::json&)>& on_notification = {});
-
-    // The oldest received descriptor not yet claimed (the caller owns it),
-    // or -1 when none waits.
-    int take_descriptor() noexcept;
+    // The same in two steps, for a caller that makes the call itself:
+    // expect_channel() before sending the request (two descriptors may then
+    // be kept for its reply), channel_from() with the whole reply.
+    void expect_channel() noexcept { ++channel_requests_; }
+    AttitudeChannel channel_from(const nlohmann::json& reply);
 
     // A descriptor (not owned; -1: none) that read() also polls: when it is
     // readable, read() returns kWoken.
@@ -114,6 +121,8 @@ class GPORT_CLIENT_API Connection {
     detail::LineReader lines_;
     bool closed_ = false;
     std::deque<int> descriptors_;
+    std::size_t channel_requests_ = 0;         // attitude_channel requests awaiting their reply
+    std::shared_ptr<ChannelMapping> channel_;  // this connection's channel, once received
     int watched_ = -1;
     std::optional<std::chrono::milliseconds> call_timeout_ = kDefaultCallTimeout;
     std::string failure_;

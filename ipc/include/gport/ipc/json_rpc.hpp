@@ -93,6 +93,8 @@ struct ServerStats {
     std::size_t clients = 0;
     std::uint64_t dropped_notifications = 0;   // over all clients since start
     std::size_t attitude_channel_clients = 0;  // connected clients that opened the channel
+    // Channels not made or descriptors not sent (EMFILE, ETOOMANYREFS...) since start.
+    std::uint64_t attitude_channel_failures = 0;
 };
 
 // The shared-memory attitude channel as the attitude_channel method reports it.
@@ -101,6 +103,9 @@ struct ChannelInfo {
     std::uint32_t slots = 0;
     std::size_t size = 0;         // bytes of the block
     std::uint64_t published = 0;  // n of the newest sample, 0 if none
+    // Descriptors that go with this reply: 2 (the ring and the connection's
+    // wake block) on a connection's first request, 0 on later ones.
+    std::size_t descriptors = 0;
 };
 
 // What the attitude_channel method needs from the transport, which owns the
@@ -109,8 +114,11 @@ struct ChannelInfo {
 class ChannelHost {
   public:
     // Makes the channel on first use and counts `client` among its readers
-    // (sets client.attitude_channel); the error says why it cannot be made.
-    virtual std::variant<ChannelInfo, std::string> open_attitude_channel(ClientState& client) = 0;
+    // (sets client.attitude_channel), with a wake block of its own; the
+    // error says why it cannot be made. `deliver`: the reply will be sent,
+    // so it may carry the descriptors (false for a notification).
+    virtual std::variant<ChannelInfo, std::string> open_attitude_channel(ClientState& client,
+                                                                         bool deliver) = 0;
 
   protected:
     ChannelHost() = default;
@@ -119,8 +127,9 @@ class ChannelHost {
     ChannelHost& operator=(const ChannelHost&) = default;
 };
 
-// A reply line, and how many copies of the attitude channel's descriptor
-// travel with its first byte (one per attitude_channel result in it).
+// A reply line, and how many descriptors travel with its first byte: the
+// attitude channel's two (ring, wake block) when an attitude_channel result
+// in it has "descriptors":2, else none.
 struct ReplyLine {
     std::string text;
     std::size_t descriptors = 0;

@@ -32,6 +32,7 @@
 
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
+#include "gport/daemon/core/repeat_limiter.hpp"
 #include "gport/ipc/json_rpc.hpp"
 #include "gport/ipc/session_host.hpp"
 
@@ -74,7 +75,9 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     // Bytes queued for all clients together (outboxes and writes in flight).
     std::size_t queued_bytes() const { return queued_bytes_; }
     // Connected clients that opened the shared-memory attitude channel.
-    std::size_t attitude_channel_clients() const { return channel_clients_; }
+    std::size_t attitude_channel_clients() const;
+    // Channels or descriptors that could not be made or sent, since start.
+    std::uint64_t attitude_channel_failures() const { return channel_failures_; }
 
     // The memory budget across all sessions (SessionHost::account).
     static constexpr std::size_t kQueuedBudget = 8 * 1024 * 1024;
@@ -96,10 +99,12 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     void account(std::size_t before, std::size_t after) override;
     bool over_budget() const override { return queued_bytes_ > kQueuedBudget; }
     bool holds_control_or_motion(const daemon::ClientInfo& client) const override;
-    int attitude_channel_fd() const override;
+    std::array<int, 2> channel_descriptors(const daemon::ClientInfo& client) const override;
+    void channel_delivered(const daemon::ClientInfo& client, int error) override;
 
     // ChannelHost: the attitude_channel method.
-    std::variant<ChannelInfo, std::string> open_attitude_channel(ClientState& client) override;
+    std::variant<ChannelInfo, std::string> open_attitude_channel(ClientState& client,
+                                                                 bool deliver) override;
 
     void accept();
     void on_accept_error(const boost::system::error_code& error);
@@ -107,6 +112,7 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     std::optional<std::string> admission(const daemon::ClientInfo& client, bool& asked_core);
     void reject(boost::asio::local::stream_protocol::socket socket, const std::string& why);
     void fit_descriptor_limit();
+    void channel_failed(const daemon::ClientInfo& client, const std::string& why);
     void trim_memory();
     template <typename F>
     void for_each_session(F&& visit);
@@ -121,7 +127,10 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     boost::asio::local::stream_protocol::acceptor acceptor_;
     std::unique_ptr<Dispatcher> dispatcher_;
     std::unique_ptr<detail::AttitudeChannel> channel_;
-    std::size_t channel_clients_ = 0;  // connected clients that opened it: wakes only then
+    // Exhaustion of descriptors or memory for the channel: counted, and
+    // logged once, then as a summary at most once a minute.
+    std::uint64_t channel_failures_ = 0;
+    daemon::RepeatLimiter channel_failure_log_{std::chrono::minutes(1)};
     std::unordered_map<std::uint64_t, std::shared_ptr<Session>> sessions_;
     // Sessions that closed while the map was being walked; erased afterwards.
     std::vector<std::uint64_t> closed_ids_;

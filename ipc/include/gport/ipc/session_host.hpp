@@ -3,6 +3,7 @@
 // includes server.hpp); the Server implements it, tests may fake it.
 #pragma once
 
+#include <array>
 #include <cstddef>
 
 namespace spdlog {
@@ -47,9 +48,13 @@ class SessionHost {
     // A client that holds control or owns a motion is never closed as idle.
     virtual bool holds_control_or_motion(const daemon::ClientInfo& client) const = 0;
 
-    // The shared-memory attitude channel's descriptor, sent with the replies
-    // to attitude_channel (-1 while it does not exist).
-    virtual int attitude_channel_fd() const = 0;
+    // The shared-memory attitude channel's descriptors for `client` (the
+    // ring, its wake block), sent with the reply that says "descriptors":2;
+    // -1s when there are none.
+    virtual std::array<int, 2> channel_descriptors(const daemon::ClientInfo& client) const = 0;
+    // That reply went out (error 0), or sendmsg refused the descriptors
+    // (errno; the reply became -32603 and the next request sends them again).
+    virtual void channel_delivered(const daemon::ClientInfo& client, int error) = 0;
 
   protected:
     SessionHost() = default;
