@@ -5,13 +5,13 @@
 // it (wake_block.hpp), whose futex word only that connection can wait on.
 //
 //   AttitudeChannel channel;
-//   auto opened = channel.open_for(id);  // the descriptors to send now (2 or 0), or why not
-//   channel.descriptors(id);              // {ring, wake block}: sent with the reply's first byte
-//   channel.delivered(id, error);         // 0: sent (gportd forgets its wake fd); else resend next
-//   time channel.publish(sample);              // every 0x87 sample, then channel.wake(); // one
-//   bump and FUTEX_WAKE(1) per reader connection channel.forget(id);                   // the
-//   connection closed: its block is never touched again channel.close();                      // on
-//   shutdown: closed flag, then a last wake per reader
+//   auto opened = channel.open_for(id);  // descriptors to send now (2 or 0), or why not
+//   channel.descriptors(id);             // {ring, wake block}, with the reply's first byte
+//   channel.delivered(id, error);        // 0: sent; else they go with the next reply
+//   channel.publish(sample);             // every 0x87 sample, then
+//   channel.wake();                      // one bump and FUTEX_WAKE(1) per reader
+//   channel.forget(id);                  // closed: its block is never touched again
+//   channel.close();                     // shutdown: closed flag, a last wake per reader
 //
 // The blocks are mapped read-write here and sealed afterwards (F_SEAL_SHRINK,
 // F_SEAL_GROW, F_SEAL_FUTURE_WRITE, F_SEAL_SEAL): these mappings keep writing,
