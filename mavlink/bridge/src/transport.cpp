@@ -36,7 +36,8 @@ class UdpTransport final : public Transport {
         const udp::endpoint where(address, static_cast<unsigned short>(e.number));
         socket_.open(where.protocol());
         if (listening_) {
-            socket_.set_option(udp::socket::reuse_address(true));
+            // No SO_REUSEADDR: with it on both sockets, another uid could bind
+            // the same address and take every datagram (transport.hpp).
             socket_.bind(where, ec);
             if (ec) {
                 throw std::runtime_error(to_string(e) + ": cannot bind: " + ec.message());

@@ -1,10 +1,12 @@
 // gport-mavlink's MAVLink side: one UDP socket or a serial port, read into a
 // fixed buffer (bounded work per read).
 //
-//   udpin   bound to ADDR:PORT. Replies go to the PEER: the sender of the
-//           last datagram that held a frame the bridge ACCEPTED (signature
-//           and trust rules passed; accept_sender()), never to whoever
-//           merely sends a datagram. Until one is accepted, nothing is sent.
+//   udpin   bound to ADDR:PORT, exclusively (no SO_REUSEADDR: nobody else,
+//           whatever their uid, can bind it beside us). Replies go to the
+//           PEER: the sender of the last datagram that held a frame the
+//           bridge ACCEPTED (signature and trust rules passed;
+//           accept_sender()), never to whoever merely sends a datagram.
+//           Until one is accepted, nothing is sent.
 //   udpout  sends to ADDR:PORT from an ephemeral port, the socket
 //           connect()ed to it, so the kernel drops datagrams from anyone
 //           else.
