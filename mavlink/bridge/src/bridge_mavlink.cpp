@@ -236,6 +236,10 @@ void Bridge::send(const Message& message, const Origin& to) {
     if (!transport_ || (!trust_.vehicle() && !heartbeat)) {
         return;
     }
+    if (!transport_->can_send(to)) {
+        transport_->count_unsent();  // before signing: no timestamp spent on it
+        return;
+    }
     const Header header{seq_++, trust_.vehicle().value_or(kProvisionalSysid), options_.compid};
     Frame frame = encode(message, header, signing_ != nullptr);
     if (signing_) {

@@ -35,8 +35,24 @@ Result<std::unique_ptr<SigningSession>> SigningSession::open(SecretKey key,
     const std::uint64_t now = now_timestamp();
     std::unique_ptr<SigningSession> session(
         new SigningSession(std::move(key), std::move(file), *stored, now, log));
-    if (auto error = session->reserve(session->clock_.current())) {
+    // The exact start value: checks that the file can be written, without
+    // reserving anything before a frame is sent.
+    const std::uint64_t start = session->clock_.current();
+    if (auto error = session->file_.save(start)) {
+        session->closed_ = true;
         return *error;
+    }
+    session->reserved_ = start;
+    if (*stored > now + kAheadWarning) {
+        spdlog::warn(
+            "signing: the stored timestamp {} in {} is {:.0f} s ahead of this machine's clock: "
+            "until the clock catches up, a peer whose clock is right starts its streams more "
+            "than a minute behind ours and is refused as \"too old\". Is the clock right? (If "
+            "it is, the value came from a peer's clock or an old bug; removing the file while "
+            "gport-mavlink is stopped makes peers that saw our earlier frames refuse the next "
+            "ones as replays until they restart.)",
+            *stored, session->file_.path(),
+            static_cast<double>(*stored - now) / kTimestampsPerSecond);
     }
     spdlog::info(
         "signing: on (link id {}); only correctly signed frames are taken; outgoing timestamps "
@@ -124,8 +140,19 @@ void SigningSession::sign(Frame& frame) {
 }
 
 void SigningSession::close() {
+    if (closed_) {
+        return;
+    }
+    closed_ = true;
     if (auto error = file_.save(clock_.current())) {
         spdlog::warn("signing: {}", error->message);
+    }
+}
+
+SigningSession::~SigningSession() {
+    try {
+        close();
+    } catch (...) {  // NOLINT(bugprone-empty-catch): nothing to do at exit
     }
 }
 

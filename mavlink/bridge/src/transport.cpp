@@ -110,7 +110,9 @@ class UdpTransport final : public Transport {
         }
     }
 
-    bool has_peer() const override { return peer_.has_value(); }
+    bool can_send(const Origin& to) const override {
+        return !listening_ || to.has_value() || peer_.has_value();
+    }
 
   private:
     void read() {
@@ -173,8 +175,6 @@ class SerialTransport final : public Transport {
             ++send_failures_;
         }
     }
-
-    bool has_peer() const override { return true; }
 
   private:
     void read() {

@@ -54,8 +54,16 @@ class Transport {
     // Called while a chunk is delivered, for a frame in it that was
     // accepted: udpin makes its sender the peer; nothing for the others.
     virtual void accept_sender() {}
-    // True once there is a peer to send to.
-    virtual bool has_peer() const = 0;
+    // True when a frame for `to` (a reply's origin, or empty: the peer)
+    // would go out: false for udpin before the first accepted frame. The
+    // Bridge asks before it signs, so that no timestamp is spent (and
+    // reserved in the timestamp file) on a frame that is not sent.
+    virtual bool can_send(const Origin& to) const {
+        (void)to;
+        return true;
+    }
+    // Counts a frame dropped for want of a peer (can_send() said no).
+    void count_unsent() { ++unsent_; }
     std::uint64_t send_failures() const { return send_failures_; }
     std::uint64_t unsent() const { return unsent_; }
 
