@@ -77,11 +77,11 @@ void Bridge::finish() {
         signing_->close();
     }
     spdlog::info(
-        "mavlink: {} frames taken, {} refused by the trust rules ({} senders logged{}), "
-        "{} signed without a key, {} undecodable; decoder: {} bad CRC, {} bad length, {} unknown "
-        "flags, {} MAVLink 1; signing: {}; {} frames unsent (no peer yet), {} send failures",
-        counters_.accepted, counters_.untrusted, strangers_.listed(),
-        strangers_.unlisted() > 0 ? ", more not" : "", counters_.signed_no_key,
+        "mavlink: {} frames taken, {} refused by the trust rules, {} ground-station heartbeats "
+        "(not used), {} signed without a key, {} undecodable; decoder: {} bad CRC, {} bad "
+        "length, {} unknown flags, {} MAVLink 1; signing: {}; {} frames unsent (no peer yet), {} "
+        "send failures",
+        counters_.accepted, counters_.untrusted, counters_.gcs_heartbeats, counters_.signed_no_key,
         counters_.undecodable, d.crc_errors, d.length_errors, d.header_errors, d.v1_frames, signing,
         transport_ ? transport_->unsent() : 0, transport_ ? transport_->send_failures() : 0);
 }

@@ -11,8 +11,6 @@
 #include <string>
 #include <vector>
 
-#include "gport/mavlink/bridge/log_limit.hpp"
-
 namespace gport::mavlink::bridge {
 
 namespace {
@@ -27,7 +25,7 @@ std::string text_of(const udp::endpoint& e) {
 class UdpTransport final : public Transport {
   public:
     UdpTransport(asio::io_context& io, const Endpoint& e)
-        : socket_(io), listening_(e.kind == Endpoint::Kind::kUdpIn), peers_(kLoggedPeers) {
+        : socket_(io), listening_(e.kind == Endpoint::Kind::kUdpIn) {
         boost::system::error_code ec;
         const auto address = asio::ip::make_address(e.address, ec);
         if (ec) {
@@ -89,25 +87,12 @@ class UdpTransport final : public Transport {
 
     Origin origin() const override { return listening_ ? Origin(sender_) : std::nullopt; }
 
-    void accept_sender() override {
+    std::optional<std::string> accept_sender() override {
         if (!listening_ || (peer_ && *peer_ == sender_)) {
-            return;
+            return std::nullopt;
         }
         peer_ = sender_;
-        switch (peers_.see(sender_)) {
-            case FirstSightings<udp::endpoint>::Sighting::kNew:
-                spdlog::info("mavlink: replying to {} (it sent an accepted frame)",
-                             text_of(sender_));
-                break;
-            case FirstSightings<udp::endpoint>::Sighting::kOverflow:
-                spdlog::info(
-                    "mavlink: replying to {}; {} peers seen, further peer changes "
-                    "are not logged",
-                    text_of(sender_), kLoggedPeers + 1);
-                break;
-            default:
-                break;
-        }
+        return text_of(sender_);
     }
 
     bool can_send(const Origin& to) const override {
@@ -138,7 +123,6 @@ class UdpTransport final : public Transport {
     udp::endpoint sender_;
     std::optional<udp::endpoint> last_sender_;
     std::optional<udp::endpoint> peer_;
-    FirstSightings<udp::endpoint> peers_;
     std::array<std::uint8_t, kReadSize> buffer_{};
     Receiver receive_;
 };

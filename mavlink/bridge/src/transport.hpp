@@ -20,6 +20,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 
 #include "gport/mavlink/bridge/options.hpp"
 
@@ -52,8 +53,10 @@ class Transport {
     // The origin of the chunk being delivered (valid during the callback).
     virtual Origin origin() const { return std::nullopt; }
     // Called while a chunk is delivered, for a frame in it that was
-    // accepted: udpin makes its sender the peer; nothing for the others.
-    virtual void accept_sender() {}
+    // accepted: udpin makes its sender the peer and, when that changed the
+    // peer, returns the new one ("ADDR:PORT") for the Bridge to log;
+    // nothing for the others.
+    virtual std::optional<std::string> accept_sender() { return std::nullopt; }
     // True when a frame for `to` (a reply's origin, or empty: the peer)
     // would go out: false for udpin before the first accepted frame. The
     // Bridge asks before it signs, so that no timestamp is spent (and
@@ -68,8 +71,6 @@ class Transport {
     std::uint64_t unsent() const { return unsent_; }
 
     static constexpr std::size_t kReadSize = 2048;
-    // Peers logged by address; after this many, changes are not logged.
-    static constexpr std::size_t kLoggedPeers = 16;
 
   protected:
     std::uint64_t send_failures_ = 0;

@@ -13,6 +13,9 @@
 // 2. Without a signing key, a local process claiming system 1 is obeyed
 //    and becomes the reply peer: what the documentation says remains
 //    (every local user is trusted); its takeover is logged.
+//    Cycling source ports (20, past the old lifetime cap of 16 logged
+//    peers) to take the peer: every change is still named (10 a minute)
+//    or counted in the summary.
 // 3. udpout's connected socket: the same spoof, sent to the bridge's port
 //    from anywhere but the configured peer, is dropped by the kernel.
 const fs = require('fs');
@@ -41,6 +44,25 @@ s.bind(Number(port), address, () => {
   const timer = setInterval(() => { if (list.length) s.send(list[i++ % list.length], Number(target), '127.0.0.1'); }, 20);
   setTimeout(() => { clearInterval(timer); console.log(JSON.stringify({ received })); process.exit(0); }, Number(ms));
 });`;
+
+// The cycler: from COUNT fresh sockets in turn, sends FRAMES to
+// 127.0.0.1:TARGET; prints {"ports": [...]}.
+const CYCLER = `
+const dgram = require('dgram');
+const [target, frames, count] = process.argv.slice(1);
+const list = frames.split(',').map((x) => Buffer.from(x, 'hex'));
+const ports = [];
+(async () => {
+  for (let i = 0; i < Number(count); i += 1) {
+    const s = dgram.createSocket('udp4');
+    await new Promise((r) => s.bind(0, '127.0.0.1', r));
+    ports.push(s.address().port);
+    for (const f of list) await new Promise((r) => s.send(f, Number(target), '127.0.0.1', r));
+    await new Promise((r) => setTimeout(r, 30));
+    s.close();
+  }
+  console.log(JSON.stringify({ ports }));
+})();`;
 
 const root = process.getuid() === 0;
 const who = root ? 'uid 65534' : 'the same uid (not root: no second uid to try)';
@@ -119,6 +141,14 @@ async function spoofing(bridge, port) {
   check(moved && got > 0,
     `without a key a local process claiming system 1 is obeyed and answered (documented: every local user is trusted): moved ${moved}, ${got} datagrams`);
   check(logged.length >= 1, `its takeover of the reply peer is logged: ${logged[0]}`);
+  // 2b. Cycling 20 source ports, each sending an accepted heartbeat.
+  const wrap = root ? ['setpriv', '--reuid=65534', '--regid=65534', '--clear-groups', '--'] : [];
+  const argv = [...wrap, process.execPath, '-e', CYCLER, String(port),
+    forger.frame(heartbeat()).toString('hex'), '20'];
+  const cycler = h.start(workRoot, 'cycler', argv[0], argv.slice(1));
+  await cycler.exited;
+  const cycled = JSON.parse(cycler.lines.find((l) => l.includes('ports'))).ports;
+  check(cycled.length === 20, `${who} sent an accepted heartbeat from 20 ports in turn`);
   vehicle.close();
   forger.close();
 }
@@ -155,6 +185,13 @@ async function main() {
   bridge.kill('SIGTERM');
   const exit = await bridge.exited;
   check(exit.code === 0, `gport-mavlink exits 0 on SIGTERM (${exit.code} ${exit.signal})`);
+  // Every peer change named (at most 10 a minute) or counted; nothing lost.
+  const named = bridge.lines.filter((l) => /replying to/.test(l)).length;
+  const counted = bridge.lines.map((l) => /reply peer changed: (\d+) more/.exec(l)).filter((m) => m)
+    .reduce((n, m) => n + Number(m[1]), 0);
+  figures.push(`reply peer changes: ${named} named, ${counted} counted`);
+  check(named <= 10 && named + counted >= 22,
+    `peer changes past the old cap of 16 are still accounted for: ${named} named (10 a minute at most) + ${counted} counted >= 22`);
   await connected();
   h.finish(workRoot, [sim, gportd]);
 }
