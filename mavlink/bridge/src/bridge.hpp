@@ -123,6 +123,11 @@ class Bridge {
     // an older one (a 50 Hz stream never queues up).
     bool motion_in_flight_ = false;
     std::optional<Command> motion_pending_;
+    // One camera call (photo, record) to gportd at a time; a camera command
+    // arriving meanwhile is answered TEMPORARILY_REJECTED: a flood of them
+    // cannot use up gportd's request budget (the autopilot's angles) or
+    // grow the pending calls.
+    bool camera_in_flight_ = false;
 
     // What was refused, for the log at exit.
     struct Counters {

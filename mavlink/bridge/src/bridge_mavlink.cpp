@@ -178,9 +178,23 @@ void Bridge::camera(const Requester& from, const CommandLong& command) {
         ack(from, command.command, mav_result::kTemporarilyRejected);
         return;
     }
+    if (camera_in_flight_) {
+        log_.warn("camera command rejected: another in flight", [&] {
+            return fmt::format(
+                "mavlink: camera command {} from system {} component {} answered "
+                "TEMPORARILY_REJECTED: the previous camera command is still with gportd (one "
+                "at a time)",
+                command.command, from.header.sysid, from.header.compid);
+        });
+        ack(from, command.command, mav_result::kTemporarilyRejected);
+        return;
+    }
+    camera_in_flight_ = true;  // cleared by the call's completion (gportd
+                               // completes every pending call, on disconnect too)
     const std::uint16_t cmd = command.command;
     if (cmd == mav_cmd::kImageStartCapture) {
         gportd_.async_photo([this, from, cmd](std::optional<client::Error> e, client::Done) {
+            camera_in_flight_ = false;
             if (e) {
                 log_.warn("gportd refused photo", "gportd refused photo: " + e->message());
             }
@@ -204,6 +218,7 @@ void Bridge::record(const Requester& from, std::uint16_t cmd, bool on, bool forc
                 record(from, cmd, on, true);
                 return;
             }
+            camera_in_flight_ = false;
             if (e) {
                 log_.warn("gportd refused record", fmt::format("gportd refused record {}: {}",
                                                                on ? "on" : "off", e->message()));

@@ -99,6 +99,32 @@ async function main() {
   const photo = await until(() => h.cameraFrames(t0).find((f) => f.j.action === 'photo'), 5000, 'a photo frame').catch(() => null);
   check(ack && ack.data.result === 0 && photo, `ground station 255: photo ACK ${ack && ack.data.result}, camera frame ${photo && photo.j.action}`);
 
+  // 4b. A camera-command flood (100 photos at once, from a trusted sender or,
+  //     without a key, anyone claiming 255): one call in flight at gportd,
+  //     the others answered TEMPORARILY_REJECTED (1); the vehicle's angles
+  //     still get through (gportd's request budget is not used up).
+  t0 = Date.now();
+  for (let i = 0; i < 100; i += 1) {
+    gcs.send(commandLong(PHOTO));
+    if (i % 25 === 24) await sleep(5);
+  }
+  await until(() => gcs.since(t0, 'COMMAND_ACK').filter((r) => r.data.command === PHOTO).length >= 100, 10000,
+    '100 photo ACKs').catch(() => null);
+  const acks = gcs.since(t0, 'COMMAND_ACK').filter((r) => r.data.command === PHOTO);
+  const accepted = acks.filter((r) => r.data.result === 0).length;
+  const busy = acks.filter((r) => r.data.result === 1).length;
+  await sleep(500);
+  const photos = h.cameraFrames(t0).filter((f) => f.j.action === 'photo').length;
+  figures.push(`100 photo commands at once: ${acks.length} ACKs, ${accepted} accepted, ${busy} temporarily rejected, ${photos} photos at the gimbal`);
+  check(acks.length === 100 && accepted + busy === 100 && busy >= 20 && accepted >= 1,
+    `a flood of 100 photo commands: every one answered (${acks.length}), ${accepted} accepted, ${busy} TEMPORARILY_REJECTED`);
+  check(photos === accepted, `only the accepted ones reach the gimbal: ${photos} photos for ${accepted} accepted`);
+  check(linesMatching(bridge, /answered TEMPORARILY_REJECTED/).length === 1, 'the rejections are logged once (then counted)');
+  t0 = Date.now();
+  await flood(vehicle, 50, 400, () => setAttitude({ q: toQuaternion(0, -30, 0) }));
+  check(await until(() => h.angleFrames(t0, [0, -30, 0]).length > 0, 5000, 'the angle after the flood').catch(() => false),
+    "after the flood the vehicle's angle still reaches the gimbal");
+
   // 5. Bounded logs: 40 rogue system ids make no new line (one a minute,
   //    then a count; section 1 wrote this minute's), 1,000
   //    bad quaternions from the vehicle make one warning.
