@@ -77,8 +77,10 @@ std::uint64_t SendClock::next(std::uint64_t now) {
     return last_;
 }
 
-void SendClock::observe(std::uint64_t accepted) {
-    last_ = std::min(std::max(last_, accepted), kMaxTimestamp);
+bool SendClock::observe(std::uint64_t accepted, std::uint64_t now) {
+    const std::uint64_t limit = std::min(now, kMaxTimestamp - kMaxLead) + kMaxLead;
+    last_ = std::max(last_, std::min(accepted, limit));
+    return accepted <= limit;
 }
 
 std::optional<SignatureBlock> signature_block_of(std::span<const std::uint8_t> frame) {

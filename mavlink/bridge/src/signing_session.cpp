@@ -43,7 +43,13 @@ Result<std::unique_ptr<SigningSession>> SigningSession::open(SecretKey key,
         return *error;
     }
     session->reserved_ = start;
-    if (*stored > now + kAheadWarning) {
+    if (session->clock_.saturated()) {
+        spdlog::error(
+            "signing: the stored timestamp in {} is saturated at 2^48 - 1: every frame will "
+            "repeat it and receivers take only the first. If this machine's clock is right, "
+            "stop gport-mavlink, remove the file and start it again",
+            session->file_.path());
+    } else if (*stored > now + kAheadWarning) {
         spdlog::warn(
             "signing: the stored timestamp {} in {} is {:.0f} s ahead of this machine's clock: "
             "until the clock catches up, a peer whose clock is right starts its streams more "
@@ -79,7 +85,16 @@ bool SigningSession::admit(const FrameView& frame) {
     const Verdict verdict = verifier_.check(frame.bytes, local);
     ++counts_[static_cast<std::size_t>(verdict.check)];
     if (verdict.check == SignatureCheck::kAccepted) {
-        clock_.observe(verdict.timestamp);
+        if (!clock_.observe(verdict.timestamp, now_timestamp())) {
+            log_.note(spdlog::level::err, "signing: a peer's timestamp is over a day ahead", [&] {
+                return fmt::format(
+                    "signing: {} carries timestamp {}, more than a day ahead of our clock: "
+                    "ours is raised to a day ahead at most (not further, or it could saturate "
+                    "at 2^48 - 1 and repeat one timestamp for good); is that sender's clock, "
+                    "or this machine's, wrong?",
+                    describe(frame), verdict.timestamp);
+            });
+        }
         return true;
     }
     report(verdict.check, frame, verdict);
@@ -128,6 +143,15 @@ void SigningSession::report(SignatureCheck check, const FrameView& frame, const 
 
 void SigningSession::sign(Frame& frame) {
     const std::uint64_t timestamp = clock_.next(now_timestamp());
+    if (clock_.saturated()) {
+        log_.note(spdlog::level::err, "signing: timestamp saturated", [&] {
+            return fmt::format(
+                "signing: the outgoing timestamp is saturated at 2^48 - 1: every frame repeats "
+                "it and receivers take only the first. If this machine's clock is right, stop "
+                "gport-mavlink, remove {} and start it again",
+                file_.path());
+        });
+    }
     if (timestamp + kHeadroom > reserved_) {
         if (auto error = reserve(timestamp)) {
             log_.warn("signing: timestamp not saved",

@@ -69,18 +69,31 @@ std::uint64_t signing_timestamp(std::chrono::system_clock::time_point time);
 // The timestamp of a node's outgoing frames: each at least one more than the
 // previous one, kept up with the clock (so that receivers that restart, and
 // apply the one-minute rule to our new stream, accept it), raised to any
-// greater timestamp accepted from the network (the specification's rule),
-// and never below `floor`, the persisted value every earlier one stayed
-// under (the start is max(clock, persisted)). Saturates at 48 bits.
+// greater timestamp accepted from the network (the specification's rule)
+// but never above now + kMaxLead by it, and never below `floor`, the
+// persisted value every earlier one stayed under (the start is max(clock,
+// persisted)). Saturates at 48 bits: then every frame carries the same
+// timestamp and receivers take only the first (saturated() says so).
+//
+// Why the cap: one accepted frame from a key holder with a wrong clock (or
+// a timestamp of 2^48 - 1) would otherwise drag our clock there for good
+// (it is persisted): saturated, every frame repeats the last timestamp.
 class SendClock {
   public:
+    // How far ahead of our clock a peer's timestamp may pull ours: a day.
+    static constexpr std::uint64_t kMaxLead = 24ULL * 3600 * kTimestampsPerSecond;
+
     SendClock(std::uint64_t floor, std::uint64_t now);
     // The timestamp for the next frame: max(previous + 1, now).
     std::uint64_t next(std::uint64_t now);
-    // A correctly signed incoming frame's timestamp: ours if greater.
-    void observe(std::uint64_t accepted);
+    // A correctly signed incoming frame's timestamp: ours if greater, but
+    // not above now + kMaxLead. False when it was capped (the peer's clock
+    // is more than a day ahead of ours).
+    bool observe(std::uint64_t accepted, std::uint64_t now);
     // The greatest timestamp issued or observed so far.
     std::uint64_t current() const { return last_; }
+    // At 2^48 - 1: every frame now repeats the same timestamp.
+    bool saturated() const { return last_ >= kMaxTimestamp; }
 
   private:
     std::uint64_t last_;
