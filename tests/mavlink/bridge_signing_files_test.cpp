@@ -122,7 +122,10 @@ TEST_F(SigningFiles, TimestampRoundTripAndFirstStart) {
     EXPECT_EQ(*file.load(), 123456789U);
     ASSERT_FALSE(file.save(kMaxTimestamp));
     EXPECT_EQ(*file.load(), kMaxTimestamp);
-    EXPECT_FALSE(fs::exists(file.path() + ".new"));
+    // Only the file itself: the unique temporary files are renamed or removed.
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+        EXPECT_EQ(entry.path(), fs::path(file.path())) << "left behind: " << entry.path();
+    }
     EXPECT_EQ(fs::status(file.path()).permissions() & fs::perms::others_all, fs::perms::none);
 }
 
@@ -136,6 +139,33 @@ TEST_F(SigningFiles, AMalformedTimestampFileStopsTheStart) {
     }
     std::ofstream(file.path(), std::ios::trunc) << " 42\n";
     EXPECT_EQ(*file.load(), 42U);
+}
+
+// Two processes sharing a state directory would overwrite each other's
+// timestamp (one's sent timestamps above the other's file): the second is
+// refused, naming the directory and what to do. flock locks belong to the
+// open file description, so two objects in one process conflict the same.
+TEST_F(SigningFiles, ASecondUserOfTheStateDirectoryIsRefused) {
+    TimestampFile first(dir_.string());
+    ASSERT_FALSE(first.lock());
+    TimestampFile second(dir_.string());
+    const auto error = second.lock();
+    ASSERT_TRUE(error);
+    EXPECT_NE(error->message.find(dir_.string()), std::string::npos) << error->message;
+    EXPECT_NE(error->message.find("in use by another process"), std::string::npos);
+    EXPECT_NE(error->message.find("--state-dir"), std::string::npos);
+    {
+        TimestampFile moved(std::move(first));  // the lock moves with the object
+        EXPECT_TRUE(second.lock());
+    }
+    EXPECT_FALSE(second.lock()) << "released when its holder is gone";
+}
+
+TEST_F(SigningFiles, AMissingStateDirectoryCannotBeLocked) {
+    TimestampFile file((dir_ / "absent").string());
+    const auto error = file.lock();
+    ASSERT_TRUE(error);
+    EXPECT_NE(error->message.find("absent"), std::string::npos);
 }
 
 TEST_F(SigningFiles, AnUnwritableStateDirectoryIsReported) {

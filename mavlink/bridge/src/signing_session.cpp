@@ -28,6 +28,9 @@ Result<std::unique_ptr<SigningSession>> SigningSession::open(SecretKey key,
                                                              const std::string& state_dir,
                                                              Logbook& log) {
     TimestampFile file(state_dir);
+    if (auto error = file.lock()) {
+        return *error;
+    }
     const auto stored = file.load();
     if (!stored) {
         return stored.error();
@@ -76,8 +79,19 @@ SigningSession::SigningSession(SecretKey key, TimestampFile file, std::uint64_t 
       log_(log) {}
 
 std::optional<Error> SigningSession::reserve(std::uint64_t timestamp) {
-    reserved_ = std::min(timestamp + kReservation, kMaxTimestamp);
-    return file_.save(reserved_);
+    // After a failed write, one attempt a second, not one per frame: each
+    // costs a file system call on the event loop.
+    const auto now = std::chrono::steady_clock::now();
+    if (now < retry_at_) {
+        return std::nullopt;
+    }
+    const std::uint64_t value = std::min(timestamp + kReservation, kMaxTimestamp);
+    if (auto error = file_.save(value)) {
+        retry_at_ = now + std::chrono::seconds(1);
+        return error;
+    }
+    reserved_ = value;  // only once it is on disk
+    return std::nullopt;
 }
 
 bool SigningSession::admit(const FrameView& frame) {

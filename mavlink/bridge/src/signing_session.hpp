@@ -4,7 +4,10 @@
 // kept monotonic across restarts by the timestamp file.
 //
 // Persistence: the file always holds a value at or above every timestamp
-// sent. At start the clock starts at max(now, stored), and that exact
+// sent (the reservation in memory is updated only once it is on disk; a
+// failed write is retried once a second, logged, and signing goes on). The
+// state directory is locked for the session: a second process sharing it
+// is refused at start. At start the clock starts at max(now, stored), and that exact
 // value is written back (checking that the file can be written without
 // advancing it; a failure stops the start); a warning says when the stored
 // value is more than 60 s ahead of the clock (peers with a right clock are
@@ -19,6 +22,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -70,7 +74,8 @@ class SigningSession {
     Verifier verifier_;
     TimestampFile file_;
     SendClock clock_;
-    std::uint64_t reserved_ = 0;  // the value in the file
+    std::uint64_t reserved_ = 0;                        // the value in the file
+    std::chrono::steady_clock::time_point retry_at_{};  // after a failed reservation
     bool closed_ = false;
     Logbook& log_;
     std::array<std::uint64_t, 6> counts_{};

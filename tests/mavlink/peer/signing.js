@@ -102,6 +102,13 @@ async function main() {
 
   let bridge = startBridge(keyFile, stateDir, port);
   await until(() => bridge.lines.some((l) => /signing: on/.test(l)), 10000, 'gport-mavlink with signing');
+  // 0. A second gport-mavlink on the same --state-dir (another port) is
+  //    refused: the two would overwrite each other's timestamp.
+  const second = startBridge(keyFile, stateDir, await h.freeUdpPort(), 'gport-mavlink-same-state-dir');
+  const secondExit = await second.exited;
+  const why = second.lines.find((l) => /in use by another process/.test(l));
+  check(secondExit.code === 78 && why && why.includes(stateDir),
+    `a second gport-mavlink sharing --state-dir exits ${secondExit.code} (78 expected): ${why}`);
   const vehicle = new Peer({ sysid: 1, compid: 1, key: KEY, linkId: 1 });
   await vehicle.bind(); vehicle.target(port);
   const other = crypto.createHash('sha256').update('not the key').digest();

@@ -10,8 +10,11 @@
 // The timestamp file (DIR/signing-timestamp, DIR from --state-dir, config
 // `state_dir` or $STATE_DIRECTORY): one decimal number, a signing
 // timestamp that every timestamp sent so far stays at or under. Written
-// whole to a temporary file, synced and renamed over the old one, so a
-// crash leaves the old value or the new one, never a torn one.
+// whole to a temporary file of a unique name (mkstemp), synced and renamed
+// over the old one, so a crash leaves the old value or the new one, never a
+// torn one. The directory is locked (flock) by the one process using it:
+// two processes sharing a state directory would publish each other's
+// values (one's timestamps below the other's file); the second is refused.
 #pragma once
 
 #include <cstdint>
@@ -33,7 +36,17 @@ class TimestampFile {
     static constexpr const char* kFileName = "signing-timestamp";
 
     explicit TimestampFile(const std::string& directory);
+    TimestampFile(TimestampFile&& other) noexcept;
+    TimestampFile& operator=(TimestampFile&&) = delete;
+    TimestampFile(const TimestampFile&) = delete;
+    TimestampFile& operator=(const TimestampFile&) = delete;
+    ~TimestampFile();  // releases the lock
     const std::string& path() const { return path_; }
+
+    // Locks the directory for this object's lifetime (an exclusive flock,
+    // not waited for); the error names the directory and says that another
+    // process (another gport-mavlink) holds it, or why it cannot be locked.
+    std::optional<Error> lock();
 
     // The stored timestamp; 0 when the file does not exist yet (first
     // start). An error names the file and the problem when it cannot be
@@ -44,7 +57,9 @@ class TimestampFile {
     std::optional<Error> save(std::uint64_t timestamp) const;
 
   private:
+    std::string directory_;
     std::string path_;
+    int lock_fd_ = -1;
 };
 
 }  // namespace gport::mavlink::bridge
