@@ -47,6 +47,24 @@ TEST_F(SigningFiles, Mode0600And0400AreAccepted) {
     }
 }
 
+// Run as root, a 0600 key owned by another user (who may change it) was
+// accepted; now only the effective user's or root's.
+TEST_F(SigningFiles, AKeyOwnedByAnotherUserIsRefused) {
+    if (::geteuid() != 0) {
+        GTEST_SKIP() << "needs root to give the file to another uid (65534)";
+    }
+    const auto path = key_file(kKey, 0600);
+    ASSERT_EQ(::chown(path.c_str(), 65534, 65534), 0);
+    const auto key = load_signing_key(path);
+    ASSERT_FALSE(key);
+    EXPECT_NE(key.error().message.find(path), std::string::npos);
+    EXPECT_NE(key.error().message.find("owned by uid 65534"), std::string::npos)
+        << key.error().message;
+    EXPECT_EQ(key.error().message.find(kKey), std::string::npos);
+    ASSERT_EQ(::chown(path.c_str(), 0, 0), 0);
+    EXPECT_TRUE(load_signing_key(path)) << "root's own file";
+}
+
 TEST_F(SigningFiles, SurroundingWhitespaceIsAllowed) {
     EXPECT_TRUE(load_signing_key(key_file("  \n\t" + kKey + " \r\n\n", 0600)));
 }

@@ -100,8 +100,9 @@ void wipe(std::string& text) {
 
 Result<SecretKey> load_signing_key(const std::string& path) {
     const std::string allowed =
-        "; allowed: a regular file that only its owner can read or write (chmod 600 or 400) "
-        "holding the 32-byte key as 64 hexadecimal digits";
+        "; allowed: a regular file owned by the user gport-mavlink runs as, or by root, that "
+        "only its owner can read or write (chmod 600 or 400), holding the 32-byte key as 64 "
+        "hexadecimal digits";
     // O_NONBLOCK: a FIFO opens at once (and is refused below) instead of hanging.
     Fd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK));
     if (fd.get() < 0) {
@@ -115,6 +116,14 @@ Result<SecretKey> load_signing_key(const std::string& path) {
     }
     if (!S_ISREG(st.st_mode)) {
         return Error{fmt::format("signing key {}: is not a regular file{}", path, allowed)};
+    }
+    // Another user's file, even mode 0600, is theirs to change (run as
+    // root, anyone's key would otherwise do).
+    if (st.st_uid != ::geteuid() && st.st_uid != 0) {
+        return Error{
+            fmt::format("signing key {}: is owned by uid {}, not by uid {} (this "
+                        "process) or root{}",
+                        path, st.st_uid, ::geteuid(), allowed)};
     }
     if ((st.st_mode & 077) != 0) {
         return Error{fmt::format("signing key {}: mode {:04o} is {}{}", path, st.st_mode & 07777,

@@ -60,6 +60,14 @@ async function refusedKeyFile(keyFile, stateDir, port) {
   fs.chmodSync(keyFile, 0o600);
   check(exit.code === 78 && loose.lines.some((l) => l.includes(keyFile) && /mode 0644/.test(l)),
     `a world-readable key file is refused, exit ${exit.code}: ${loose.lines.find((l) => l.includes(keyFile))}`);
+  if (process.getuid() === 0) { // run as root: a 0600 key that another user owns (and may change)
+    fs.chownSync(keyFile, 65534, 65534);
+    const foreign = startBridge(keyFile, stateDir, port, 'gport-mavlink-foreign-key');
+    const foreignExit = await foreign.exited;
+    fs.chownSync(keyFile, 0, 0);
+    check(foreignExit.code === 78 && foreign.lines.some((l) => l.includes(keyFile) && /owned by uid 65534/.test(l)),
+      `a key file owned by uid 65534 is refused, exit ${foreignExit.code}: ${foreign.lines.find((l) => l.includes(keyFile))}`);
+  }
 }
 
 // 8. Restart growth: starts that end before sending anything (here the port

@@ -3,8 +3,9 @@
 // The key file (--signing-key, config `signing_key`): the 32-byte secret as
 // 64 hexadecimal digits, surrounding whitespace and newlines allowed,
 // nothing else. It must be a regular file (a symbolic link to one is
-// followed) that only its owner may read or write: any permission for the
-// group or others refuses it, as does anything unreadable or malformed.
+// followed), owned by the effective user or root, that only its owner may
+// read or write: another owner, any permission for the group or others
+// refuses it, as does anything unreadable or malformed.
 // Errors name the file, the problem and what is allowed; never the key.
 //
 // The timestamp file (DIR/signing-timestamp, DIR from --state-dir, config
