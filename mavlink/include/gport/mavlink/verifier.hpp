@@ -19,6 +19,18 @@
 // Only a frame that passes every rule updates its stream's timestamp:
 // unsigned, wrongly signed or refused frames change nothing, so nobody
 // without the key can touch the table.
+//
+// What the table does NOT cover: it lives in memory only. After a restart
+// (of the program holding the Verifier) every stream is new again, so rule
+// 4 alone judges them: a frame captured within the last minute before the
+// restart (its timestamp not more than a minute behind the local one) is
+// accepted once more if replayed after it, as with every MAVLink
+// implementation that keeps no stream table across restarts (the C
+// library included). The window is a minute of past traffic, and only
+// until the real sender's next frame makes the stream known again (older
+// captures are then replays). Persisting the table would close it at the
+// cost of a write per accepted frame; gport-mavlink does not
+// (docs/mavlink.md, "Signing").
 #pragma once
 
 #include <cstddef>
