@@ -123,12 +123,14 @@ SignatureValue compute_signature(const SecretKey& key, std::span<const std::uint
 
 bool signature_matches(const SecretKey& key, std::span<const std::uint8_t> frame) {
     const auto block = signature_block_of(frame);
-    if (!block) {
-        return false;
-    }
+    return block && signature_matches(key, frame, *block);
+}
+
+bool signature_matches(const SecretKey& key, std::span<const std::uint8_t> frame,
+                       const SignatureBlock& block) {
     const SignatureValue expected =
         compute_signature(key, frame.first(frame.size() - kSignatureValueSize));
-    return CRYPTO_memcmp(expected.data(), block->value.data(), kSignatureValueSize) == 0;
+    return CRYPTO_memcmp(expected.data(), block.value.data(), kSignatureValueSize) == 0;
 }
 
 void sign(Frame& frame, const SecretKey& key, std::uint8_t link_id, std::uint64_t timestamp) {

@@ -69,11 +69,12 @@ void Bridge::finish() {
     const auto& d = decoder_.stats();
     std::string signing = "off";
     if (signing_) {
-        const auto& c = signing_->counts();
-        signing = fmt::format(
-            "{} accepted, dropped: {} unsigned, {} bad signature, {} replayed, {} too old, {} "
-            "for a full stream table",
-            c[0], c[1], c[2], c[3], c[4], c[5]);
+        const auto& counts = signing_->counts();
+        signing.clear();
+        for (const SignatureCheck check : kSignatureChecks) {
+            signing += fmt::format("{}{} {}", signing.empty() ? "" : ", ",
+                                   counts[static_cast<std::size_t>(check)], to_string(check));
+        }
         signing_->close();
     }
     spdlog::info(

@@ -107,12 +107,11 @@ void Bridge::refuse(const FrameView& frame, TrustVerdict verdict) {
         return;
     }
     log_.warn("mavlink: untrusted frames ignored", [&] {
-        const MessageInfo* info = find_message(frame.msgid);
         return fmt::format(
             "mavlink: ignoring system {} component {} ({}): it is neither the vehicle "
             "(system {}) nor a ground station (--gcs-sysid {}); further untrusted frames "
             "are counted, one line a minute",
-            frame.header.sysid, frame.header.compid, info != nullptr ? info->name : "?",
+            frame.header.sysid, frame.header.compid, message_name(frame.msgid),
             trust_.vehicle().value_or(0), to_string(options_.gcs_sysids));
     });
 }

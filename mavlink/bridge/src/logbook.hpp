@@ -14,8 +14,16 @@
 #include <string_view>
 
 #include "gport/mavlink/bridge/log_limit.hpp"
+#include "gport/mavlink/messages.hpp"
 
 namespace gport::mavlink::bridge {
+
+// A frame's message name for log lines: "GIMBAL_DEVICE_SET_ATTITUDE", or
+// "message 1234" for one the codec does not know.
+inline std::string message_name(std::uint32_t msgid) {
+    const MessageInfo* info = find_message(msgid);
+    return info != nullptr ? std::string(info->name) : "message " + std::to_string(msgid);
+}
 
 class Logbook {
   public:

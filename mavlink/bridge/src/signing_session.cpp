@@ -16,10 +16,27 @@ std::uint64_t now_timestamp() {
 }
 
 std::string describe(const FrameView& frame) {
-    const MessageInfo* info = find_message(frame.msgid);
-    return fmt::format("{} from system {} component {}",
-                       info != nullptr ? info->name : std::string_view("message"),
+    return fmt::format("{} from system {} component {}", message_name(frame.msgid),
                        frame.header.sysid, frame.header.compid);
+}
+
+// The limiter's kinds: fixed texts, not made per frame.
+std::string_view drop_kind(SignatureCheck check) {
+    switch (check) {
+        case SignatureCheck::kUnsigned:
+            return "signing: unsigned frames dropped";
+        case SignatureCheck::kBadSignature:
+            return "signing: bad signature frames dropped";
+        case SignatureCheck::kReplayed:
+            return "signing: replayed frames dropped";
+        case SignatureCheck::kTooOld:
+            return "signing: too old frames dropped";
+        case SignatureCheck::kStreamsFull:
+            return "signing: stream table full frames dropped";
+        case SignatureCheck::kAccepted:
+            break;
+    }
+    return "signing: frames dropped";
 }
 
 }  // namespace
@@ -111,14 +128,17 @@ bool SigningSession::admit(const FrameView& frame) {
         }
         return true;
     }
-    report(verdict.check, frame, verdict);
+    report(frame, verdict);
     return false;
 }
 
-void SigningSession::report(SignatureCheck check, const FrameView& frame, const Verdict& verdict) {
-    const std::string kind = fmt::format("signing: {} frames dropped", to_string(check));
+void SigningSession::report(const FrameView& frame, const Verdict& verdict) {
+    log_.warn(drop_kind(verdict.check), [&] { return drop_text(frame, verdict); });
+}
+
+std::string SigningSession::drop_text(const FrameView& frame, const Verdict& verdict) const {
     std::string text;
-    switch (check) {
+    switch (verdict.check) {
         case SignatureCheck::kUnsigned:
             text = fmt::format(
                 "signing: dropped an unsigned {}: with a signing key only "
@@ -150,9 +170,9 @@ void SigningSession::report(SignatureCheck check, const FrameView& frame, const 
                 describe(frame), verifier_.max_streams());
             break;
         case SignatureCheck::kAccepted:
-            return;
+            break;
     }
-    log_.warn(kind, text);
+    return text;
 }
 
 void SigningSession::sign(Frame& frame) {

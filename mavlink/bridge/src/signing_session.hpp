@@ -61,14 +61,16 @@ class SigningSession {
     SigningSession(const SigningSession&) = delete;
     SigningSession& operator=(const SigningSession&) = delete;
 
-    // Drops per SignatureCheck (index), kAccepted counting the accepted.
-    const std::array<std::uint64_t, 6>& counts() const { return counts_; }
+    // Frames per SignatureCheck (indexed by it; kAccepted counts the accepted).
+    using Counts = std::array<std::uint64_t, kSignatureChecks.size()>;
+    const Counts& counts() const { return counts_; }
 
   private:
     SigningSession(SecretKey key, TimestampFile file, std::uint64_t stored, std::uint64_t now,
                    Logbook& log);
     std::optional<Error> reserve(std::uint64_t timestamp);
-    void report(SignatureCheck check, const FrameView& frame, const Verdict& verdict);
+    void report(const FrameView& frame, const Verdict& verdict);
+    std::string drop_text(const FrameView& frame, const Verdict& verdict) const;
 
     SecretKey key_;
     Verifier verifier_;
@@ -78,7 +80,7 @@ class SigningSession {
     std::chrono::steady_clock::time_point retry_at_{};  // after a failed reservation
     bool closed_ = false;
     Logbook& log_;
-    std::array<std::uint64_t, 6> counts_{};
+    Counts counts_{};
 };
 
 }  // namespace gport::mavlink::bridge

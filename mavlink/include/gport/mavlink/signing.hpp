@@ -122,6 +122,10 @@ SignatureValue compute_signature(const SecretKey& key, std::span<const std::uint
 // True when a whole signed frame's signature is the one `key` makes
 // (compared in constant time); false for an unsigned or malformed frame.
 bool signature_matches(const SecretKey& key, std::span<const std::uint8_t> frame);
+// The same with the frame's signature block already read
+// (signature_block_of(frame)), so that it is not read twice.
+bool signature_matches(const SecretKey& key, std::span<const std::uint8_t> frame,
+                       const SignatureBlock& block);
 
 // Fills in the signature block of a frame built signed (Frame::make with
 // signed_frame, encode(..., true)). Throws std::invalid_argument for an

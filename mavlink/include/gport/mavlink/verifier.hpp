@@ -33,6 +33,7 @@
 // (docs/mavlink.md, "Signing").
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -51,6 +52,22 @@ enum class SignatureCheck {
     kTooOld,        // a new stream more than a minute behind the local timestamp
     kStreamsFull,   // a new stream and no room for it
 };
+
+// Every SignatureCheck, in order (kAccepted first): for counting per kind.
+inline constexpr std::array<SignatureCheck, 6> kSignatureChecks{
+    SignatureCheck::kAccepted, SignatureCheck::kUnsigned, SignatureCheck::kBadSignature,
+    SignatureCheck::kReplayed, SignatureCheck::kTooOld,   SignatureCheck::kStreamsFull,
+};
+static_assert(
+    [] {
+        for (std::size_t i = 0; i < kSignatureChecks.size(); ++i) {
+            if (static_cast<std::size_t>(kSignatureChecks[i]) != i) {
+                return false;
+            }
+        }
+        return true;
+    }(),
+    "kSignatureChecks lists SignatureCheck in order: counts are indexed by it");
 
 // "unsigned", "bad signature", "replayed", "too old", "stream table full"
 // ("accepted" for kAccepted): the kinds the bridge counts and logs.
