@@ -34,6 +34,10 @@ std::size_t signed_size_of(std::span<const std::uint8_t> frame) {
 
 }  // namespace
 
+void wipe(std::span<char> secret) {
+    OPENSSL_cleanse(secret.data(), secret.size());
+}
+
 SecretKey::~SecretKey() {
     OPENSSL_cleanse(bytes_.data(), bytes_.size());
 }

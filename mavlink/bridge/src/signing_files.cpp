@@ -89,13 +89,6 @@ Result<std::string> read_small(int fd, std::size_t limit) {
     return data;
 }
 
-void wipe(std::string& text) {
-    volatile char* p = text.data();
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        p[i] = 0;
-    }
-}
-
 }  // namespace
 
 Result<SecretKey> load_signing_key(const std::string& path) {

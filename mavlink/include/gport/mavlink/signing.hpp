@@ -53,6 +53,10 @@ class SecretKey {
 // and what is allowed, never the key.
 Result<SecretKey> parse_key_hex(std::string_view text);
 
+// Overwrites secret bytes (OPENSSL_cleanse: not optimised away), e.g. a key
+// file's text once parsed.
+void wipe(std::span<char> secret);
+
 // ---- timestamps -------------------------------------------------------------
 
 inline constexpr std::uint64_t kMaxTimestamp = (std::uint64_t{1} << 48) - 1;
