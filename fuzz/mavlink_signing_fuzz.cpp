@@ -6,6 +6,14 @@
 // bytes: nothing crashes, an unsigned frame is kUnsigned, an accepted
 // frame's signature matches the key (so only the key's holder gets
 // anything accepted), and the stream table never outgrows its bound.
+// Those checks guard the refusals; "accepted" and the stream table cannot
+// be reached from an attacker's bytes (no signature without the key). So
+// the input is also read as a key holder's traffic (stream_table): 10-byte
+// records, each a frame signed with the key for a (system, component,
+// link) stream and a timestamp, at a local time that only goes forward.
+// Whatever the sequence: a key holder's frame is never refused as
+// unsigned or badly signed, no (stream, timestamp) pair is accepted twice
+// (replay protection, eviction included), and the table stays in bounds.
 // Then the input is signed as a payload (its first bytes pick the link id
 // and timestamp): the decoder must deliver it as one signed frame that
 // verifies, that a fresh Verifier accepts, and whose replay it refuses.
@@ -15,7 +23,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <set>
 #include <span>
+#include <tuple>
 
 #include "gport/mavlink/decoder.hpp"
 #include "gport/mavlink/messages.hpp"
@@ -84,6 +94,34 @@ void sign_round_trip(std::span<const std::uint8_t> in, const gm::SecretKey& key)
     require(frames == 1, "a signed frame not delivered once");
 }
 
+void stream_table(std::span<const std::uint8_t> in, const gm::SecretKey& key) {
+    constexpr std::size_t kRecord = 10;
+    gm::Verifier verifier(key, 4);  // small: fills up and evicts
+    std::set<std::tuple<std::uint8_t, std::uint8_t, std::uint8_t, std::uint64_t>> accepted;
+    std::uint64_t local = 0;
+    const std::array<std::uint8_t, 9> payload{};
+    for (std::size_t at = 0; at + kRecord <= in.size(); at += kRecord) {
+        const std::uint8_t sysid = in[at] % 8;  // few streams: they repeat
+        const std::uint8_t compid = in[at + 1] % 2;
+        const std::uint8_t link = in[at + 2] % 2;
+        const std::uint64_t timestamp = read48(in, at + 3) % (8 * gm::kOneMinute);
+        local += std::uint64_t{in[at + 9]} * (gm::kOneMinute / 64);  // never backwards
+        gm::Frame frame = gm::Frame::make({0, sysid, compid}, gm::Heartbeat::kId,
+                                          gm::Heartbeat::kCrcExtra, payload, true);
+        gm::sign(frame, key, link, timestamp);
+        const gm::Verdict verdict = verifier.check(frame.bytes(), local);
+        require(verdict.check != gm::SignatureCheck::kUnsigned &&
+                    verdict.check != gm::SignatureCheck::kBadSignature,
+                "a key holder's frame refused as unsigned or badly signed");
+        require(verdict.timestamp == timestamp, "the verdict's timestamp is not the frame's");
+        if (verdict.check == gm::SignatureCheck::kAccepted) {
+            require(accepted.emplace(sysid, compid, link, timestamp).second,
+                    "a (stream, timestamp) accepted twice: a replay got through");
+        }
+        require(verifier.streams() <= verifier.max_streams(), "stream table over its bound");
+    }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -95,5 +133,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     decoder.feed(in, [&](const gm::FrameView& view) { judge(verifier, key, view.bytes, local); });
     judge(verifier, key, in, local);
     sign_round_trip(in, key);
+    stream_table(in, key);
     return 0;
 }

@@ -34,6 +34,10 @@ std::size_t signed_size_of(std::span<const std::uint8_t> frame) {
 
 }  // namespace
 
+void wipe(std::span<char> secret) {
+    OPENSSL_cleanse(secret.data(), secret.size());
+}
+
 SecretKey::~SecretKey() {
     OPENSSL_cleanse(bytes_.data(), bytes_.size());
 }
@@ -77,8 +81,10 @@ std::uint64_t SendClock::next(std::uint64_t now) {
     return last_;
 }
 
-void SendClock::observe(std::uint64_t accepted) {
-    last_ = std::min(std::max(last_, accepted), kMaxTimestamp);
+bool SendClock::observe(std::uint64_t accepted, std::uint64_t now) {
+    const std::uint64_t limit = std::min(now, kMaxTimestamp - kMaxLead) + kMaxLead;
+    last_ = std::max(last_, std::min(accepted, limit));
+    return accepted <= limit;
 }
 
 std::optional<SignatureBlock> signature_block_of(std::span<const std::uint8_t> frame) {
@@ -121,12 +127,14 @@ SignatureValue compute_signature(const SecretKey& key, std::span<const std::uint
 
 bool signature_matches(const SecretKey& key, std::span<const std::uint8_t> frame) {
     const auto block = signature_block_of(frame);
-    if (!block) {
-        return false;
-    }
+    return block && signature_matches(key, frame, *block);
+}
+
+bool signature_matches(const SecretKey& key, std::span<const std::uint8_t> frame,
+                       const SignatureBlock& block) {
     const SignatureValue expected =
         compute_signature(key, frame.first(frame.size() - kSignatureValueSize));
-    return CRYPTO_memcmp(expected.data(), block->value.data(), kSignatureValueSize) == 0;
+    return CRYPTO_memcmp(expected.data(), block.value.data(), kSignatureValueSize) == 0;
 }
 
 void sign(Frame& frame, const SecretKey& key, std::uint8_t link_id, std::uint64_t timestamp) {

@@ -36,7 +36,7 @@ Verdict Verifier::check(std::span<const std::uint8_t> frame, std::uint64_t local
         return {SignatureCheck::kUnsigned, 0};
     }
     const auto block = signature_block_of(frame);
-    if (!block || !signature_matches(key_, frame)) {
+    if (!block || !signature_matches(key_, frame, *block)) {
         return {SignatureCheck::kBadSignature, block ? block->timestamp : 0};
     }
     const StreamKey key{frame[5], frame[6], block->link_id};

@@ -1,5 +1,5 @@
 // Bounded logging whatever the network sends (log_limit.hpp): per kind, not
-// per value; once per sender or peer, in bounded memory.
+// per value; a few per window for events named one by one; bounded memory.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -83,20 +83,37 @@ TEST(KindLimiter, MemoryIsBoundedEvenForEndlesslyNewKinds) {
     EXPECT_EQ(out[0].suppressed, 10000U - 8U);
 }
 
-TEST(FirstSightings, OncePerKeyThenOneOverflowThenSilence) {
-    FirstSightings<int> seen(3);
-    using S = FirstSightings<int>::Sighting;
-    EXPECT_EQ(seen.see(1), S::kNew);
-    EXPECT_EQ(seen.see(1), S::kKnown);
-    EXPECT_EQ(seen.see(2), S::kNew);
-    EXPECT_EQ(seen.see(3), S::kNew);
-    EXPECT_EQ(seen.see(4), S::kOverflow);
-    for (int i = 5; i < 10000; ++i) {
-        EXPECT_EQ(seen.see(i), S::kUncounted);
+// Reply-peer changes (a local spoofer cycling source ports, issue 22's
+// review): a few named per window, the rest counted, every window, forever:
+// no lifetime cap after which a takeover goes unlogged.
+TEST(KindLimiter, AFewPerWindowNamedTheRestCountedInEveryWindowForever) {
+    KindLimiter limiter(60s);
+    const Clock::time_point t0{};
+    for (int window = 0; window < 100; ++window) {
+        const auto start = t0 + window * 60s;
+        int written = 0;
+        for (int i = 0; i < 25; ++i) {
+            written += limiter.admit("peer", start + std::chrono::milliseconds(i), 10) ? 1 : 0;
+        }
+        // The first window writes 10; later ones 9 (their summary line is the 10th).
+        EXPECT_EQ(written, window == 0 ? 10 : 9) << "window " << window;
+        const auto summaries = limiter.expire(start + 60s);
+        ASSERT_EQ(summaries.size(), 1U) << "window " << window;
+        EXPECT_EQ(summaries[0].suppressed, window == 0 ? 15U : 16U);
     }
-    EXPECT_EQ(seen.see(2), S::kKnown);
-    EXPECT_EQ(seen.listed(), 3U);
-    EXPECT_EQ(seen.unlisted(), 9996U);
+    EXPECT_TRUE(limiter.expire(t0 + 100 * 60s + 60s).empty());  // quiet: forgotten
+    EXPECT_TRUE(limiter.admit("peer", t0 + 102 * 60s, 10));
+}
+
+TEST(KindLimiter, PerWindowIsPerKindAndOtherStaysOneLine) {
+    KindLimiter limiter(60s, 2);  // one named kind, then "other"
+    const Clock::time_point t0{};
+    EXPECT_TRUE(limiter.admit("a", t0, 3));
+    EXPECT_TRUE(limiter.admit("a", t0, 3));
+    EXPECT_TRUE(limiter.admit("b", t0, 3));   // "other", first
+    EXPECT_FALSE(limiter.admit("c", t0, 3));  // "other" writes one line a window
+    EXPECT_TRUE(limiter.admit("a", t0, 3));
+    EXPECT_FALSE(limiter.admit("a", t0, 3));
 }
 
 }  // namespace

@@ -47,6 +47,24 @@ TEST_F(SigningFiles, Mode0600And0400AreAccepted) {
     }
 }
 
+// Run as root, a 0600 key owned by another user (who may change it) was
+// accepted; now only the effective user's or root's.
+TEST_F(SigningFiles, AKeyOwnedByAnotherUserIsRefused) {
+    if (::geteuid() != 0) {
+        GTEST_SKIP() << "needs root to give the file to another uid (65534)";
+    }
+    const auto path = key_file(kKey, 0600);
+    ASSERT_EQ(::chown(path.c_str(), 65534, 65534), 0);
+    const auto key = load_signing_key(path);
+    ASSERT_FALSE(key);
+    EXPECT_NE(key.error().message.find(path), std::string::npos);
+    EXPECT_NE(key.error().message.find("owned by uid 65534"), std::string::npos)
+        << key.error().message;
+    EXPECT_EQ(key.error().message.find(kKey), std::string::npos);
+    ASSERT_EQ(::chown(path.c_str(), 0, 0), 0);
+    EXPECT_TRUE(load_signing_key(path)) << "root's own file";
+}
+
 TEST_F(SigningFiles, SurroundingWhitespaceIsAllowed) {
     EXPECT_TRUE(load_signing_key(key_file("  \n\t" + kKey + " \r\n\n", 0600)));
 }
@@ -122,7 +140,10 @@ TEST_F(SigningFiles, TimestampRoundTripAndFirstStart) {
     EXPECT_EQ(*file.load(), 123456789U);
     ASSERT_FALSE(file.save(kMaxTimestamp));
     EXPECT_EQ(*file.load(), kMaxTimestamp);
-    EXPECT_FALSE(fs::exists(file.path() + ".new"));
+    // Only the file itself: the unique temporary files are renamed or removed.
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+        EXPECT_EQ(entry.path(), fs::path(file.path())) << "left behind: " << entry.path();
+    }
     EXPECT_EQ(fs::status(file.path()).permissions() & fs::perms::others_all, fs::perms::none);
 }
 
@@ -136,6 +157,33 @@ TEST_F(SigningFiles, AMalformedTimestampFileStopsTheStart) {
     }
     std::ofstream(file.path(), std::ios::trunc) << " 42\n";
     EXPECT_EQ(*file.load(), 42U);
+}
+
+// Two processes sharing a state directory would overwrite each other's
+// timestamp (one's sent timestamps above the other's file): the second is
+// refused, naming the directory and what to do. flock locks belong to the
+// open file description, so two objects in one process conflict the same.
+TEST_F(SigningFiles, ASecondUserOfTheStateDirectoryIsRefused) {
+    TimestampFile first(dir_.string());
+    ASSERT_FALSE(first.lock());
+    TimestampFile second(dir_.string());
+    const auto error = second.lock();
+    ASSERT_TRUE(error);
+    EXPECT_NE(error->message.find(dir_.string()), std::string::npos) << error->message;
+    EXPECT_NE(error->message.find("in use by another process"), std::string::npos);
+    EXPECT_NE(error->message.find("--state-dir"), std::string::npos);
+    {
+        TimestampFile moved(std::move(first));  // the lock moves with the object
+        EXPECT_TRUE(second.lock());
+    }
+    EXPECT_FALSE(second.lock()) << "released when its holder is gone";
+}
+
+TEST_F(SigningFiles, AMissingStateDirectoryCannotBeLocked) {
+    TimestampFile file((dir_ / "absent").string());
+    const auto error = file.lock();
+    ASSERT_TRUE(error);
+    EXPECT_NE(error->message.find("absent"), std::string::npos);
 }
 
 TEST_F(SigningFiles, AnUnwritableStateDirectoryIsReported) {

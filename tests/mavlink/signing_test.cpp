@@ -67,15 +67,37 @@ TEST(SendClock, NeverBackwardsFollowsTheClockAndAcceptedTimestamps) {
     EXPECT_EQ(clock.next(10), 1001U);
     EXPECT_EQ(clock.next(10), 1002U);  // +1 per frame while the clock is behind
     EXPECT_EQ(clock.next(5000), 5000U);
-    EXPECT_EQ(clock.next(4000), 5001U);  // the clock stepped back: still forward
-    clock.observe(9000);                 // a correctly signed frame from a peer ahead of us
+    EXPECT_EQ(clock.next(4000), 5001U);      // the clock stepped back: still forward
+    EXPECT_TRUE(clock.observe(9000, 5001));  // a correctly signed frame from a peer ahead of us
     EXPECT_EQ(clock.next(5002), 9001U);
-    clock.observe(10);  // older: ignored
+    EXPECT_TRUE(clock.observe(10, 5002));  // older: ignored
     EXPECT_EQ(clock.current(), 9001U);
     SendClock fresh(/*floor=*/0, /*now=*/777);
     EXPECT_EQ(fresh.next(777), 778U);
     SendClock saturated(kMaxTimestamp, 0);
+    EXPECT_TRUE(saturated.saturated());
     EXPECT_EQ(saturated.next(0), kMaxTimestamp);
+}
+
+// The attack of a key holder with a bad clock (or a forged 2^48 - 1): one
+// accepted frame must not drag our clock to saturation, where every frame
+// repeats one timestamp and receivers refuse all but the first.
+TEST(SendClock, APeersTimestampNeverPullsOursMoreThanADayAhead) {
+    const std::uint64_t now = 37'000'000'000'000ULL;  // 2026
+    SendClock clock(0, now);
+    EXPECT_FALSE(clock.observe(kMaxTimestamp, now));
+    EXPECT_EQ(clock.current(), now + SendClock::kMaxLead);
+    EXPECT_FALSE(clock.saturated());
+    EXPECT_EQ(clock.next(now), now + SendClock::kMaxLead + 1);
+    EXPECT_EQ(clock.next(now), now + SendClock::kMaxLead + 2);  // still increasing
+    // Within a day: taken as it is.
+    SendClock near(0, now);
+    EXPECT_TRUE(near.observe(now + SendClock::kMaxLead, now));
+    EXPECT_EQ(near.current(), now + SendClock::kMaxLead);
+    // Our own clock near the end of the range: no overflow, the cap is 2^48 - 1.
+    SendClock late(0, kMaxTimestamp - 5);
+    EXPECT_TRUE(late.observe(kMaxTimestamp, kMaxTimestamp - 5));
+    EXPECT_TRUE(late.saturated());
 }
 
 TEST(Signing, NodeMavlinksSignedFramesVerifyAndOursEqualThem) {

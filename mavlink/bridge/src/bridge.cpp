@@ -69,19 +69,20 @@ void Bridge::finish() {
     const auto& d = decoder_.stats();
     std::string signing = "off";
     if (signing_) {
-        const auto& c = signing_->counts();
-        signing = fmt::format(
-            "{} accepted, dropped: {} unsigned, {} bad signature, {} replayed, {} too old, {} "
-            "for a full stream table",
-            c[0], c[1], c[2], c[3], c[4], c[5]);
+        const auto& counts = signing_->counts();
+        signing.clear();
+        for (const SignatureCheck check : kSignatureChecks) {
+            signing += fmt::format("{}{} {}", signing.empty() ? "" : ", ",
+                                   counts[static_cast<std::size_t>(check)], to_string(check));
+        }
         signing_->close();
     }
     spdlog::info(
-        "mavlink: {} frames taken, {} refused by the trust rules ({} senders logged{}), "
-        "{} signed without a key, {} undecodable; decoder: {} bad CRC, {} bad length, {} unknown "
-        "flags, {} MAVLink 1; signing: {}; {} frames unsent (no peer yet), {} send failures",
-        counters_.accepted, counters_.untrusted, strangers_.listed(),
-        strangers_.unlisted() > 0 ? ", more not" : "", counters_.signed_no_key,
+        "mavlink: {} frames taken, {} refused by the trust rules, {} ground-station heartbeats "
+        "(not used), {} signed without a key, {} undecodable; decoder: {} bad CRC, {} bad "
+        "length, {} unknown flags, {} MAVLink 1; signing: {}; {} frames unsent (no peer yet), {} "
+        "send failures",
+        counters_.accepted, counters_.untrusted, counters_.gcs_heartbeats, counters_.signed_no_key,
         counters_.undecodable, d.crc_errors, d.length_errors, d.header_errors, d.v1_frames, signing,
         transport_ ? transport_->unsent() : 0, transport_ ? transport_->send_failures() : 0);
 }

@@ -35,8 +35,10 @@ namespace gport::mavlink::bridge {
 
 class Bridge {
   public:
-    // Senders refused by the trust rules logged one by one; then one line.
-    static constexpr std::size_t kLoggedStrangers = 16;
+    // Reply-peer changes named a minute; the rest are counted (Logbook),
+    // with no lifetime cap. (Untrusted senders: one named a minute, the
+    // rest counted: a sender repeats itself, a peer change does not.)
+    static constexpr std::uint32_t kPeerLinesPerMinute = 10;
 
     // `signing`: the session of --signing-key, or null without a key.
     Bridge(boost::asio::io_context& io, Options options, std::unique_ptr<SigningSession> signing,
@@ -65,6 +67,7 @@ class Bridge {
     void on_frame(const FrameView& frame);
     bool admitted(const FrameView& frame, const Message& message);
     void refuse(const FrameView& frame, TrustVerdict verdict);
+    void log_peer(const FrameView& frame, const std::string& peer);
     // Who sent a command: its header (for the ACK's target) and its origin
     // (where the reply goes: the request's sender, not whoever is the peer
     // by the time gportd answers).
@@ -120,15 +123,20 @@ class Bridge {
     // an older one (a 50 Hz stream never queues up).
     bool motion_in_flight_ = false;
     std::optional<Command> motion_pending_;
+    // One camera call (photo, record) to gportd at a time; a camera command
+    // arriving meanwhile is answered TEMPORARILY_REJECTED: a flood of them
+    // cannot use up gportd's request budget (the autopilot's angles) or
+    // grow the pending calls.
+    bool camera_in_flight_ = false;
 
     // What was refused, for the log at exit.
     struct Counters {
-        std::uint64_t accepted = 0;       // frames acted on (or addressed elsewhere)
-        std::uint64_t undecodable = 0;    // valid frames whose payload did not decode
-        std::uint64_t signed_no_key = 0;  // signed frames while we have no key
-        std::uint64_t untrusted = 0;      // refused by the trust rules
+        std::uint64_t accepted = 0;        // frames acted on (or addressed elsewhere)
+        std::uint64_t undecodable = 0;     // valid frames whose payload did not decode
+        std::uint64_t signed_no_key = 0;   // signed frames while we have no key
+        std::uint64_t untrusted = 0;       // refused by the trust rules
+        std::uint64_t gcs_heartbeats = 0;  // a ground station's: normal, not used
     } counters_;
-    FirstSightings<std::pair<std::uint8_t, std::uint8_t>> strangers_{kLoggedStrangers};
 
     static std::uint16_t gimbal_flags_default();
 };

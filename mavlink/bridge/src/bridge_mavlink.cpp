@@ -57,8 +57,25 @@ void Bridge::on_frame(const FrameView& frame) {
         return;
     }
     ++counters_.accepted;
-    transport_->accept_sender();
+    if (auto peer = transport_->accept_sender()) {
+        log_peer(frame, *peer);
+    }
     handle(frame.header, *message);
+}
+
+// Every change of the reply peer is an event worth auditing (a local
+// spoofer taking it over, without a key): the first ones of each minute are
+// named, the rest counted, with no lifetime cap.
+void Bridge::log_peer(const FrameView& frame, const std::string& peer) {
+    log_.note(
+        spdlog::level::info, "mavlink: reply peer changed",
+        [&] {
+            return fmt::format(
+                "mavlink: replying to {} (it sent an accepted frame, from system {} component "
+                "{})",
+                peer, frame.header.sysid, frame.header.compid);
+        },
+        kPeerLinesPerMinute);
 }
 
 bool Bridge::admitted(const FrameView& frame, const Message& message) {
@@ -78,36 +95,25 @@ bool Bridge::admitted(const FrameView& frame, const Message& message) {
 }
 
 void Bridge::refuse(const FrameView& frame, TrustVerdict verdict) {
-    ++counters_.untrusted;
     if (verdict == TrustVerdict::kNotVehicle) {
-        return;  // a ground station's heartbeat: normal, it just is no vehicle state
+        ++counters_.gcs_heartbeats;  // normal: it just is no vehicle state
+        return;
     }
+    ++counters_.untrusted;
     if (verdict == TrustVerdict::kNoVehicle) {
         log_.warn("frames ignored: no vehicle yet",
                   "mavlink: ignoring frames until the vehicle's autopilot heartbeat adopts a "
                   "system id (--sysid auto)");
         return;
     }
-    const MessageInfo* info = find_message(frame.msgid);
-    const auto who = std::make_pair(frame.header.sysid, frame.header.compid);
-    switch (strangers_.see(who)) {
-        case decltype(strangers_)::Sighting::kNew:
-            spdlog::warn(
-                "mavlink: ignoring system {} component {} (first frame {}): it is neither the "
-                "vehicle (system {}) nor a ground station (--gcs-sysid {}); its frames are "
-                "counted, not logged",
-                who.first, who.second, info != nullptr ? info->name : "?",
-                trust_.vehicle().value_or(0), to_string(options_.gcs_sysids));
-            break;
-        case decltype(strangers_)::Sighting::kOverflow:
-            spdlog::warn(
-                "mavlink: more than {} untrusted senders; further ones are counted, "
-                "not logged",
-                kLoggedStrangers);
-            break;
-        default:
-            break;
-    }
+    log_.warn("mavlink: untrusted frames ignored", [&] {
+        return fmt::format(
+            "mavlink: ignoring system {} component {} ({}): it is neither the vehicle "
+            "(system {}) nor a ground station (--gcs-sysid {}); further untrusted frames "
+            "are counted, one line a minute",
+            frame.header.sysid, frame.header.compid, message_name(frame.msgid),
+            trust_.vehicle().value_or(0), to_string(options_.gcs_sysids));
+    });
 }
 
 void Bridge::handle(const Header& from, const Message& message) {
@@ -171,9 +177,23 @@ void Bridge::camera(const Requester& from, const CommandLong& command) {
         ack(from, command.command, mav_result::kTemporarilyRejected);
         return;
     }
+    if (camera_in_flight_) {
+        log_.warn("camera command rejected: another in flight", [&] {
+            return fmt::format(
+                "mavlink: camera command {} from system {} component {} answered "
+                "TEMPORARILY_REJECTED: the previous camera command is still with gportd (one "
+                "at a time)",
+                command.command, from.header.sysid, from.header.compid);
+        });
+        ack(from, command.command, mav_result::kTemporarilyRejected);
+        return;
+    }
+    camera_in_flight_ = true;  // cleared by the call's completion (gportd
+                               // completes every pending call, on disconnect too)
     const std::uint16_t cmd = command.command;
     if (cmd == mav_cmd::kImageStartCapture) {
         gportd_.async_photo([this, from, cmd](std::optional<client::Error> e, client::Done) {
+            camera_in_flight_ = false;
             if (e) {
                 log_.warn("gportd refused photo", "gportd refused photo: " + e->message());
             }
@@ -197,6 +217,7 @@ void Bridge::record(const Requester& from, std::uint16_t cmd, bool on, bool forc
                 record(from, cmd, on, true);
                 return;
             }
+            camera_in_flight_ = false;
             if (e) {
                 log_.warn("gportd refused record", fmt::format("gportd refused record {}: {}",
                                                                on ? "on" : "off", e->message()));
@@ -234,6 +255,10 @@ void Bridge::send(const Message& message, const Origin& to) {
     // sending. udpin sends nothing before a frame was accepted (no peer).
     const bool heartbeat = std::holds_alternative<Heartbeat>(message);
     if (!transport_ || (!trust_.vehicle() && !heartbeat)) {
+        return;
+    }
+    if (!transport_->can_send(to)) {
+        transport_->count_unsent();  // before signing: no timestamp spent on it
         return;
     }
     const Header header{seq_++, trust_.vehicle().value_or(kProvisionalSysid), options_.compid};

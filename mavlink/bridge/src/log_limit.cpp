@@ -15,7 +15,7 @@ KindLimiter::KindLimiter(std::chrono::milliseconds window, std::size_t max_kinds
     entries_.reserve(max_kinds_);
 }
 
-bool KindLimiter::admit(std::string_view kind, Clock::time_point now) {
+bool KindLimiter::admit(std::string_view kind, Clock::time_point now, std::uint32_t per_window) {
     auto it = std::ranges::find(entries_, kind, &Entry::kind);
     // The last entry is kept for "other": named kinds past the cap share it.
     if (it == entries_.end() && kind != kOtherKind && entries_.size() + 1 >= max_kinds_) {
@@ -23,10 +23,14 @@ bool KindLimiter::admit(std::string_view kind, Clock::time_point now) {
         it = std::ranges::find(entries_, kind, &Entry::kind);
     }
     if (it != entries_.end()) {
+        if (it->kind != kOtherKind && it->written < per_window) {
+            ++it->written;
+            return true;
+        }
         ++it->suppressed;
         return false;
     }
-    entries_.push_back({std::string(kind), now, 0});
+    entries_.push_back({std::string(kind), now, 1, 0});
     return true;
 }
 
@@ -45,6 +49,7 @@ std::vector<KindLimiter::Summary> KindLimiter::expire(Clock::time_point now) {
             {it->kind, it->suppressed,
              std::chrono::duration_cast<std::chrono::milliseconds>(now - it->window_start)});
         it->window_start = now;
+        it->written = 1;  // the summary line
         it->suppressed = 0;
         ++it;
     }

@@ -81,6 +81,8 @@ int main(int argc, char** argv) {
         io.run();
         gimbal.finish();
     } catch (const std::exception& e) {
+        // The Bridge, and with it the signing session, was destroyed on the
+        // way here: its destructor wrote the exact current timestamp.
         spdlog::critical("gport-mavlink: {}", e.what());
         return gport::kExitOsError;
     }

@@ -25,13 +25,13 @@ bool valid_number(const std::string& text, unsigned long max, unsigned& out) {
     return true;
 }
 
-// A system id 1 to 255 written in decimal digits.
+// A system id (detail::mavlink_id) written in decimal digits.
 std::optional<std::uint8_t> sysid_of(std::string_view text) {
     unsigned id = 0;
-    if (!valid_number(std::string(text), 255, id)) {
+    if (!valid_number(std::string(text), 999, id)) {
         return std::nullopt;
     }
-    return static_cast<std::uint8_t>(id);
+    return detail::mavlink_id(id);
 }
 
 }  // namespace

@@ -32,11 +32,11 @@ std::string id_of(const Json& value, const std::string& name, std::uint8_t& out)
     if (!value.is_number_integer()) {
         return name + " = " + value.dump() + " is not an integer; allowed 1 to 255";
     }
-    const auto id = value.get<long long>();
-    if (id < 1 || id > 255) {
-        return name + " = " + std::to_string(id) + " is out of range; allowed 1 to 255";
+    const auto id = detail::mavlink_id(value.get<long long>());
+    if (!id) {
+        return name + " = " + value.dump() + " is out of range; allowed 1 to 255";
     }
-    out = static_cast<std::uint8_t>(id);
+    out = *id;
     return {};
 }
 

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -12,6 +14,15 @@ namespace gport::mavlink::bridge::detail {
 
 inline constexpr std::array<std::string_view, 7> kLogLevels = {"trace", "debug",    "info", "warn",
                                                                "error", "critical", "off"};
+
+// The one rule for a MAVLink system or component id, whichever source
+// (a command-line number, a config integer) it comes from: 1 to 255.
+inline std::optional<std::uint8_t> mavlink_id(long long value) {
+    if (value < 1 || value > 255) {
+        return std::nullopt;
+    }
+    return static_cast<std::uint8_t>(value);
+}
 
 // Checks the values both sources share; empty when all is well.
 std::string check(const Options& o);

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -10,6 +11,7 @@
 #include <charconv>
 #include <cstring>
 #include <string_view>
+#include <utility>
 
 namespace gport::mavlink::bridge {
 
@@ -87,19 +89,13 @@ Result<std::string> read_small(int fd, std::size_t limit) {
     return data;
 }
 
-void wipe(std::string& text) {
-    volatile char* p = text.data();
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        p[i] = 0;
-    }
-}
-
 }  // namespace
 
 Result<SecretKey> load_signing_key(const std::string& path) {
     const std::string allowed =
-        "; allowed: a regular file that only its owner can read or write (chmod 600 or 400) "
-        "holding the 32-byte key as 64 hexadecimal digits";
+        "; allowed: a regular file owned by the user gport-mavlink runs as, or by root, that "
+        "only its owner can read or write (chmod 600 or 400), holding the 32-byte key as 64 "
+        "hexadecimal digits";
     // O_NONBLOCK: a FIFO opens at once (and is refused below) instead of hanging.
     Fd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK));
     if (fd.get() < 0) {
@@ -113,6 +109,14 @@ Result<SecretKey> load_signing_key(const std::string& path) {
     }
     if (!S_ISREG(st.st_mode)) {
         return Error{fmt::format("signing key {}: is not a regular file{}", path, allowed)};
+    }
+    // Another user's file, even mode 0600, is theirs to change (run as
+    // root, anyone's key would otherwise do).
+    if (st.st_uid != ::geteuid() && st.st_uid != 0) {
+        return Error{
+            fmt::format("signing key {}: is owned by uid {}, not by uid {} (this "
+                        "process) or root{}",
+                        path, st.st_uid, ::geteuid(), allowed)};
     }
     if ((st.st_mode & 077) != 0) {
         return Error{fmt::format("signing key {}: mode {:04o} is {}{}", path, st.st_mode & 07777,
@@ -137,8 +141,46 @@ Result<SecretKey> load_signing_key(const std::string& path) {
 }
 
 TimestampFile::TimestampFile(const std::string& directory)
-    : path_(directory.empty() || directory.back() == '/' ? directory + kFileName
+    : directory_(directory.empty() ? "." : directory),
+      path_(directory.empty() || directory.back() == '/' ? directory + kFileName
                                                          : directory + "/" + kFileName) {}
+
+TimestampFile::TimestampFile(TimestampFile&& other) noexcept
+    : directory_(std::move(other.directory_)),
+      path_(std::move(other.path_)),
+      lock_fd_(std::exchange(other.lock_fd_, -1)) {}
+
+TimestampFile::~TimestampFile() {
+    if (lock_fd_ >= 0) {
+        ::close(lock_fd_);  // the lock goes with the descriptor
+    }
+}
+
+std::optional<Error> TimestampFile::lock() {
+    const int fd = ::open(directory_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) {
+        return Error{
+            fmt::format("state directory {}: cannot be opened: {}", directory_, errno_text(errno))};
+    }
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        const int error = errno;
+        ::close(fd);
+        if (error == EWOULDBLOCK) {
+            return Error{fmt::format(
+                "state directory {}: in use by another process (another gport-mavlink holds its "
+                "lock); two must not share one, or each would overwrite the other's signing "
+                "timestamp: give each instance its own --state-dir (config state_dir)",
+                directory_)};
+        }
+        return Error{
+            fmt::format("state directory {}: cannot be locked: {}", directory_, errno_text(error))};
+    }
+    if (lock_fd_ >= 0) {
+        ::close(lock_fd_);
+    }
+    lock_fd_ = fd;
+    return std::nullopt;
+}
 
 Result<std::uint64_t> TimestampFile::load() const {
     Fd fd(::open(path_.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK));
@@ -167,8 +209,9 @@ Result<std::uint64_t> TimestampFile::load() const {
 }
 
 std::optional<Error> TimestampFile::save(std::uint64_t timestamp) const {
-    const std::string temporary = path_ + ".new";
-    Fd fd(::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0600));
+    // A unique name (O_EXCL, mode 0600): nothing else's file is reused.
+    std::string temporary = path_ + ".XXXXXX";
+    Fd fd(::mkostemp(temporary.data(), O_CLOEXEC));
     if (fd.get() < 0) {
         return Error{fmt::format("{}: cannot be created: {}", temporary, errno_text(errno))};
     }

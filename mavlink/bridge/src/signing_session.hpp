@@ -4,14 +4,25 @@
 // kept monotonic across restarts by the timestamp file.
 //
 // Persistence: the file always holds a value at or above every timestamp
-// sent. At start the clock starts at max(now, stored) and a reservation of
-// 30 s ahead is written (a failure to write it stops the start); whenever
-// the timestamp comes within 10 s of the reservation a new one is written
-// (about every 20 s while the clock drives it); at a clean exit the exact
-// last timestamp is written, so a restart does not jump ahead.
+// sent (the reservation in memory is updated only once it is on disk; a
+// failed write is retried once a second, logged, and signing goes on). The
+// state directory is locked for the session: a second process sharing it
+// is refused at start. At start the clock starts at max(now, stored), and that exact
+// value is written back (checking that the file can be written without
+// advancing it; a failure stops the start); a warning says when the stored
+// value is more than 60 s ahead of the clock (peers with a right clock are
+// then refused as "too old"). The first frame actually sent, and then
+// every one within 10 s of the reservation, writes a reservation 30 s
+// ahead (about every 20 s while the clock drives it). Every exit that
+// unwinds (a clean one, or an exception caught in main(): exit 71) writes
+// the exact current value, through close() or the destructor, so starts
+// that fail, or end, before sending do not move the value; only a crash
+// (SIGKILL, SIGSEGV) after sending leaves a reservation, at most 30 s ahead
+// of the last timestamp sent.
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -28,8 +39,10 @@ class SigningSession {
     static constexpr std::uint8_t kLinkId = 0;
     static constexpr std::uint64_t kReservation = 30 * kTimestampsPerSecond;
     static constexpr std::uint64_t kHeadroom = 10 * kTimestampsPerSecond;
+    // A stored value further ahead of the clock than this is warned about.
+    static constexpr std::uint64_t kAheadWarning = 60 * kTimestampsPerSecond;
 
-    // Reads the stored timestamp and writes the first reservation; the
+    // Reads the stored timestamp and writes the exact start value back; the
     // error names the file and the cause.
     static Result<std::unique_ptr<SigningSession>> open(SecretKey key, const std::string& state_dir,
                                                         Logbook& log);
@@ -41,26 +54,33 @@ class SigningSession {
     // Fills in a frame built signed.
     void sign(Frame& frame);
 
-    // Writes the exact last timestamp (at exit).
+    // Writes the exact current timestamp (at exit; once).
     void close();
+    // close(), unless done: an exception's exit path writes it too.
+    ~SigningSession();
+    SigningSession(const SigningSession&) = delete;
+    SigningSession& operator=(const SigningSession&) = delete;
 
-    // Drops per SignatureCheck (index), kAccepted counting the accepted.
-    const std::array<std::uint64_t, 6>& counts() const { return counts_; }
-    std::uint64_t timestamp() const { return clock_.current(); }
+    // Frames per SignatureCheck (indexed by it; kAccepted counts the accepted).
+    using Counts = std::array<std::uint64_t, kSignatureChecks.size()>;
+    const Counts& counts() const { return counts_; }
 
   private:
     SigningSession(SecretKey key, TimestampFile file, std::uint64_t stored, std::uint64_t now,
                    Logbook& log);
     std::optional<Error> reserve(std::uint64_t timestamp);
-    void report(SignatureCheck check, const FrameView& frame, const Verdict& verdict);
+    void report(const FrameView& frame, const Verdict& verdict);
+    std::string drop_text(const FrameView& frame, const Verdict& verdict) const;
 
     SecretKey key_;
     Verifier verifier_;
     TimestampFile file_;
     SendClock clock_;
-    std::uint64_t reserved_ = 0;
+    std::uint64_t reserved_ = 0;                        // the value in the file
+    std::chrono::steady_clock::time_point retry_at_{};  // after a failed reservation
+    bool closed_ = false;
     Logbook& log_;
-    std::array<std::uint64_t, 6> counts_{};
+    Counts counts_{};
 };
 
 }  // namespace gport::mavlink::bridge

@@ -11,8 +11,6 @@
 #include <string>
 #include <vector>
 
-#include "gport/mavlink/bridge/log_limit.hpp"
-
 namespace gport::mavlink::bridge {
 
 namespace {
@@ -27,7 +25,7 @@ std::string text_of(const udp::endpoint& e) {
 class UdpTransport final : public Transport {
   public:
     UdpTransport(asio::io_context& io, const Endpoint& e)
-        : socket_(io), listening_(e.kind == Endpoint::Kind::kUdpIn), peers_(kLoggedPeers) {
+        : socket_(io), listening_(e.kind == Endpoint::Kind::kUdpIn) {
         boost::system::error_code ec;
         const auto address = asio::ip::make_address(e.address, ec);
         if (ec) {
@@ -36,7 +34,8 @@ class UdpTransport final : public Transport {
         const udp::endpoint where(address, static_cast<unsigned short>(e.number));
         socket_.open(where.protocol());
         if (listening_) {
-            socket_.set_option(udp::socket::reuse_address(true));
+            // No SO_REUSEADDR: with it on both sockets, another uid could bind
+            // the same address and take every datagram (transport.hpp).
             socket_.bind(where, ec);
             if (ec) {
                 throw std::runtime_error(to_string(e) + ": cannot bind: " + ec.message());
@@ -88,28 +87,17 @@ class UdpTransport final : public Transport {
 
     Origin origin() const override { return listening_ ? Origin(sender_) : std::nullopt; }
 
-    void accept_sender() override {
+    std::optional<std::string> accept_sender() override {
         if (!listening_ || (peer_ && *peer_ == sender_)) {
-            return;
+            return std::nullopt;
         }
         peer_ = sender_;
-        switch (peers_.see(sender_)) {
-            case FirstSightings<udp::endpoint>::Sighting::kNew:
-                spdlog::info("mavlink: replying to {} (it sent an accepted frame)",
-                             text_of(sender_));
-                break;
-            case FirstSightings<udp::endpoint>::Sighting::kOverflow:
-                spdlog::info(
-                    "mavlink: replying to {}; {} peers seen, further peer changes "
-                    "are not logged",
-                    text_of(sender_), kLoggedPeers + 1);
-                break;
-            default:
-                break;
-        }
+        return text_of(sender_);
     }
 
-    bool has_peer() const override { return peer_.has_value(); }
+    bool can_send(const Origin& to) const override {
+        return !listening_ || to.has_value() || peer_.has_value();
+    }
 
   private:
     void read() {
@@ -135,7 +123,6 @@ class UdpTransport final : public Transport {
     udp::endpoint sender_;
     std::optional<udp::endpoint> last_sender_;
     std::optional<udp::endpoint> peer_;
-    FirstSightings<udp::endpoint> peers_;
     std::array<std::uint8_t, kReadSize> buffer_{};
     Receiver receive_;
 };
@@ -172,8 +159,6 @@ class SerialTransport final : public Transport {
             ++send_failures_;
         }
     }
-
-    bool has_peer() const override { return true; }
 
   private:
     void read() {

@@ -1,10 +1,12 @@
 // gport-mavlink's MAVLink side: one UDP socket or a serial port, read into a
 // fixed buffer (bounded work per read).
 //
-//   udpin   bound to ADDR:PORT. Replies go to the PEER: the sender of the
-//           last datagram that held a frame the bridge ACCEPTED (signature
-//           and trust rules passed; accept_sender()), never to whoever
-//           merely sends a datagram. Until one is accepted, nothing is sent.
+//   udpin   bound to ADDR:PORT, exclusively (no SO_REUSEADDR: nobody else,
+//           whatever their uid, can bind it beside us). Replies go to the
+//           PEER: the sender of the last datagram that held a frame the
+//           bridge ACCEPTED (signature and trust rules passed;
+//           accept_sender()), never to whoever merely sends a datagram.
+//           Until one is accepted, nothing is sent.
 //   udpout  sends to ADDR:PORT from an ephemeral port, the socket
 //           connect()ed to it, so the kernel drops datagrams from anyone
 //           else.
@@ -18,6 +20,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 
 #include "gport/mavlink/bridge/options.hpp"
 
@@ -50,16 +53,24 @@ class Transport {
     // The origin of the chunk being delivered (valid during the callback).
     virtual Origin origin() const { return std::nullopt; }
     // Called while a chunk is delivered, for a frame in it that was
-    // accepted: udpin makes its sender the peer; nothing for the others.
-    virtual void accept_sender() {}
-    // True once there is a peer to send to.
-    virtual bool has_peer() const = 0;
+    // accepted: udpin makes its sender the peer and, when that changed the
+    // peer, returns the new one ("ADDR:PORT") for the Bridge to log;
+    // nothing for the others.
+    virtual std::optional<std::string> accept_sender() { return std::nullopt; }
+    // True when a frame for `to` (a reply's origin, or empty: the peer)
+    // would go out: false for udpin before the first accepted frame. The
+    // Bridge asks before it signs, so that no timestamp is spent (and
+    // reserved in the timestamp file) on a frame that is not sent.
+    virtual bool can_send(const Origin& to) const {
+        (void)to;
+        return true;
+    }
+    // Counts a frame dropped for want of a peer (can_send() said no).
+    void count_unsent() { ++unsent_; }
     std::uint64_t send_failures() const { return send_failures_; }
     std::uint64_t unsent() const { return unsent_; }
 
     static constexpr std::size_t kReadSize = 2048;
-    // Peers logged by address; after this many, changes are not logged.
-    static constexpr std::size_t kLoggedPeers = 16;
 
   protected:
     std::uint64_t send_failures_ = 0;

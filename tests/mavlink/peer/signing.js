@@ -7,6 +7,7 @@
 //
 //   node signing.js GPORTD GPORT_SIM GPORT_MAVLINK WORKDIR
 const crypto = require('crypto');
+const dgram = require('dgram');
 const fs = require('fs');
 const path = require('path');
 const h = require('./harness');
@@ -59,6 +60,40 @@ async function refusedKeyFile(keyFile, stateDir, port) {
   fs.chmodSync(keyFile, 0o600);
   check(exit.code === 78 && loose.lines.some((l) => l.includes(keyFile) && /mode 0644/.test(l)),
     `a world-readable key file is refused, exit ${exit.code}: ${loose.lines.find((l) => l.includes(keyFile))}`);
+  if (process.getuid() === 0) { // run as root: a 0600 key that another user owns (and may change)
+    fs.chownSync(keyFile, 65534, 65534);
+    const foreign = startBridge(keyFile, stateDir, port, 'gport-mavlink-foreign-key');
+    const foreignExit = await foreign.exited;
+    fs.chownSync(keyFile, 0, 0);
+    check(foreignExit.code === 78 && foreign.lines.some((l) => l.includes(keyFile) && /owned by uid 65534/.test(l)),
+      `a key file owned by uid 65534 is refused, exit ${foreignExit.code}: ${foreign.lines.find((l) => l.includes(keyFile))}`);
+  }
+}
+
+// 8. Restart growth: starts that end before sending anything (here the port
+//    is taken: exit 71, which systemd restarts every 2 s) write back the
+//    exact value, never a reservation, so the stored timestamp does not
+//    creep ahead; one more than 60 s ahead of the clock is warned about.
+async function failedStarts(keyFile, stateDir, stampFile, port) {
+  const squatter = dgram.createSocket('udp4');
+  await new Promise((resolve, reject) => { squatter.once('error', reject); squatter.bind(port, '127.0.0.1', resolve); });
+  const farAhead = h.nowTimestamp() + 120 * 100000;
+  fs.writeFileSync(stampFile, `${farAhead}\n`);
+  const values = [];
+  let warned = 0;
+  const exits = [];
+  for (let i = 0; i < 5; i += 1) {
+    const failed = startBridge(keyFile, stateDir, port, `gport-mavlink-squatted-${i}`);
+    exits.push((await failed.exited).code);
+    values.push(Number(fs.readFileSync(stampFile, 'utf8').trim()));
+    warned += failed.lines.some((l) => /ahead of this machine's clock/.test(l)) ? 1 : 0;
+  }
+  squatter.close();
+  figures.push(`stored timestamp over 5 failed starts: ${farAhead} -> ${values.join(', ')}`);
+  check(exits.every((c) => c === 71), `5 starts on a taken port exit 71: ${exits}`);
+  check(values.every((v) => v === farAhead),
+    `the stored timestamp does not grow over 5 failed starts (${farAhead} -> ${values[values.length - 1]})`);
+  check(warned === 5, `each start warns that the stored timestamp is 120 s ahead of the clock (${warned} of 5)`);
 }
 
 async function main() {
@@ -75,6 +110,13 @@ async function main() {
 
   let bridge = startBridge(keyFile, stateDir, port);
   await until(() => bridge.lines.some((l) => /signing: on/.test(l)), 10000, 'gport-mavlink with signing');
+  // 0. A second gport-mavlink on the same --state-dir (another port) is
+  //    refused: the two would overwrite each other's timestamp.
+  const second = startBridge(keyFile, stateDir, await h.freeUdpPort(), 'gport-mavlink-same-state-dir');
+  const secondExit = await second.exited;
+  const why = second.lines.find((l) => /in use by another process/.test(l));
+  check(secondExit.code === 78 && why && why.includes(stateDir),
+    `a second gport-mavlink sharing --state-dir exits ${secondExit.code} (78 expected): ${why}`);
   const vehicle = new Peer({ sysid: 1, compid: 1, key: KEY, linkId: 1 });
   await vehicle.bind(); vehicle.target(port);
   const other = crypto.createHash('sha256').update('not the key').digest();
@@ -143,6 +185,7 @@ async function main() {
   figures.push(`timestamps: first run ended ${lastBefore}, second began ${afterRestart}, third began ${third} (stored ${ahead})`);
   bridge.kill('SIGTERM');
   await bridge.exited;
+  await failedStarts(keyFile, stateDir, stampFile, port);
   vehicle.close();
   h.finish(workRoot, [sim, gportd]);
 }

@@ -53,6 +53,10 @@ class SecretKey {
 // and what is allowed, never the key.
 Result<SecretKey> parse_key_hex(std::string_view text);
 
+// Overwrites secret bytes (OPENSSL_cleanse: not optimised away), e.g. a key
+// file's text once parsed.
+void wipe(std::span<char> secret);
+
 // ---- timestamps -------------------------------------------------------------
 
 inline constexpr std::uint64_t kMaxTimestamp = (std::uint64_t{1} << 48) - 1;
@@ -69,18 +73,31 @@ std::uint64_t signing_timestamp(std::chrono::system_clock::time_point time);
 // The timestamp of a node's outgoing frames: each at least one more than the
 // previous one, kept up with the clock (so that receivers that restart, and
 // apply the one-minute rule to our new stream, accept it), raised to any
-// greater timestamp accepted from the network (the specification's rule),
-// and never below `floor`, the persisted value every earlier one stayed
-// under (the start is max(clock, persisted)). Saturates at 48 bits.
+// greater timestamp accepted from the network (the specification's rule)
+// but never above now + kMaxLead by it, and never below `floor`, the
+// persisted value every earlier one stayed under (the start is max(clock,
+// persisted)). Saturates at 48 bits: then every frame carries the same
+// timestamp and receivers take only the first (saturated() says so).
+//
+// Why the cap: one accepted frame from a key holder with a wrong clock (or
+// a timestamp of 2^48 - 1) would otherwise drag our clock there for good
+// (it is persisted): saturated, every frame repeats the last timestamp.
 class SendClock {
   public:
+    // How far ahead of our clock a peer's timestamp may pull ours: a day.
+    static constexpr std::uint64_t kMaxLead = 24ULL * 3600 * kTimestampsPerSecond;
+
     SendClock(std::uint64_t floor, std::uint64_t now);
     // The timestamp for the next frame: max(previous + 1, now).
     std::uint64_t next(std::uint64_t now);
-    // A correctly signed incoming frame's timestamp: ours if greater.
-    void observe(std::uint64_t accepted);
+    // A correctly signed incoming frame's timestamp: ours if greater, but
+    // not above now + kMaxLead. False when it was capped (the peer's clock
+    // is more than a day ahead of ours).
+    bool observe(std::uint64_t accepted, std::uint64_t now);
     // The greatest timestamp issued or observed so far.
     std::uint64_t current() const { return last_; }
+    // At 2^48 - 1: every frame now repeats the same timestamp.
+    bool saturated() const { return last_ >= kMaxTimestamp; }
 
   private:
     std::uint64_t last_;
@@ -109,6 +126,10 @@ SignatureValue compute_signature(const SecretKey& key, std::span<const std::uint
 // True when a whole signed frame's signature is the one `key` makes
 // (compared in constant time); false for an unsigned or malformed frame.
 bool signature_matches(const SecretKey& key, std::span<const std::uint8_t> frame);
+// The same with the frame's signature block already read
+// (signature_block_of(frame)), so that it is not read twice.
+bool signature_matches(const SecretKey& key, std::span<const std::uint8_t> frame,
+                       const SignatureBlock& block);
 
 // Fills in the signature block of a frame built signed (Frame::make with
 // signed_frame, encode(..., true)). Throws std::invalid_argument for an

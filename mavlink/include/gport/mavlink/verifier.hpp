@@ -19,8 +19,21 @@
 // Only a frame that passes every rule updates its stream's timestamp:
 // unsigned, wrongly signed or refused frames change nothing, so nobody
 // without the key can touch the table.
+//
+// What the table does NOT cover: it lives in memory only. After a restart
+// (of the program holding the Verifier) every stream is new again, so rule
+// 4 alone judges them: a frame captured within the last minute before the
+// restart (its timestamp not more than a minute behind the local one) is
+// accepted once more if replayed after it, as with every MAVLink
+// implementation that keeps no stream table across restarts (the C
+// library included). The window is a minute of past traffic, and only
+// until the real sender's next frame makes the stream known again (older
+// captures are then replays). Persisting the table would close it at the
+// cost of a write per accepted frame; gport-mavlink does not
+// (docs/mavlink.md, "Signing").
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -39,6 +52,22 @@ enum class SignatureCheck {
     kTooOld,        // a new stream more than a minute behind the local timestamp
     kStreamsFull,   // a new stream and no room for it
 };
+
+// Every SignatureCheck, in order (kAccepted first): for counting per kind.
+inline constexpr std::array<SignatureCheck, 6> kSignatureChecks{
+    SignatureCheck::kAccepted, SignatureCheck::kUnsigned, SignatureCheck::kBadSignature,
+    SignatureCheck::kReplayed, SignatureCheck::kTooOld,   SignatureCheck::kStreamsFull,
+};
+static_assert(
+    [] {
+        for (std::size_t i = 0; i < kSignatureChecks.size(); ++i) {
+            if (static_cast<std::size_t>(kSignatureChecks[i]) != i) {
+                return false;
+            }
+        }
+        return true;
+    }(),
+    "kSignatureChecks lists SignatureCheck in order: counts are indexed by it");
 
 // "unsigned", "bad signature", "replayed", "too old", "stream table full"
 // ("accepted" for kAccepted): the kinds the bridge counts and logs.

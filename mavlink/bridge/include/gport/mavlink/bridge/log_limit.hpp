@@ -1,19 +1,19 @@
 // Keeping gport-mavlink's log bounded whatever the network sends: pure
 // bookkeeping (time is passed in), the Bridge writes the lines.
 //
-// KindLimiter: repeated warnings are limited per KIND (a fixed text such as
+// KindLimiter: repeated lines are limited per KIND (a fixed text such as
 // "GIMBAL_DEVICE_SET_ATTITUDE ignored: bad quaternion"), never per value.
-// The first of a kind is written at once, with its details; the next ones
-// within `window` are only counted; when the window ends, one summary line
-// gives the count (and a new window starts while they keep coming). A kind
-// that stays quiet for a whole window is forgotten, so its next occurrence
-// is written at once again. Memory: one entry per kind, at most
-// `max_kinds` (kinds are the program's fixed texts; past the cap, new kinds
-// share one entry, "other").
-//
-// FirstSightings: "once per sender" and "once per new peer" with bounded
-// memory: the first `capacity` distinct keys are reported once each; after
-// that one overflow report, then nothing (the keys are only counted).
+// The first `per_window` of a kind (1 unless asked: events worth naming one
+// by one, such as reply-peer changes, ask for a few) are written at once,
+// with their details; the next ones within `window` are only counted; when
+// the window ends, one summary line gives the count, and a new window
+// starts while they keep coming (its summary line counts as one of the
+// new window's lines). A kind that stays quiet for a whole window is
+// forgotten, so its next occurrence is written at once again. There is no
+// lifetime cap: every window names its first occurrences and counts the
+// rest. Memory: one entry per kind, at most `max_kinds` (kinds are the
+// program's fixed texts; past the cap, new kinds share one entry,
+// "other").
 #pragma once
 
 #include <chrono>
@@ -38,9 +38,9 @@ class KindLimiter {
     explicit KindLimiter(std::chrono::milliseconds window = std::chrono::seconds(60),
                          std::size_t max_kinds = 64);
 
-    // True when a line of this kind is to be written now; false when it is
-    // only counted.
-    bool admit(std::string_view kind, Clock::time_point now);
+    // True when a line of this kind is to be written now (one of the first
+    // `per_window` in its window); false when it is only counted.
+    bool admit(std::string_view kind, Clock::time_point now, std::uint32_t per_window = 1);
 
     // The summaries of the windows that have ended by `now` (kinds with
     // nothing suppressed are forgotten, without a summary).
@@ -55,49 +55,13 @@ class KindLimiter {
     struct Entry {
         std::string kind;
         Clock::time_point window_start;
+        std::uint32_t written = 0;  // lines of this window, its summary included
         std::uint64_t suppressed = 0;
     };
 
     std::chrono::milliseconds window_;
     std::size_t max_kinds_;
     std::vector<Entry> entries_;
-};
-
-template <typename Key>
-class FirstSightings {
-  public:
-    enum class Sighting {
-        kNew,       // first time: report it
-        kKnown,     // seen before: say nothing
-        kOverflow,  // the table just filled up: report that, once
-        kUncounted  // after the overflow: say nothing
-    };
-
-    explicit FirstSightings(std::size_t capacity) : capacity_(capacity) { keys_.reserve(capacity); }
-
-    Sighting see(const Key& key) {
-        for (const auto& k : keys_) {
-            if (k == key) {
-                return Sighting::kKnown;
-            }
-        }
-        if (keys_.size() < capacity_) {
-            keys_.push_back(key);
-            return Sighting::kNew;
-        }
-        ++unlisted_;
-        return unlisted_ == 1 ? Sighting::kOverflow : Sighting::kUncounted;
-    }
-
-    std::size_t listed() const { return keys_.size(); }
-    // Sightings of keys that did not fit (each counted, even repeats).
-    std::uint64_t unlisted() const { return unlisted_; }
-    std::size_t capacity() const { return capacity_; }
-
-  private:
-    std::size_t capacity_;
-    std::vector<Key> keys_;
-    std::uint64_t unlisted_ = 0;
 };
 
 }  // namespace gport::mavlink::bridge

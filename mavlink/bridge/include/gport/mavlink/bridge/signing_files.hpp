@@ -3,15 +3,19 @@
 // The key file (--signing-key, config `signing_key`): the 32-byte secret as
 // 64 hexadecimal digits, surrounding whitespace and newlines allowed,
 // nothing else. It must be a regular file (a symbolic link to one is
-// followed) that only its owner may read or write: any permission for the
-// group or others refuses it, as does anything unreadable or malformed.
+// followed), owned by the effective user or root, that only its owner may
+// read or write: another owner, any permission for the group or others
+// refuses it, as does anything unreadable or malformed.
 // Errors name the file, the problem and what is allowed; never the key.
 //
 // The timestamp file (DIR/signing-timestamp, DIR from --state-dir, config
 // `state_dir` or $STATE_DIRECTORY): one decimal number, a signing
 // timestamp that every timestamp sent so far stays at or under. Written
-// whole to a temporary file, synced and renamed over the old one, so a
-// crash leaves the old value or the new one, never a torn one.
+// whole to a temporary file of a unique name (mkstemp), synced and renamed
+// over the old one, so a crash leaves the old value or the new one, never a
+// torn one. The directory is locked (flock) by the one process using it:
+// two processes sharing a state directory would publish each other's
+// values (one's timestamps below the other's file); the second is refused.
 #pragma once
 
 #include <cstdint>
@@ -33,7 +37,17 @@ class TimestampFile {
     static constexpr const char* kFileName = "signing-timestamp";
 
     explicit TimestampFile(const std::string& directory);
+    TimestampFile(TimestampFile&& other) noexcept;
+    TimestampFile& operator=(TimestampFile&&) = delete;
+    TimestampFile(const TimestampFile&) = delete;
+    TimestampFile& operator=(const TimestampFile&) = delete;
+    ~TimestampFile();  // releases the lock
     const std::string& path() const { return path_; }
+
+    // Locks the directory for this object's lifetime (an exclusive flock,
+    // not waited for); the error names the directory and says that another
+    // process (another gport-mavlink) holds it, or why it cannot be locked.
+    std::optional<Error> lock();
 
     // The stored timestamp; 0 when the file does not exist yet (first
     // start). An error names the file and the problem when it cannot be
@@ -44,7 +58,9 @@ class TimestampFile {
     std::optional<Error> save(std::uint64_t timestamp) const;
 
   private:
+    std::string directory_;
     std::string path_;
+    int lock_fd_ = -1;
 };
 
 }  // namespace gport::mavlink::bridge
