@@ -239,6 +239,13 @@ std::variant<ChannelInfo, std::string> Server::open_attitude_channel(ClientState
     if (closed_) {
         return std::string("gportd is stopping");
     }
+    // A batch carries on after an earlier member closed its session (an
+    // event that overflowed the client's queue): session_closed has already
+    // forgotten the client, and a block made now would never be freed.
+    const auto session = sessions_.find(client.info.id);
+    if (session == sessions_.end() || session->second->closed()) {
+        return std::string("the connection is closed");
+    }
     auto opened = channel_->open_for(client.info.id, deliver);
     if (auto* error = std::get_if<std::string>(&opened)) {
         channel_failed(client.info, *error);
