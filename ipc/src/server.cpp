@@ -133,7 +133,9 @@ void Server::close() {
         return;
     }
     closed_ = true;
-    channel_->close();  // before the sockets: readers learn of it from the ring and their word
+    // Before the sockets: readers learn of it from the ring and their word
+    // (the waker thread's last round; joined here).
+    channel_->close();
     if (started_) {
         api_.set_observer(nullptr);
     }
@@ -264,6 +266,10 @@ std::size_t Server::attitude_channel_clients() const {
     return channel_->readers();
 }
 
+bool Server::attitude_wakes_done() const {
+    return channel_->wakes_done();
+}
+
 std::array<int, 2> Server::channel_descriptors(const daemon::ClientInfo& client) const {
     return channel_->descriptors(client.id);
 }
@@ -293,7 +299,7 @@ void Server::channel_failed(const daemon::ClientInfo& client, const std::string&
 
 void Server::on_attitude(const daemon::AttitudeSample& sample) {
     channel_->publish(sample);
-    channel_->wake();  // one bump and FUTEX_WAKE(1) per reader connection, none without
+    channel_->wake();  // the waker thread's, O(1) here: no reader can make it cost more
     Line line;         // built on first use: nothing is encoded when nobody listens
     for_each_session([&](Session& session) {
         if (session.subscriptions().attitude) {

@@ -39,6 +39,11 @@ inline void publish_samples(ServerHarness& h, std::uint64_t first, std::uint64_t
     });
 }
 
+// Every wake asked for so far has been made: the waker thread is idle.
+inline bool wakes_done(ServerHarness& h) {
+    return h.eventually([&] { return h.server->attitude_wakes_done(); });
+}
+
 inline nlohmann::json channel_result(std::uint64_t published, std::size_t descriptors) {
     return nlohmann::json{{"version", 2},
                           {"slots", 64},
