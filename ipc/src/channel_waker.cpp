@@ -71,6 +71,8 @@ std::optional<std::string> ChannelWaker::start() {
     if (error != 0) {
         return waker_failed("starting the waker thread", error);
     }
+    // Named here, not by the thread itself: it has its name once start() returns.
+    ::pthread_setname_np(thread_, "gportd-waker");
     started_ = true;
     return std::nullopt;
 }
@@ -117,7 +119,6 @@ void* ChannelWaker::main(void* self) {
 }
 
 void ChannelWaker::run() {
-    ::pthread_setname_np(::pthread_self(), "gportd-waker");
     leave_realtime();
     for (;;) {
         std::uint64_t count = 0;
