@@ -67,6 +67,7 @@ std::string tail_of(const std::string& path) {
 struct AttackResult {
     int park_threads = 0;
     bool park_gone = false;
+    int park_keys = 0;
     int channel_version = 0;
     PingStats pings;
     std::string ping_error;
@@ -126,7 +127,7 @@ CellResult run_cell(const Options& options, const std::string& dir, AttackResult
     std::unique_ptr<ParkAttack> park;
     if (options.park_threads > 0) {
         park = std::make_unique<ParkAttack>(daemon_options.socket, options.park_threads,
-                                            options.park_gone);
+                                            options.park_gone, options.park_keys);
         attack.channel_version = park->version();
     }
     StopPinger pinger(daemon_options.socket, std::max(options.stop_every_ms, 1));
@@ -152,6 +153,7 @@ CellResult run_cell(const Options& options, const std::string& dir, AttackResult
     }
     attack.park_threads = options.park_threads;
     attack.park_gone = options.park_gone;
+    attack.park_keys = options.park_keys;
     attack.pings = pinger.stats();
     attack.ping_error = pinger.error();
     hub.stop_flood();
@@ -211,6 +213,9 @@ int run(const Options& options) {
         std::cout << "  futex-waiter attack: " << attack.park_threads
                   << " threads parked by a read-only peer"
                   << (attack.park_gone ? " that disconnected (+ 1 real holder)" : "")
+                  << (attack.park_keys > 0
+                          ? " on " + std::to_string(attack.park_keys) + " keys of its own"
+                          : std::string(" on its wake word"))
                   << ", channel version " << attack.channel_version << "\n";
     }
     if (options.stop_every_ms > 0) {
@@ -221,6 +226,7 @@ int run(const Options& options) {
         auto summary = to_json(result);
         summary["park"] = {{"threads", attack.park_threads},
                            {"gone", attack.park_gone},
+                           {"keys", attack.park_keys},
                            {"channel_version", attack.channel_version}};
         summary["stop_round_trip"] = to_json(attack.pings);
         std::ofstream out(options.json_path);

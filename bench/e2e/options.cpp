@@ -62,6 +62,10 @@ std::string usage() {
            "                     --stop-every 20 unless given\n"
            "  --park-gone        the parking peer closes its socket once parked, keeping its\n"
            "                     threads; another connection keeps the channel open\n"
+           "  --park-keys K      the parked threads wait, round robin, on K words (1-65536) of\n"
+           "                     a shared memfd of the peer's own instead of the wake word:\n"
+           "                     with K in the thousands every futex hash bucket, the wake\n"
+           "                     word's too, holds waiters gportd's wake walks past\n"
            "  --stop-every MS    a commander sends `stop` every MS ms (1-1000) and the stop\n"
            "                     round trip (write to reply) is reported: count, p50, p99, max\n"
            "  -h, --help         this text\n";
@@ -129,6 +133,9 @@ std::optional<Options> parse_options(int argc, char** argv) {
         } else if (arg == "--park-threads") {
             n = number(arg, value, 0, 20000);
             o.park_threads = static_cast<int>(n.value_or(0));
+        } else if (arg == "--park-keys") {
+            n = number(arg, value, 1, 65536);
+            o.park_keys = static_cast<int>(n.value_or(0));
         } else if (arg == "--stop-every") {
             n = number(arg, value, 1, 1000);
             o.stop_every_ms = static_cast<int>(n.value_or(0));
@@ -158,6 +165,10 @@ std::optional<Options> parse_options(int argc, char** argv) {
     }
     if (o.park_gone && o.park_threads == 0) {
         std::fprintf(stderr, "bench_e2e: --park-gone needs --park-threads N\n");
+        return std::nullopt;
+    }
+    if (o.park_keys > 0 && o.park_threads == 0) {
+        std::fprintf(stderr, "bench_e2e: --park-keys needs --park-threads N\n");
         return std::nullopt;
     }
     if (o.park_threads > 0 && !stop_every_given) {

@@ -23,6 +23,7 @@ struct Options {
     int stops = 0;                    // stop probe: motions ended by each cause (0 = off)
     int park_threads = 0;             // futex-waiter attack: threads parked by a peer (0 = off)
     bool park_gone = false;           // ... whose connection closed, plus one real holder
+    int park_keys = 0;                // ... on this many keys of its own, not the wake word
     int stop_every_ms = 0;            // a commander sends `stop` this often (0 = off)
     bool help = false;
 };

@@ -10,6 +10,8 @@
 
 #include <atomic>
 #include <cerrno>
+#include <chrono>
+#include <cstddef>
 #include <cstdlib>
 #include <cstring>
 #include <deque>
@@ -17,8 +19,11 @@
 #include <stdexcept>
 #include <vector>
 
+#include "channel_reply.hpp"
+#include "gport/base/attitude_ring.hpp"
 #include "gport/base/descriptors.hpp"
 #include "gport/base/futex.hpp"
+#include "gport/base/wake_block.hpp"
 
 extern char** environ;
 
@@ -27,9 +32,10 @@ namespace {
 
 constexpr std::string_view kParkOpen = R"({"jsonrpc":"2.0","id":1,"method":"attitude_channel"})"
                                        "\n";
-constexpr std::size_t kVersion1WordOffset = 24;  // the ring header's futex word in version 1
-constexpr std::size_t kWakeWordOffset = 16;      // in a version 2 wake block
-constexpr std::size_t kStack = 64 * 1024;        // thousands of threads: small stacks
+// The word gportd wakes: version 1 had it in the ring header (now reserved).
+constexpr std::size_t kVersion1WordOffset = offsetof(base::RingHeader, reserved_wake);
+constexpr std::size_t kWakeWordOffset = offsetof(base::WakeBlock, wake);  // version 2
+constexpr std::size_t kStack = 64 * 1024;  // thousands of threads: small stacks
 
 struct ParkChannel {
     nlohmann::json result;
@@ -42,22 +48,14 @@ ParkChannel ask_channel(int socket) {
         throw std::runtime_error("park: cannot send attitude_channel");
     }
     ParkChannel c;
-    std::string text;
-    const auto deadline = now_ns() + 10'000'000'000LL;
-    while (text.find('\n') == std::string::npos) {
-        char data[4096];
-        const auto n = base::receive_with_descriptors(socket, data, sizeof(data), c.fds);
-        if (n < 0 && (errno == EAGAIN || errno == EINTR) && now_ns() < deadline) {
-            ::usleep(1000);
-            continue;
-        }
-        if (n <= 0) {
-            throw std::runtime_error("park: no reply to attitude_channel");
-        }
-        text.append(data, static_cast<std::size_t>(n));
+    const auto line = read_reply_with_descriptors(socket, c.fds, std::chrono::seconds(10));
+    if (!line) {
+        base::close_descriptors(c.fds);
+        throw std::runtime_error("park: no reply to attitude_channel within 10 s");
     }
-    const auto reply = nlohmann::json::parse(text.substr(0, text.find('\n')));
+    const auto reply = nlohmann::json::parse(*line);
     if (!reply.contains("result")) {
+        base::close_descriptors(c.fds);
         throw std::runtime_error("park: attitude_channel refused: " + reply.dump());
     }
     c.result = reply["result"];
@@ -72,6 +70,24 @@ const std::atomic<std::uint32_t>* word_of(int fd, std::size_t size, std::size_t 
     return reinterpret_cast<const std::atomic<std::uint32_t>*>(static_cast<char*>(memory) + offset);
 }
 
+// `keys` words of a shared-memory block of the peer's own (a memfd, as
+// gportd's blocks are, so the futexes are shared ones keyed by inode and
+// offset and hash into the kernel's one global table with gportd's wake
+// words): spread over that many keys, the parked threads sit in every hash
+// bucket, the one of the connection's wake word too, whatever the hash.
+std::atomic<std::uint32_t>* cover_words(int keys) {
+    const auto bytes = static_cast<std::size_t>(keys) * sizeof(std::uint32_t);
+    Fd block(::memfd_create("gport-park-keys", MFD_CLOEXEC));
+    if (!block.valid() || ::ftruncate(block.get(), static_cast<off_t>(bytes)) != 0) {
+        throw std::runtime_error(std::string("park: memfd for the keys: ") + std::strerror(errno));
+    }
+    void* memory = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, block.get(), 0);
+    if (memory == MAP_FAILED) {
+        throw std::runtime_error(std::string("park: mmap of the keys: ") + std::strerror(errno));
+    }
+    return static_cast<std::atomic<std::uint32_t>*>(memory);
+}
+
 void* park_thread(void* word) {
     const auto& w = *static_cast<const std::atomic<std::uint32_t>*>(word);
     for (;;) {
@@ -83,13 +99,14 @@ void* park_thread(void* word) {
 }  // namespace
 
 int park_child_main(int argc, char** argv) {
-    if (argc < 4) {
+    if (argc < 5) {
         return 64;
     }
     const std::string socket = argv[0];
     const int threads = std::atoi(argv[1]);
     const bool gone = std::atoi(argv[2]) != 0;
     const int report = std::atoi(argv[3]);
+    const int keys = std::atoi(argv[4]);
     try {
         Fd connection = connect_unix(socket);
         auto channel = ask_channel(connection.get());
@@ -97,15 +114,17 @@ int park_child_main(int argc, char** argv) {
         const auto size = channel.result.at("size").get<std::size_t>();
         const int ring = base::take_descriptor(channel.fds);
         const int wake = base::take_descriptor(channel.fds);
-        const auto* word = version >= 2 ? word_of(wake, 64, kWakeWordOffset)
+        const auto* word = version >= 2 ? word_of(wake, base::kWakeBlockBytes, kWakeWordOffset)
                                         : word_of(ring, size, kVersion1WordOffset);
+        auto* covers = keys > 0 ? cover_words(keys) : nullptr;
         pthread_attr_t attr;
         ::pthread_attr_init(&attr);
         ::pthread_attr_setstacksize(&attr, kStack);
         for (int i = 0; i < threads; ++i) {
+            const auto* target = covers != nullptr ? &covers[i % keys] : word;
             pthread_t thread;
             if (::pthread_create(&thread, &attr, park_thread,
-                                 const_cast<std::atomic<std::uint32_t>*>(word)) != 0) {
+                                 const_cast<std::atomic<std::uint32_t>*>(target)) != 0) {
                 throw std::runtime_error("park: pthread_create failed after " + std::to_string(i) +
                                          " threads");
             }
@@ -127,8 +146,8 @@ int park_child_main(int argc, char** argv) {
     }
 }
 
-ParkAttack::ParkAttack(const std::string& socket, int threads, bool gone)
-    : threads_(threads), gone_(gone) {
+ParkAttack::ParkAttack(const std::string& socket, int threads, bool gone, int keys)
+    : threads_(threads), gone_(gone), keys_(keys) {
     int pipe_fds[2];
     if (::pipe2(pipe_fds, O_CLOEXEC) != 0) {
         throw std::runtime_error("park: pipe failed");
@@ -138,8 +157,8 @@ ParkAttack::ParkAttack(const std::string& socket, int threads, bool gone)
     ::posix_spawn_file_actions_init(&actions);
     ::posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], 3);
     const std::string count = std::to_string(threads);
-    std::vector<std::string> args = {"bench_e2e", "--park-child",   socket,
-                                     count,       gone ? "1" : "0", "3"};
+    std::vector<std::string> args = {
+        "bench_e2e", "--park-child", socket, count, gone ? "1" : "0", "3", std::to_string(keys)};
     std::vector<char*> argv;
     for (auto& a : args) {
         argv.push_back(a.data());

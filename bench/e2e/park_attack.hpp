@@ -8,6 +8,12 @@
 // `gone` the peer closes its socket once its threads are parked and keeps
 // them parked; a holder connection of this process then keeps the channel
 // open, so gportd still has a reader to wake (the "+ 1 real holder").
+// With `keys` > 0 (review finding 5) the threads park instead on that many
+// words of a shared memfd of the peer's own, none on the wake word: every
+// futex hash bucket holds some, so each FUTEX_WAKE gportd makes on the
+// peer's word walks a chain of waiters it never wakes (the timed search for
+// keys colliding with that word concentrates them in its bucket; covering
+// every bucket needs no timing).
 #pragma once
 
 #include <sys/types.h>
@@ -22,13 +28,14 @@ class ParkAttack {
   public:
     // Starts the peer and waits until its threads are parked; throws
     // std::runtime_error naming what failed.
-    ParkAttack(const std::string& socket, int threads, bool gone);
+    ParkAttack(const std::string& socket, int threads, bool gone, int keys = 0);
     ~ParkAttack();
     ParkAttack(const ParkAttack&) = delete;
     ParkAttack& operator=(const ParkAttack&) = delete;
 
     int threads() const { return threads_; }
     bool gone() const { return gone_; }
+    int keys() const { return keys_; }
     // The channel's layout version the daemon announced (1 or 2).
     int version() const { return version_; }
     // Ends the peer (SIGKILL) and reaps it.
@@ -37,12 +44,13 @@ class ParkAttack {
   private:
     int threads_;
     bool gone_;
+    int keys_;
     int version_ = 0;
     pid_t child_ = -1;
     Fd holder_;
 };
 
-// The peer's main (argv after --park-child: SOCKET THREADS GONE(0|1) FD):
+// The peer's main (argv after --park-child: SOCKET THREADS GONE(0|1) FD KEYS):
 // writes "parked <version>\n" to FD once its threads are parked.
 int park_child_main(int argc, char** argv);
 

@@ -1,14 +1,20 @@
 #include "soak_channel.hpp"
 
 #include <sys/mman.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <chrono>
+#include <cstddef>
 #include <deque>
 #include <stdexcept>
 
+#include "channel_reply.hpp"
+#include "gport/base/attitude_ring.hpp"
 #include "gport/base/descriptors.hpp"
+#include "gport/base/wake_block.hpp"
 
 namespace gport::bench {
 namespace {
@@ -16,6 +22,8 @@ namespace {
 constexpr std::int64_t kChannelMs = 1'000'000;
 constexpr int kChannelBatch = 32;
 constexpr std::size_t kMaxProbeFailures = 20;
+constexpr std::size_t kPublishedOffset = offsetof(base::RingHeader, published);
+constexpr std::size_t kWakeOffset = offsetof(base::WakeBlock, wake);
 
 std::string channel_batch_line() {
     std::string line = "[";
@@ -39,7 +47,7 @@ ChannelAttacks::Probe::~Probe() {
         ::munmap(const_cast<void*>(ring), ring_size);
     }
     if (wake != nullptr) {
-        ::munmap(const_cast<void*>(wake), 64);
+        ::munmap(const_cast<void*>(wake), base::kWakeBlockBytes);
     }
 }
 
@@ -49,12 +57,12 @@ std::string ChannelAttacks::check_last_probe() {
         return "";
     }
     const auto& p = *last_probe_;
-    const auto published =
-        reinterpret_cast<const std::atomic<std::uint64_t>*>(static_cast<const char*>(p.ring) + 32)
-            ->load();
-    const auto word =
-        reinterpret_cast<const std::atomic<std::uint32_t>*>(static_cast<const char*>(p.wake) + 16)
-            ->load();
+    const auto published = reinterpret_cast<const std::atomic<std::uint64_t>*>(
+                               static_cast<const char*>(p.ring) + kPublishedOffset)
+                               ->load();
+    const auto word = reinterpret_cast<const std::atomic<std::uint32_t>*>(
+                          static_cast<const char*>(p.wake) + kWakeOffset)
+                          ->load();
     if (published != p.published && word == p.word) {
         return std::to_string(published - p.published) +
                " samples published, its wake word never bumped";
@@ -72,23 +80,13 @@ std::string ChannelAttacks::open_probe() {
                        "\n")) {
         return "cannot send";
     }
-    std::string text;
     std::deque<int> fds;
-    const auto deadline = now_ns() + 5000 * kChannelMs;
-    while (text.find('\n') == std::string::npos) {
-        char data[4096];
-        const auto n = base::receive_with_descriptors(fd, data, sizeof(data), fds);
-        if (n < 0 && (errno == EAGAIN || errno == EINTR) && now_ns() < deadline) {
-            ::usleep(500);
-            continue;
-        }
-        if (n <= 0) {
-            base::close_descriptors(fds);
-            return "no reply within 5 s";
-        }
-        text.append(data, static_cast<std::size_t>(n));
+    const auto received = read_reply_with_descriptors(fd, fds, std::chrono::seconds(5));
+    if (!received) {
+        base::close_descriptors(fds);
+        return "no reply within 5 s";
     }
-    const auto line = text.substr(0, text.find('\n'));
+    const std::string& line = *received;
     const auto reply = nlohmann::json::parse(line, nullptr, false);
     if (!reply.is_object() || !reply.contains("result") ||
         reply["result"].value("descriptors", 0) != 2 || fds.size() != 2) {
@@ -97,7 +95,7 @@ std::string ChannelAttacks::open_probe() {
     }
     probe->ring_size = reply["result"].value("size", std::size_t{0});
     void* ring = ::mmap(nullptr, probe->ring_size, PROT_READ, MAP_SHARED, fds[0], 0);
-    void* wake = ::mmap(nullptr, 64, PROT_READ, MAP_SHARED, fds[1], 0);
+    void* wake = ::mmap(nullptr, base::kWakeBlockBytes, PROT_READ, MAP_SHARED, fds[1], 0);
     base::close_descriptors(fds);
     probe->ring = ring == MAP_FAILED ? nullptr : ring;
     probe->wake = wake == MAP_FAILED ? nullptr : wake;
@@ -105,10 +103,10 @@ std::string ChannelAttacks::open_probe() {
         return "cannot map the blocks";
     }
     probe->published = reinterpret_cast<const std::atomic<std::uint64_t>*>(
-                           static_cast<const char*>(probe->ring) + 32)
+                           static_cast<const char*>(probe->ring) + kPublishedOffset)
                            ->load();
     probe->word = reinterpret_cast<const std::atomic<std::uint32_t>*>(
-                      static_cast<const char*>(probe->wake) + 16)
+                      static_cast<const char*>(probe->wake) + kWakeOffset)
                       ->load();
     last_probe_ = std::move(probe);
     return "";
@@ -141,24 +139,53 @@ void ChannelAttacks::start(std::int64_t t_ns) {
     }
 }
 
-// (g) Batches of 32 attitude_channel, never read; a connection the daemon
-// closed (or that it stopped reading) is replaced.
+// (g) Batches of 32 attitude_channel, never read. A batch goes out whole:
+// what the socket did not take of it is sent first next round, before any
+// new batch (never half a line then another); a new batch the socket takes
+// nothing of is refused by back-pressure, as it should be. A connection
+// gportd closed is replaced.
 void ChannelAttacks::hoard(std::int64_t) {
     hoarders_.resize(static_cast<std::size_t>(o_.hoarders));
     static const std::string line = channel_batch_line();
-    for (auto& fd : hoarders_) {
-        if (!fd.valid()) {
-            try {
-                fd = connect_unix(o_.socket);
-            } catch (const std::runtime_error&) {
-                continue;  // full: later
-            }
+    ++hoard_rounds_;
+    std::size_t open = 0;
+    for (auto& h : hoarders_) {
+        if (!h.fd.valid() && !connect_hoarder(h)) {
+            continue;  // gportd full, or gone: next round
         }
-        if (write_all(fd.get(), line, 0)) {
+        const bool fresh = h.pending.empty();
+        if (fresh) {
+            h.pending = line;
+        }
+        const auto sent =
+            ::send(h.fd.get(), h.pending.data(), h.pending.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (sent < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
+            h.fd.reset();  // gportd closed it (EPIPE, ECONNRESET): replaced next round
+            ++hoarders_closed_;
+            continue;
+        }
+        ++open;
+        h.pending.erase(0, sent > 0 ? static_cast<std::size_t>(sent) : 0);
+        if (h.pending.empty()) {
             ++batches_;
-        } else {
-            ++hoard_refused_;  // its socket is full: back-pressure, as it should be
+        } else if (fresh && sent <= 0) {
+            h.pending.clear();
+            ++hoard_refused_;
         }
+    }
+    if (open == 0 && !hoarders_.empty()) {
+        ++hoard_rounds_idle_;
+    }
+}
+
+bool ChannelAttacks::connect_hoarder(Hoarder& h) {
+    try {
+        h.fd = connect_unix(o_.socket);
+        h.pending.clear();
+        return true;
+    } catch (const std::runtime_error& e) {
+        hoard_error_ = e.what();
+        return false;
     }
 }
 
@@ -197,6 +224,15 @@ std::vector<std::string> ChannelAttacks::problems() const {
     if (probes_ == 0) {
         out.push_back("no attitude_channel probe ran");
     }
+    if (hoard_rounds_idle_ > 0) {
+        out.push_back(
+            "descriptor hoarding stopped: no hoarder connection open in " +
+            std::to_string(hoard_rounds_idle_) + " of " + std::to_string(hoard_rounds_) +
+            " round(s); last connect error: " + (hoard_error_.empty() ? "none" : hoard_error_));
+    } else if (hoard_rounds_ > 0 && o_.hoarders > 0 && batches_ == 0) {
+        out.push_back("descriptor hoarding never got a batch out in " +
+                      std::to_string(hoard_rounds_) + " round(s)");
+    }
     return out;
 }
 
@@ -206,6 +242,8 @@ nlohmann::json ChannelAttacks::figures() const {
             {"hoarders", o_.hoarders},
             {"hoard_batches_written", batches_},
             {"hoard_batches_refused_by_back_pressure", hoard_refused_},
+            {"hoarders_closed_by_gportd_and_replaced", hoarders_closed_},
+            {"hoard_rounds_without_a_connection", hoard_rounds_idle_},
             {"channel_probes", probes_},
             {"channel_probes_ok", probes_ok_}};
 }

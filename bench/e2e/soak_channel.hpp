@@ -53,7 +53,14 @@ class ChannelAttacks {
     };
 
     void start(std::int64_t t_ns);
+    // A hoarding connection and what it has still to send of its batch.
+    struct Hoarder {
+        Fd fd;
+        std::string pending;
+    };
+
     void hoard(std::int64_t t_ns);
+    bool connect_hoarder(Hoarder& h);
     void probe();
     std::string open_probe();
     std::string check_last_probe();
@@ -63,10 +70,14 @@ class ChannelAttacks {
     std::vector<std::unique_ptr<ParkAttack>> parkers_;
     std::size_t parkers_started_ = 0;
     std::string park_error_;
-    std::vector<Fd> hoarders_;
+    std::vector<Hoarder> hoarders_;
     std::int64_t next_hoard_ns_ = 0;
     std::uint64_t batches_ = 0;
-    std::uint64_t hoard_refused_ = 0;  // batches the daemon would not take (closed or full)
+    std::uint64_t hoard_refused_ = 0;    // new batches a full socket took nothing of
+    std::uint64_t hoarders_closed_ = 0;  // connections gportd closed (each replaced)
+    std::uint64_t hoard_rounds_ = 0;
+    std::uint64_t hoard_rounds_idle_ = 0;  // rounds with no hoarder connection open
+    std::string hoard_error_;              // the last failed connect
     std::int64_t next_probe_ns_ = 0;
     std::unique_ptr<Probe> last_probe_;
     std::uint64_t probes_ = 0;

@@ -53,6 +53,9 @@ std::optional<std::string> AttitudeChannel::open() {
     if (writer_) {
         return std::nullopt;
     }
+    if (auto error = waker_.start()) {
+        return error;
+    }
     const int fd = ::memfd_create("gportd-attitude", MFD_CLOEXEC | MFD_ALLOW_SEALING);
     if (fd < 0) {
         return failed("memfd_create");
@@ -92,7 +95,9 @@ std::variant<std::size_t, std::string> AttitudeChannel::open_for(std::uint64_t c
         if (auto* error = std::get_if<std::string>(&made)) {
             return *error;
         }
-        it = readers_.emplace(client, Reader{std::move(std::get<0>(made))}).first;
+        it = readers_
+                 .emplace(client, Reader{std::shared_ptr<WakeBlock>(std::move(std::get<0>(made)))})
+                 .first;
     }
     if (!deliver || it->second.delivery != Delivery::kUnsent) {
         return std::size_t{0};  // a reply nobody sends, or they are on their way or there
@@ -120,10 +125,34 @@ void AttitudeChannel::delivered(std::uint64_t client, int error) {
     }
     it->second.delivery = Delivery::kSent;
     it->second.block->forget_descriptor();  // the mapping is all gportd needs
+    ++woken_readers_;
+    update_waker();
 }
 
 void AttitudeChannel::forget(std::uint64_t client) {
-    readers_.erase(client);
+    const auto it = readers_.find(client);
+    if (it == readers_.end()) {
+        return;
+    }
+    const bool woken = it->second.delivery == Delivery::kSent;
+    readers_.erase(it);
+    if (woken) {
+        --woken_readers_;
+        update_waker();
+    }
+}
+
+// O(readers), bounded by socket.max_clients; only when a connection's
+// descriptors went out or a reader left, never per sample.
+void AttitudeChannel::update_waker() {
+    ChannelWaker::Blocks blocks;
+    blocks.reserve(woken_readers_);
+    for (const auto& [id, reader] : readers_) {
+        if (reader.delivery == Delivery::kSent) {  // nobody can wait on the others yet
+            blocks.push_back(reader.block);
+        }
+    }
+    waker_.set_blocks(std::move(blocks));
 }
 
 void AttitudeChannel::publish(const daemon::AttitudeSample& sample) {
@@ -132,25 +161,20 @@ void AttitudeChannel::publish(const daemon::AttitudeSample& sample) {
     }
 }
 
-std::size_t AttitudeChannel::wake() {
-    std::size_t woken = 0;
-    for (auto& [id, reader] : readers_) {
-        if (reader.delivery == Delivery::kSent) {  // nobody can wait on the others yet
-            woken += reader.block->bump_and_wake() > 0 ? 1 : 0;
-        }
+void AttitudeChannel::wake() {
+    if (woken_readers_ > 0 && !closed_) {
+        waker_.signal();
     }
-    return woken;
 }
 
 void AttitudeChannel::close() {
     if (!writer_ || closed_) {
+        waker_.close();
         return;
     }
     closed_ = true;
-    writer_->close();
-    for (auto& [id, reader] : readers_) {
-        reader.block->bump_and_wake();
-    }
+    writer_->close();  // before the last round: a reader it wakes sees the flag
+    waker_.close();
 }
 
 }  // namespace gport::ipc::detail

@@ -133,7 +133,9 @@ void Server::close() {
         return;
     }
     closed_ = true;
-    channel_->close();  // before the sockets: readers learn of it from the ring and their word
+    // Before the sockets: readers learn of it from the ring and their word
+    // (the waker thread's last round; joined here).
+    channel_->close();
     if (started_) {
         api_.set_observer(nullptr);
     }
@@ -239,6 +241,13 @@ std::variant<ChannelInfo, std::string> Server::open_attitude_channel(ClientState
     if (closed_) {
         return std::string("gportd is stopping");
     }
+    // A batch carries on after an earlier member closed its session (an
+    // event that overflowed the client's queue): session_closed has already
+    // forgotten the client, and a block made now would never be freed.
+    const auto session = sessions_.find(client.info.id);
+    if (session == sessions_.end() || session->second->closed()) {
+        return std::string("the connection is closed");
+    }
     auto opened = channel_->open_for(client.info.id, deliver);
     if (auto* error = std::get_if<std::string>(&opened)) {
         channel_failed(client.info, *error);
@@ -255,6 +264,10 @@ std::variant<ChannelInfo, std::string> Server::open_attitude_channel(ClientState
 
 std::size_t Server::attitude_channel_clients() const {
     return channel_->readers();
+}
+
+bool Server::attitude_wakes_done() const {
+    return channel_->wakes_done();
 }
 
 std::array<int, 2> Server::channel_descriptors(const daemon::ClientInfo& client) const {
@@ -286,7 +299,7 @@ void Server::channel_failed(const daemon::ClientInfo& client, const std::string&
 
 void Server::on_attitude(const daemon::AttitudeSample& sample) {
     channel_->publish(sample);
-    channel_->wake();  // one bump and FUTEX_WAKE(1) per reader connection, none without
+    channel_->wake();  // the waker thread's, O(1) here: no reader can make it cost more
     Line line;         // built on first use: nothing is encoded when nobody listens
     for_each_session([&](Session& session) {
         if (session.subscriptions().attitude) {

@@ -85,8 +85,8 @@ bool Session::send_with_descriptors() {
         } else if (client_gone(error)) {
             close();
         } else {  // ETOOMANYREFS, ENOMEM, ENOBUFS...: nothing was sent
-            outbox_.replace_front(
-                std::make_shared<const std::string>(unsent_reply(*line, std::strerror(error))));
+            outbox_.replace_front(std::make_shared<const std::string>(unsent_reply(
+                *line, std::string("sending its descriptors: ") + std::strerror(error))));
             host_.channel_delivered(state_.info, error);
             return true;
         }

@@ -62,7 +62,7 @@ void WakeBlock::forget_descriptor() {
     }
 }
 
-long WakeBlock::bump_and_wake() {
+long WakeBlock::bump_and_wake() const {
     block_->wake.fetch_add(1, std::memory_order_release);
     return base::futex_wake(block_->wake, 1);
 }

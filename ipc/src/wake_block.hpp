@@ -4,7 +4,8 @@
 // F_SEAL_SEAL), so the connection can only map it read-only.
 //
 // gportd keeps the descriptor only until it has been sent
-// (forget_descriptor()); the mapping stays until the connection closes.
+// (forget_descriptor()); the mapping stays until the connection closed and
+// the waker thread let go of it (the last shared owner unmaps it).
 #pragma once
 
 #include <memory>
@@ -28,8 +29,10 @@ class WakeBlock {
     // Closes gportd's copy of the descriptor (the peer has its own).
     void forget_descriptor();
     // Bumps the word and wakes one waiter: what a sample or the close costs
-    // per connection. Returns how many were woken (0 or 1), or -1.
-    long bump_and_wake();
+    // per connection. Returns how many were woken (0 or 1), or -1. Only the
+    // waker thread calls it (channel_waker.hpp); it touches nothing but the
+    // shared word, so the loop may meanwhile forget the descriptor.
+    long bump_and_wake() const;
     const std::atomic<std::uint32_t>& word() const { return block_->wake; }
 
   private:

@@ -3,7 +3,9 @@
 // It is the core's CoreObserver; the rest of the daemon never sees a socket.
 //
 // Single-threaded: every call, and every handler, runs on the io_context's
-// thread.
+// thread. The one other thread, started with the attitude channel, only
+// makes the channel's wakes (ipc/src/channel_waker.hpp) and never calls
+// back.
 //
 //   ipc::Server server(io, core, config.socket, log, activated_fd);
 //   server.start();   // throws std::runtime_error with a clear message
@@ -78,6 +80,8 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     std::size_t attitude_channel_clients() const;
     // Channels or descriptors that could not be made or sent, since start.
     std::uint64_t attitude_channel_failures() const { return channel_failures_; }
+    // The waker thread has made every wake asked for so far (tests, benchmarks).
+    bool attitude_wakes_done() const;
 
     // The memory budget across all sessions (SessionHost::account).
     static constexpr std::size_t kQueuedBudget = 8 * 1024 * 1024;
