@@ -286,9 +286,11 @@ class Mapping:
         return ctypes.c_uint32.from_address(self._wake + OFF_WAKE).value
 
     def _read_fenced(self, read: Callable[..., int]) -> Callable[[int], tuple[Any, ...] | None]:
-        words = _Words()
-
         def fenced(n: int) -> tuple[Any, ...] | None:
+            # A buffer per read: the library fills it with the GIL released,
+            # so a buffer shared by the threads could be rewritten by another
+            # read between this one's return and the copy below.
+            words = _Words()
             if n == 0 or not read(self._ring, self.slots, n, words):
                 return None
             return WORDS.unpack(bytes(words))
