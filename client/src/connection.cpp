@@ -245,30 +245,45 @@ std::optional<nlohmann::json> Connection::call(
     if (!id) {
         return std::nullopt;
     }
+    return await_reply(*id, method, limit, deadline, on_notification);
+}
+
+std::optional<nlohmann::json> Connection::await_reply(
+    int id, const std::string& method, std::optional<std::chrono::milliseconds> limit,
+    Deadline deadline, const std::function<void(const nlohmann::json&)>& on_notification) {
     // The watched descriptor is for the caller's own reads: not polled here
     // (it would stay readable until the caller drains it).
-    const int watched = std::exchange(watched_, -1);
+    struct Unwatch {
+        Connection& c;
+        int watched = std::exchange(c.watched_, -1);
+        ~Unwatch() { c.watched_ = watched; }
+    } unwatch{*this};
     nlohmann::json message;
     while (true) {
         const auto status = read(message, time_left(deadline));
         if (status == ReadStatus::kTimeout) {
-            watched_ = watched;
             throw codec::no_reply(method, *limit);
         }
         if (status != ReadStatus::kMessage) {
-            break;
+            return std::nullopt;
         }
         if (message.contains("id")) {
-            if (message["id"] == *id || message["id"].is_null()) {
-                watched_ = watched;
+            if (message["id"] == id || message["id"].is_null()) {
                 return message;  // null id: the daemon refused us (e.g. too many clients)
             }
         } else if (on_notification) {
             on_notification(message);
         }
+        // read() gives every complete line at once, without looking at the
+        // clock: a server that keeps the socket full would otherwise hold
+        // the call for as long as it floods.
+        if (deadline && Clock::now() >= *deadline) {
+            throw codec::no_reply(method, *limit);
+        }
+        if (interrupted()) {
+            return std::nullopt;
+        }
     }
-    watched_ = watched;
-    return std::nullopt;
 }
 
 }  // namespace gport::client

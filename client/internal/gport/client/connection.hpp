@@ -61,7 +61,8 @@ class GPORT_CLIENT_API Connection {
                     std::optional<std::chrono::milliseconds> timeout = std::nullopt);
 
     // Sends a request and waits for its reply; notifications meanwhile go to
-    // `on_notification`. Empty when the connection closed or was interrupted.
+    // `on_notification`. Empty when the connection closed or was interrupted
+    // (looked at between reads and after every notification).
     // Throws Error (kTimeout) when no reply came within the call timeout
     // (plus kWaitAllowance for params with "wait": true); the connection
     // stays usable and the late reply is dropped.
@@ -112,6 +113,11 @@ class GPORT_CLIENT_API Connection {
     std::optional<int> send(const std::string& method, const nlohmann::json& params,
                             Deadline deadline);
     bool write_all(std::string_view data, Deadline deadline);
+    // Reads until the reply to request `id` (or a refusal) comes; the
+    // deadline and interrupted() are looked at after every other message.
+    std::optional<nlohmann::json> await_reply(
+        int id, const std::string& method, std::optional<std::chrono::milliseconds> limit,
+        Deadline deadline, const std::function<void(const nlohmann::json&)>& on_notification);
     // Ends the connection because of what gportd did.
     void fail(const std::string& why);
     void close_descriptors() noexcept;
