@@ -43,8 +43,9 @@ struct ChannelReply {
 
 class ChannelMapping {
   public:
-    // Checks both descriptors (fstat size: the ring's as the reply says,
-    // the wake block's 64; seals: F_SEAL_SHRINK and a write seal), maps
+    // Checks both descriptors (the seals first: F_SEAL_SHRINK and a write
+    // seal; then the size: the ring's as the reply says, the wake block's
+    // 64), maps
     // them read-only and checks their headers. Throws Error (kBadReply)
     // naming the block and the problem; the descriptors stay the caller's.
     static std::shared_ptr<ChannelMapping> map(int ring_fd, int wake_fd, const ChannelReply& reply);

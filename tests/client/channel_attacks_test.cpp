@@ -3,6 +3,7 @@
 // without seals, truncated or of the wrong size, a slot count rewritten
 // after the check, more descriptors than announced, "descriptors":0 on a
 // connection without a channel, and descriptors attached to notifications.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -65,10 +66,29 @@ TEST(ChannelAttacks, ATruncatedBlockIsRefusedBeforeItIsMapped) {
     FakeServer server;
     RingBlock truncated(64, 0);
     ASSERT_EQ(::ftruncate(truncated.fd(), 4096), 0);
+    ASSERT_EQ(::fcntl(truncated.fd(), F_ADD_SEALS, kSeals), 0);
     server.offer(Offer{&truncated, std::nullopt, {{"size", base::ring_bytes(64)}}});
     auto client = gc::Client::connect(server.path());
     const auto message = bad_reply([&] { client.attitude_channel(); });
     EXPECT_NE(message.find("the ring is 4096 bytes, not the 8256 expected"), std::string::npos)
+        << message;
+}
+
+// The seals come first: a block that may still shrink is refused before
+// its size is looked at, since a server holding another descriptor could
+// shrink it after that look and seal it then (before: the size was looked
+// at first, so this block was refused for its size, and one truncated in
+// between the two looks was mapped at the old size: SIGBUS).
+TEST(ChannelAttacks, ABlockThatMayShrinkIsRefusedBeforeItsSizeIsLookedAt) {
+    FakeServer server;
+    RingBlock shrinkable(64, 0);
+    ASSERT_EQ(::ftruncate(shrinkable.fd(), 4096), 0);
+    ASSERT_EQ(::fcntl(shrinkable.fd(), F_ADD_SEALS, kSeals & ~unsigned{F_SEAL_SHRINK}), 0);
+    server.offer(Offer{&shrinkable, std::nullopt, {{"size", base::ring_bytes(64)}}});
+    auto client = gc::Client::connect(server.path());
+    const auto message = bad_reply([&] { client.attitude_channel(); });
+    EXPECT_NE(message.find("the ring is not sealed against shrinking and writing (seals 0x15;"),
+              std::string::npos)
         << message;
 }
 

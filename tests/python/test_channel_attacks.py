@@ -5,6 +5,7 @@ descriptors attached to notifications, and a CPU without fences."""
 
 from __future__ import annotations
 
+import fcntl
 import os
 import threading
 import time
@@ -14,7 +15,15 @@ import pytest
 
 import gport
 from gport import _ring
-from fake_gportd import FakeServer, Offer, RingBlock, open_descriptors
+from fake_gportd import (
+    F_ADD_SEALS,
+    SEALS,
+    FakeServer,
+    Offer,
+    RingBlock,
+    WakeBlock,
+    open_descriptors,
+)
 
 
 @pytest.fixture
@@ -57,12 +66,47 @@ def test_a_truncated_block_is_refused_before_it_is_mapped(server: FakeServer) ->
     """Before: mapped at the announced size, then read past the end: SIGBUS."""
     truncated = RingBlock(seals=None)
     os.ftruncate(truncated.fd, 4096)
+    fcntl.fcntl(truncated.fd, F_ADD_SEALS, SEALS)
     server.offers.append(Offer(truncated, result={"size": 64 + 64 * 128, "slots": 64}))
     with gport.Client(server.path) as client:
         with pytest.raises(gport.BadChannel, match="ring is 4096 bytes, not the 8256 expected"):
             client.attitude_channel()
         assert client.connected
     truncated.release()
+
+
+def test_a_block_that_may_shrink_is_refused_before_its_size_is_looked_at(
+    server: FakeServer, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The server shrinks the block to nothing and seals it right after the
+    client's first look at it (an fstat), as one holding another descriptor
+    could. Before: the size was looked at first, then the seals (now
+    there), and the block was mapped at its old size: SIGBUS at the first
+    read. Now the seals come first: refused, fstat never called."""
+    block = RingBlock(seals=None)
+    fcntl.fcntl(block.fd, F_ADD_SEALS, SEALS & ~_ring.F_SEAL_SHRINK)
+    block.wake.release()
+    block.wake = WakeBlock()  # sealed as gportd's
+    server.offers.append(block)
+    real_fstat = os.fstat
+    raced: list[int] = []
+
+    def racing_fstat(fd: int) -> os.stat_result:
+        info = real_fstat(fd)
+        if not raced:
+            os.ftruncate(block.fd, 0)
+            fcntl.fcntl(block.fd, F_ADD_SEALS, _ring.F_SEAL_SHRINK)
+            raced.append(fd)
+        return info
+
+    with gport.Client(server.path) as client:
+        monkeypatch.setattr(os, "fstat", racing_fstat)
+        with pytest.raises(gport.BadChannel, match=r"ring is not sealed .* \(seals 0x14;"):
+            client.attitude_channel()
+        monkeypatch.undo()
+        assert not raced, "fstat came before the seals"
+        assert client.connected
+    block.release()
 
 
 def test_a_reply_whose_size_does_not_fit_its_slots_is_refused(server: FakeServer) -> None:

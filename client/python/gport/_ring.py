@@ -21,9 +21,10 @@ The wake block (base/include/gport/base/wake_block.hpp), 64 bytes: u32 magic
 futex word at 16. gportd bumps it and wakes ONE waiter per sample; the first
 thread of this process to see a new value wakes the others (relay()).
 
-Checks: each descriptor must be a memfd of exactly the size announced (the
-ring's ``size``; 64) sealed with F_SEAL_SHRINK and F_SEAL_WRITE or
-F_SEAL_FUTURE_WRITE, so it can never shrink under this process (SIGBUS);
+Checks: each descriptor must be a memfd sealed with F_SEAL_SHRINK and
+F_SEAL_WRITE or F_SEAL_FUTURE_WRITE (looked at first), then of exactly the
+size announced (the ring's ``size``; 64), so it can never shrink under this
+process (SIGBUS);
 the slot count used is the one checked here, never re-read.
 
 Reads: a slot is a seqlock (its seq, the words, its seq again). On a weakly
@@ -40,6 +41,7 @@ mapping the channel raises BadChannel. The futex is ``syscall(SYS_futex,
 from __future__ import annotations
 
 import ctypes
+import fcntl
 import mmap
 import os
 import platform
@@ -173,13 +175,12 @@ def reply_fields(result: Any) -> tuple[int, int, int]:
 
 
 def check_descriptor(fd: int, size: int, what: str) -> None:
-    """A memfd of exactly ``size`` bytes that can neither shrink nor be written."""
-    info = os.fstat(fd)
-    if not stat.S_ISREG(info.st_mode) or info.st_size != size:
-        raise _fail(f"the {what} is {info.st_size} bytes, not the {size} expected")
+    """A memfd that can neither shrink nor be written, of exactly ``size``
+    bytes. The seals are read first: once F_SEAL_SHRINK is there nobody can
+    remove it, so the size seen next stays (size first, a server holding
+    another descriptor could shrink the file between the two looks and seal
+    it then: the client would map the old size and die of SIGBUS)."""
     try:
-        import fcntl
-
         seals = fcntl.fcntl(fd, F_GET_SEALS)
     except OSError as error:
         raise _fail(f"the {what} is not a sealed memfd (F_GET_SEALS: {error.strerror})") from None
@@ -188,6 +189,9 @@ def check_descriptor(fd: int, size: int, what: str) -> None:
             f"the {what} is not sealed against shrinking and writing (seals {seals:#x}; "
             "F_SEAL_SHRINK and F_SEAL_WRITE or F_SEAL_FUTURE_WRITE are required): refused"
         )
+    info = os.fstat(fd)
+    if not stat.S_ISREG(info.st_mode) or info.st_size != size:
+        raise _fail(f"the {what} is {info.st_size} bytes, not the {size} expected")
 
 
 def ring_problem(header: bytes, size: int) -> str | None:
