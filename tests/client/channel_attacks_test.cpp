@@ -264,8 +264,33 @@ TEST(ChannelAttacks, GportRingReadGivesWholeSamplesAndNothingForTheRest) {
     EXPECT_EQ(gport_ring_read(memory, 0, 10, words), 0);  // no slot count: no division
     EXPECT_EQ(gport_ring_read(nullptr, 8, 10, words), 0);
     EXPECT_EQ(gport_ring_read(memory, 8, 10, nullptr), 0);
-    EXPECT_EQ(gport_client_abi_minor(), 2U);
+    EXPECT_EQ(gport_client_abi_minor(), 3U);
     ::munmap(memory, block.size());
+}
+
+// The acquire loads other languages order their looks with (ring_read.h).
+TEST(ChannelAttacks, TheCLoadsReadPublishedTheFlagsAndTheWakeWord) {
+    RingBlock block(8);
+    void* ring = ::mmap(nullptr, block.size(), PROT_READ, MAP_SHARED, block.fd(), 0);
+    void* wake = ::mmap(nullptr, base::kWakeBlockBytes, PROT_READ, MAP_SHARED, block.wake_fd(), 0);
+    ASSERT_NE(ring, MAP_FAILED);
+    ASSERT_NE(wake, MAP_FAILED);
+    EXPECT_EQ(gport_ring_published(ring), 0U);
+    EXPECT_EQ(gport_wake_word(wake), 0U);
+    for (std::uint64_t seq = 1; seq <= 10; ++seq) {
+        block.publish(seq);
+    }
+    EXPECT_EQ(gport_ring_published(ring), 10U);
+    EXPECT_EQ(gport_wake_word(wake), 10U);
+    EXPECT_EQ(gport_ring_flags(ring), 0U);
+    block.close();
+    EXPECT_EQ(gport_ring_flags(ring) & GPORT_RING_FLAG_CLOSED, GPORT_RING_FLAG_CLOSED);
+    EXPECT_EQ(gport_wake_word(wake), 11U);
+    EXPECT_EQ(gport_ring_published(nullptr), 0U);
+    EXPECT_EQ(gport_ring_flags(nullptr), 0U);
+    EXPECT_EQ(gport_wake_word(nullptr), 0U);
+    ::munmap(ring, block.size());
+    ::munmap(wake, base::kWakeBlockBytes);
 }
 
 }  // namespace
