@@ -2,7 +2,8 @@
 // 22, items 6 and 8), each attack performed by the fake server: blocks
 // without seals, truncated or of the wrong size, a slot count rewritten
 // after the check, more descriptors than announced, "descriptors":0 on a
-// connection without a channel, and descriptors attached to notifications.
+// connection without a channel, descriptors attached to notifications, and
+// late replies to timed-out attitude_channel calls.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/mman.h>
@@ -242,6 +243,114 @@ TEST(ChannelAttacks, AsyncClientClosesDescriptorsOnNotificationsToo) {
     EXPECT_EQ(most, first);  // flat: each recvmsg's pair is closed before its line is handled
     ::close(pipe_fds[0]);
     ::close(pipe_fds[1]);
+}
+
+bool timed_out(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const gc::Error& e) {
+        return e.is(gc::ErrorCode::kTimeout);
+    }
+    return false;
+}
+
+// Review finding 6. Before: each timed-out attitude_channel call let two
+// more descriptors stay (3 timeouts: the 6 pipes of one notification and
+// the 6 descriptors of the late replies stayed open until disconnect).
+TEST(ChannelAttacks, TimedOutChannelCallsLeaveNoRoomForDescriptors) {
+    FakeServer server;
+    RingBlock block;
+    for (int i = 0; i < 3; ++i) {
+        server.offer(Offer{&block, std::nullopt, {}, true});  // answered late
+    }
+    int pipe_fds[2];
+    ASSERT_EQ(::pipe(pipe_fds), 0);
+    const nlohmann::json note = {
+        {"jsonrpc", "2.0"}, {"method", "link"}, {"params", {{"state", "up"}}}};
+    const auto before = open_descriptors();
+    {
+        auto client = gc::Client::connect(server.path());
+        client.subscribe({"link"});  // the fake has accepted us
+        const auto connected = open_descriptors();
+        client.set_call_timeout(50ms);
+        for (int i = 0; i < 3; ++i) {
+            EXPECT_TRUE(timed_out([&] { client.attitude_channel(); }));
+        }
+        server.push(note,
+                    {pipe_fds[0], pipe_fds[1], pipe_fds[0], pipe_fds[1], pipe_fds[0], pipe_fds[1]});
+        ASSERT_TRUE(client.next_notification(5s));
+        EXPECT_EQ(open_descriptors(), connected);
+        server.release_held();  // the three late replies, two descriptors each
+        server.push(note);
+        ASSERT_TRUE(client.next_notification(5s));
+        EXPECT_EQ(open_descriptors(), connected);
+    }
+    EXPECT_EQ(settled(before), before);
+    ::close(pipe_fds[0]);
+    ::close(pipe_fds[1]);
+}
+
+// Before: the late reply's descriptors were kept too and the next reply
+// claimed them: the channel was the abandoned request's block (here: one
+// that never publishes) and the right one's descriptors stayed open.
+TEST(ChannelAttacks, ALateChannelReplyIsClosedAndTheAwaitedOneMapped) {
+    FakeServer server;
+    RingBlock abandoned;
+    RingBlock awaited;
+    server.offer(Offer{&abandoned, std::nullopt, {}, true});
+    server.offer(&awaited);  // answered after the late reply
+    auto client = gc::Client::connect(server.path());
+    client.subscribe({"link"});
+    const auto connected = open_descriptors();
+    client.set_call_timeout(50ms);
+    EXPECT_TRUE(timed_out([&] { client.attitude_channel(); }));
+    client.set_call_timeout(5s);
+    auto channel = client.attitude_channel();
+    EXPECT_EQ(open_descriptors(), connected);
+    awaited.publish(7);
+    const auto sample = channel.next(1s);
+    ASSERT_TRUE(sample);
+    EXPECT_EQ(sample->seq, 7U);
+}
+
+TEST(ChannelAttacks, AsyncClientClosesALateChannelReplyToo) {
+    FakeServer server;
+    RingBlock abandoned;
+    RingBlock awaited;
+    server.offer(Offer{&abandoned, std::nullopt, {}, true});
+    server.offer(&awaited);
+    boost::asio::io_context io;
+    gc::AsyncClient client(io);
+    client.set_call_timeout(50ms);
+    std::size_t connected = 0;
+    std::size_t after = 0;
+    bool first_timed_out = false;
+    std::optional<gc::AttitudeChannel> channel;
+    client.async_connect(server.path(), [&](std::optional<gc::Error> error) {
+        ASSERT_FALSE(error);
+        client.async_subscribe({"link"}, std::nullopt, [&](auto, auto) {
+            connected = open_descriptors();
+            client.async_attitude_channel([&](std::optional<gc::Error> e, gc::AttitudeChannel) {
+                first_timed_out = e && e->is(gc::ErrorCode::kTimeout);
+                client.set_call_timeout(5s);
+                client.async_attitude_channel(
+                    [&](std::optional<gc::Error> e2, gc::AttitudeChannel c) {
+                        EXPECT_FALSE(e2) << e2->message();
+                        after = open_descriptors();
+                        channel = std::move(c);
+                        client.close();
+                    });
+            });
+        });
+    });
+    io.run_for(30s);
+    EXPECT_TRUE(first_timed_out);
+    EXPECT_EQ(after, connected);
+    ASSERT_TRUE(channel);
+    awaited.publish(9);
+    const auto sample = channel->next(1s);
+    ASSERT_TRUE(sample);
+    EXPECT_EQ(sample->seq, 9U);
 }
 
 // The C entry point other languages read the ring with (ring_read.h).
