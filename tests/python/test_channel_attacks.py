@@ -1,7 +1,8 @@
 """A hostile gportd against the Python client's shared-memory channel (issue
 22, items 6 and 8): blocks without seals, truncated or of the wrong size,
 a slot count rewritten after the check, more descriptors than announced,
-descriptors attached to notifications, and a CPU without fences."""
+descriptors attached to notifications, late replies to timed-out
+attitude_channel calls, and a CPU without fences."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import fcntl
 import os
 import threading
 import time
-from typing import Iterator
+from typing import Callable, Iterator
 
 import pytest
 
@@ -220,6 +221,108 @@ def test_3000_notifications_carrying_pipes_leave_the_descriptor_count_flat(
     assert settle(before) == before
     os.close(r)
     os.close(w)
+
+
+LINK_UP = {"jsonrpc": "2.0", "method": "link", "params": {"state": "up"}}
+
+
+@pytest.mark.parametrize("asynchronous", [False, True])
+def test_timed_out_channel_calls_leave_no_room_for_descriptors(
+    server: FakeServer, asynchronous: bool
+) -> None:
+    """Review finding 6. Before: a timed-out call's id stayed awaited, so
+    three timeouts let the six pipes of one notification stay open until
+    disconnect."""
+    block = RingBlock()
+    server.offers.extend(Offer(block, late=True) for _ in range(3))
+    r, w = os.pipe()
+    counts: list[int] = []
+
+    def attack(channel: Callable[[], object], note: Callable[[], object]) -> None:
+        connected = open_descriptors()
+        for _ in range(3):
+            with pytest.raises(gport.Timeout):
+                channel()
+        server.push(LINK_UP, [r, w, r, w, r, w])
+        assert note()
+        counts.append(open_descriptors() - connected)
+        server.release_held()  # the three late replies, two descriptors each
+        server.push(LINK_UP)
+        assert note()
+        counts.append(open_descriptors() - connected)
+
+    if asynchronous:
+        import asyncio
+
+        async def run() -> None:
+            async with gport.AsyncClient(server.path) as client:
+                await client.subscribe("link")  # the fake has accepted us
+                client.timeout = 0.05
+                loop = asyncio.get_running_loop()
+                await loop.run_in_executor(
+                    None,
+                    lambda: attack(
+                        lambda: asyncio.run_coroutine_threadsafe(
+                            client.attitude_channel(), loop
+                        ).result(),
+                        lambda: asyncio.run_coroutine_threadsafe(
+                            client.next_notification(timeout=5), loop
+                        ).result(),
+                    ),
+                )
+
+        asyncio.run(run())
+    else:
+        with gport.Client(server.path) as client:
+            client.subscribe("link")
+            client.timeout = 0.05
+            attack(client.attitude_channel, lambda: client.next_notification(timeout=5))
+    assert counts == [0, 0]
+    os.close(r)
+    os.close(w)
+    block.release()
+
+
+@pytest.mark.parametrize("asynchronous", [False, True])
+def test_a_late_channel_reply_is_closed_and_the_awaited_one_mapped(
+    server: FakeServer, asynchronous: bool
+) -> None:
+    abandoned, awaited = RingBlock(), RingBlock()
+    server.offers.extend([Offer(abandoned, late=True), awaited])  # the late one answered first
+    opened: list[gport.AttitudeChannel] = []
+    extra: list[int] = []
+
+    if asynchronous:
+        import asyncio
+
+        async def run() -> None:
+            async with gport.AsyncClient(server.path) as client:
+                await client.subscribe("link")
+                connected = open_descriptors()
+                client.timeout = 0.05
+                with pytest.raises(gport.Timeout):
+                    await client.attitude_channel()
+                client.timeout = 5
+                opened.append(await client.attitude_channel())
+                extra.append(open_descriptors() - connected)
+
+        asyncio.run(run())
+    else:
+        with gport.Client(server.path) as client:
+            client.subscribe("link")
+            connected = open_descriptors()
+            client.timeout = 0.05
+            with pytest.raises(gport.Timeout):
+                client.attitude_channel()
+            client.timeout = 5
+            opened.append(client.attitude_channel())
+            extra.append(open_descriptors() - connected)
+    assert extra == [0]
+    awaited.publish(7)
+    assert (opened[0].next(1) or pytest.fail()).seq == 7
+    opened[0].close()
+    abandoned.release()
+    awaited.release()
 
 
 def test_without_fences_only_x86_64_reads_with_plain_loads(
