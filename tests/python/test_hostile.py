@@ -298,6 +298,35 @@ def test_a_flood_nobody_takes_is_bounded_and_counted(hostile: Callable[..., Host
         assert seqs == list(range(flood - gport.INBOX_LIMIT + 1, flood + 1)), "the newest"
 
 
+def long_link_events(count: int) -> Callable[[Hostile, Any], None]:
+    """A script: ``count`` link events whose reason is a 1 MiB string, then the reply."""
+    line = json.dumps(
+        {"jsonrpc": "2.0", "method": "link", "params": {"state": "down", "reason": "r" * MiB}}
+    )
+
+    def script(peer: Hostile, request: Any) -> None:
+        for _ in range(count):
+            peer.send((line + "\n").encode())
+        peer.reply(request, {"sent": True})
+
+    return script
+
+
+def test_long_notifications_are_bounded_in_bytes_too(hostile: Callable[..., Hostile]) -> None:
+    """Review finding 7. Before: all 32 were kept (1024 per topic), and a
+    few lines of [{},{},...] could take gigabytes."""
+    events = 32
+    server = hostile(long_link_events(events))
+    with gport.Client(server.path, timeout=PATIENT) as client:
+        client.call("photo")
+        kept = 0
+        while (item := client.next_notification(timeout=0)) is not None:
+            assert isinstance(item, gport.Link)
+            kept += 1
+        assert kept <= gport.INBOX_BYTES // MiB
+        assert client.dropped_notifications == events - kept
+
+
 # ---- the asyncio client ---------------------------------------------------
 @pytest.mark.parametrize("kind", list(BAD_LINES))
 def test_async_a_bad_line_ends_the_connection(
@@ -431,6 +460,26 @@ def test_async_a_flood_nobody_takes_is_counted(hostile: Callable[..., Hostile]) 
         first = await client.next_notification(timeout=0)
         assert isinstance(first, gport.Attitude)
         assert first.seq == flood - gport.INBOX_LIMIT + 1
+        await client.close()
+
+    asyncio.run(main())
+
+
+def test_async_long_notifications_are_bounded_in_bytes_too(
+    hostile: Callable[..., Hostile],
+) -> None:
+    events = 32
+    server = hostile(long_link_events(events))
+
+    async def main() -> None:
+        client = await gport.AsyncClient.open(server.path, timeout=PATIENT)
+        await client.call("photo")
+        kept = 0
+        while (item := await client.next_notification(timeout=0)) is not None:
+            assert isinstance(item, gport.Link)
+            kept += 1
+        assert kept <= gport.INBOX_BYTES // MiB
+        assert client.dropped_notifications == events - kept
         await client.close()
 
     asyncio.run(main())

@@ -153,7 +153,7 @@ class AsyncClient:
             else:  # the caller gave up waiting
                 self._claims.abandon(message.id)
         elif isinstance(message, p.Pushed):
-            self._inbox.put(message.topic, message.item)
+            self._inbox.put(message.topic, message.item, message.size)
             self._changed.set()
         elif isinstance(message, p.Refused):
             self._refused = message.error

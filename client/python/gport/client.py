@@ -135,7 +135,7 @@ class Client:
                 if message.id in self._pending:
                     self._pending[message.id] = message
             elif isinstance(message, p.Pushed):
-                self._inbox.put(message.topic, message.item)
+                self._inbox.put(message.topic, message.item, message.size)
             elif isinstance(message, p.Refused):
                 self._refused = message.error
             else:
