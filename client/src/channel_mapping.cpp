@@ -161,12 +161,8 @@ ChannelMapping::~ChannelMapping() {
 // on the word rather than on `published`: a thread may see a sample before
 // gportd's bump, and the thread gportd then wakes must still pass it on.
 void ChannelMapping::relay(std::uint32_t seen) {
-    std::uint32_t last = relayed_.load(std::memory_order_acquire);
-    while (last != seen) {
-        if (relayed_.compare_exchange_weak(last, seen, std::memory_order_acq_rel)) {
-            base::futex_wake_all(*word_);
-            return;
-        }
+    if (relayed_.claim(seen)) {  // only forward (WakeRelay)
+        base::futex_wake_all(*word_);
     }
 }
 

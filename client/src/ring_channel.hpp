@@ -28,6 +28,7 @@
 #include "gport/base/futex.hpp"
 #include "gport/client/attitude_channel.hpp"
 #include "gport/client/types.hpp"
+#include "wake_relay.hpp"
 
 namespace gport::client {
 
@@ -57,8 +58,9 @@ class ChannelMapping {
     const std::atomic<std::uint32_t>& word() const { return *word_; }
     // The word's value now (read it before looking for samples).
     std::uint32_t load() const { return word_->load(std::memory_order_acquire); }
-    // Passes a wake on: when `seen` (a value of the word just loaded) was
-    // not relayed yet, wakes every other waiter of this process.
+    // Passes a wake on: when `seen` (a value of the word just loaded) is
+    // newer than every value relayed yet, wakes every other waiter of this
+    // process (WakeRelay: never backwards).
     void relay(std::uint32_t seen);
     // Sleeps while the word holds `seen`, at most `timeout`.
     base::FutexWait wait(std::uint32_t seen, std::chrono::nanoseconds timeout) const {
@@ -73,7 +75,7 @@ class ChannelMapping {
     const void* wake_;
     base::RingReader reader_;
     const std::atomic<std::uint32_t>* word_;
-    std::atomic<std::uint32_t> relayed_;
+    WakeRelay relayed_;
 };
 
 // Claims the channel an attitude_channel reply announces: with

@@ -400,3 +400,34 @@ def test_readers_in_two_threads_never_get_each_others_samples(server: FakeServer
     block.release()
     assert all(taken), f"each reader took samples: {taken}"
     assert not wrong, f"{len(wrong)} of {sum(taken)} samples were not the one asked for: {wrong[:3]}"
+
+
+def test_the_wake_relay_only_moves_forward(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Review finding 8. Before: a thread with an older value of the word
+    moved the relay back and woke every waiter again, once per stale value."""
+    block = RingBlock()
+    mapping = _ring.Mapping(block.fd, block.wake.fd, block.slots, block.size)
+    wakes: list[int] = []
+    monkeypatch.setattr(mapping, "wake_all", lambda: wakes.append(1))
+    word = mapping.wake_word()
+    assert not mapping.relay(word)  # nothing new
+    assert mapping.relay(word + 2)
+    assert not mapping.relay(word + 1)  # stale: no wake, not moved back ...
+    assert not mapping.relay(word + 2)  # ... so this is no news either
+    assert mapping.relay(word + 3)
+    assert len(wakes) == 2
+    del mapping
+    block.release()
+
+
+def test_the_wake_relay_follows_the_word_around_its_wrap() -> None:
+    block = RingBlock()
+    mapping = _ring.Mapping(block.fd, block.wake.fd, block.slots, block.size)
+    word = mapping.wake_word()
+    for step in range(1, 5):  # forward to 2**32 - 1 in steps the relay takes as news
+        assert mapping.relay(word + step * (2**32 - 1 - word) // 4)
+    assert not mapping.relay(0xFFFFFFFF)
+    assert mapping.relay(0)
+    assert not mapping.relay(0xFFFFFFFF)
+    del mapping
+    block.release()

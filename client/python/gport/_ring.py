@@ -320,14 +320,18 @@ class Mapping:
         return self.read_words != self._read_plain
 
     # ---- waiting ----------------------------------------------------------------
-    def relay(self, seen: int) -> None:
-        """Passes a wake on: the first thread of this process to see a new
-        value of the word wakes the others (gportd wakes only one)."""
+    def relay(self, seen: int) -> bool:
+        """Passes a wake on: the first thread of this process to see a value
+        of the word newer than every one relayed yet wakes the others
+        (gportd wakes only one); True for that thread. Only forward: a
+        thread that loaded an older value and was preempted neither moves
+        the relay back nor wakes everyone again (modulo 2**32: it wraps)."""
         with self._lock:
-            if seen == self._relayed:
-                return
+            if not 0 < (seen - self._relayed) % 2**32 < 2**31:
+                return False
             self._relayed = seen
         self.wake_all()
+        return True
 
     def wait(self, seen: int, timeout: float) -> None:
         """Sleeps while the word still holds ``seen``, at most ``timeout`` s."""
