@@ -6,11 +6,14 @@ attitude_channel calls, and a CPU without fences."""
 
 from __future__ import annotations
 
+import ctypes
 import fcntl
+import gc
 import os
 import threading
 import time
-from typing import Callable, Iterator
+import weakref
+from typing import Any, Callable, Iterator
 
 import pytest
 
@@ -330,7 +333,7 @@ def test_without_fences_only_x86_64_reads_with_plain_loads(
 ) -> None:
     block = RingBlock()
     server.offers += [block]
-    monkeypatch.setattr(_ring, "_fenced", [None])  # libgport-client not found
+    monkeypatch.setattr(_ring, "_fenced", [(None, None)])  # libgport-client not found
     monkeypatch.setattr(_ring, "MACHINE", "aarch64")
     with gport.Client(server.path) as client:
         with pytest.raises(gport.BadChannel, match=r"needs libgport-client on this CPU \(aarch64\)"):
@@ -355,6 +358,19 @@ def test_the_fenced_reader_is_libgport_clients() -> None:
         pytest.skip("GPORT_CLIENT_LIBRARY=none (a sanitizer build): plain loads tested instead")
     read = _ring.load_fenced_reader()
     assert read is not None, "set GPORT_CLIENT_LIBRARY to the built libgport-client.so.1"
+    # Review finding 10: the wake word, published and the flags are read
+    # with the library's acquire loads (1.3), not plain ctypes loads.
+    loads = _ring.load_fenced_loads()
+    assert loads is not None, "libgport-client 1.3 exports gport_ring_published and co."
+    block = RingBlock()
+    mapping = _ring.Mapping(block.fd, block.wake.fd, block.slots, block.size)
+    assert mapping._loads is not None
+    block.publish(5)
+    block.close()
+    assert (mapping.published(), mapping.closed()) == (1, True)  # one sample
+    assert mapping.wake_word() == ctypes.c_uint32.from_buffer_copy(block.wake.map, 16).value
+    del mapping
+    block.release()
 
 
 def test_readers_in_two_threads_never_get_each_others_samples(server: FakeServer) -> None:
@@ -430,4 +446,46 @@ def test_the_wake_relay_follows_the_word_around_its_wrap() -> None:
     assert mapping.relay(0)
     assert not mapping.relay(0xFFFFFFFF)
     del mapping
+    block.release()
+
+
+def read_only_memfd_maps() -> int:
+    with open("/proc/self/maps") as maps:
+        return sum(1 for line in maps if " r--s " in line and "memfd:" in line)
+
+
+@pytest.mark.parametrize("asynchronous", [False, True])
+def test_a_mapping_is_unmapped_with_its_last_reference_without_the_collector(
+    server: FakeServer, asynchronous: bool
+) -> None:
+    """Review finding 9. Before: the mapping's reader was a closure (or a
+    bound method) referring back to it, a cycle only the collector frees:
+    with gc disabled the blocks stayed mapped for good."""
+    block = RingBlock()
+    server.offers.append(block)
+    before = read_only_memfd_maps()
+    refs: list[weakref.ref[Any]] = []
+    gc.disable()
+    try:
+        if asynchronous:
+            import asyncio
+
+            async def run() -> None:
+                async with gport.AsyncClient(server.path) as client:
+                    channel = await client.attitude_channel()
+                    refs.append(weakref.ref(channel._mapping))
+                    assert read_only_memfd_maps() == before + 2
+                    del channel
+
+            asyncio.run(run())
+        else:
+            with gport.Client(server.path) as client:
+                channel = client.attitude_channel()
+                refs.append(weakref.ref(channel._mapping))
+                assert read_only_memfd_maps() == before + 2
+                del channel
+        assert refs[0]() is None
+        assert read_only_memfd_maps() == before
+    finally:
+        gc.enable()
     block.release()
