@@ -254,6 +254,29 @@ def test_a_daemon_that_never_reads_cannot_block_a_call(hostile: Callable[..., Ho
         assert not client.connected
 
 
+def test_a_thread_waiting_to_write_behind_a_stuck_one_keeps_its_own_timeout(
+    hostile: Callable[..., Hostile],
+) -> None:
+    """Before: a call waited for the write lock without a deadline, for as
+    long as the thread holding it was allowed (here PATIENT)."""
+    server = hostile(None)
+    with gport.Client(server.path, timeout=PATIENT) as client:
+        stuck = threading.Thread(
+            target=lambda: pytest.raises(
+                gport.ConnectionLost, client.call, "status", {"pad": "x" * (16 * MiB)}
+            )
+        )
+        stuck.start()
+        time.sleep(0.2)  # the stuck thread holds the write lock
+        started = time.monotonic()
+        with pytest.raises(gport.ConnectionLost) as raised:
+            client.call("status", timeout=0.3)
+        assert "did not read" in raised.value.message
+        assert time.monotonic() - started < PATIENT / 2
+        stuck.join(PATIENT)
+        assert not stuck.is_alive(), "the connection the late writer closed ends the other"
+
+
 def test_a_silent_daemon_gives_a_timeout_and_the_connection_stays(
     hostile: Callable[..., Hostile],
 ) -> None:

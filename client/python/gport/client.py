@@ -221,8 +221,7 @@ class Client:
             if method == p.CHANNEL_METHOD:
                 self._claims.expect(request_id)
         try:
-            with self._write_lock:
-                taken = _write(sock, p.encode(request_id, method, params), limit)
+            taken = self._write_whole(sock, p.encode(request_id, method, params), limit)
         except OSError as error:
             taken, failure = False, f"cannot send to {self.path}: {error.strerror}"
         else:
@@ -237,6 +236,19 @@ class Client:
             self._end(sock, failure)  # a part of a line may have gone: the stream is unusable
             raise ConnectionLost(failure)
         return request_id
+
+    def _write_whole(self, sock: socket.socket, line: bytes, limit: float | None) -> bool:
+        """Writes a whole line, one thread at a time; waiting for the thread
+        that writes counts against ``limit`` too (that thread may be held by
+        a daemon that does not read for as long as its own limit)."""
+        deadline = None if limit is None else time.monotonic() + limit
+        if not self._write_lock.acquire(timeout=-1 if limit is None else limit):
+            return False
+        try:
+            left = None if deadline is None else max(0.0, deadline - time.monotonic())
+            return _write(sock, line, left)
+        finally:
+            self._write_lock.release()
 
     def _await_reply(self, request_id: int, method: str, limit: float | None) -> Any:
         deadline = None if limit is None else time.monotonic() + limit
