@@ -267,7 +267,10 @@ def test_a_thread_waiting_to_write_behind_a_stuck_one_keeps_its_own_timeout(
             )
         )
         stuck.start()
-        time.sleep(0.2)  # the stuck thread holds the write lock
+        deadline = time.monotonic() + PATIENT
+        while not client._write_lock.locked():  # until the stuck thread writes
+            assert time.monotonic() < deadline and stuck.is_alive()
+            time.sleep(0.01)
         started = time.monotonic()
         with pytest.raises(gport.ConnectionLost) as raised:
             client.call("status", timeout=0.3)
