@@ -23,6 +23,7 @@
 #include "codec.hpp"
 #include "connect_error.hpp"
 #include "gport/base/descriptors.hpp"
+#include "gport/client/channel_claims.hpp"
 #include "gport/client/lines.hpp"
 #include "ring_channel.hpp"
 
@@ -69,6 +70,9 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         if (!params.empty()) {
             request["params"] = params;
         }
+        if (method == "attitude_channel") {
+            claims.expect(id);  // two descriptors may come with its reply
+        }
         auto& call = pending[id];
         call.handler = std::move(handler);
         if (const auto limit = codec::reply_limit(params, call_timeout)) {
@@ -104,6 +108,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         }
         auto call = std::move(it->second);  // the timer lives until its handler returns
         pending.erase(it);
+        claims.abandon(id);  // a late reply's descriptors are closed
         call.handler(codec::no_reply(method, limit), json());
     }
 
@@ -152,8 +157,8 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     std::optional<std::string> receive() {
         char chunk[65536];
         const auto n = base::receive_with_descriptors(socket.native_handle(), chunk, sizeof(chunk),
-                                                      descriptors, MSG_DONTWAIT);
-        base::keep_descriptors(descriptors, 2 * channel_requests);  // none nobody asked for
+                                                      claims.inbox(), MSG_DONTWAIT);
+        claims.received();  // none nobody asked for
         if (n < 0) {
             if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
                 return std::nullopt;
@@ -194,7 +199,6 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     // shared by every later one ("descriptors":0).
     void open_channel(Handler<AttitudeChannel> done) {
         std::weak_ptr<Impl> weak = weak_from_this();
-        ++channel_requests;  // until its reply: two descriptors may be kept for it
         call("attitude_channel", json::object(),
              [weak, done = std::move(done)](std::optional<Error> error, const json& reply) {
                  AttitudeChannel channel;
@@ -202,23 +206,15 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
                  if (!error && !self) {
                      error = Error(ErrorCode::kTransport, "the client was destroyed");
                  }
-                 if (!error) {  // a reply (a lost connection fails the call and resets the count)
-                     error = self->claim(reply, channel);
+                 if (!error) {  // a reply (a lost connection fails the call)
+                     try {
+                         channel = self->claims.claim(reply);
+                     } catch (const Error& e) {
+                         error = e;
+                     }
                  }
                  done(std::move(error), std::move(channel));
              });
-    }
-
-    std::optional<Error> claim(const json& reply, AttitudeChannel& channel) {
-        channel_requests -= channel_requests > 0 ? 1 : 0;
-        std::optional<Error> error;
-        try {
-            channel = claim_channel(reply, descriptors, channel_cache);
-        } catch (const Error& e) {
-            error = e;
-        }
-        base::keep_descriptors(descriptors, 2 * channel_requests);
-        return error;
     }
 
     // Attitude from the ring from now on: the waker's eventfd on the loop.
@@ -277,6 +273,8 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
                 auto call = std::move(it->second);
                 pending.erase(it);
                 call.handler(std::nullopt, message);
+            } else {
+                claims.late(message);  // its caller gave up: its descriptors are closed
             }
             return;
         }
@@ -284,6 +282,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
             try {
                 codec::result_of(message);
             } catch (const Error& e) {
+                claims.abandon_all();
                 fail_pending(e);
             }
         }
@@ -321,9 +320,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         socket.close(ignored);
         outbox.clear();
         input.clear();
-        base::close_descriptors(descriptors);
-        channel_requests = 0;
-        channel_cache.reset();
+        claims.reset();
         stop_ring();
         fail_pending(Error(ErrorCode::kTransport, why));
     }
@@ -353,9 +350,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     bool open = false;
     std::function<void(const Notification&)> on_notification;
     std::function<void(const Error&)> on_disconnect;
-    std::deque<int> descriptors;       // received, not yet claimed by an attitude_channel reply
-    std::size_t channel_requests = 0;  // attitude_channel requests awaiting their reply
-    std::shared_ptr<ChannelMapping> channel_cache;  // this connection's channel, once received
+    ChannelClaims claims;  // received descriptors, attitude_channel requests, the channel
     // Transparent shared-memory attitude (async_subscribe with shared_memory).
     std::optional<AttitudeChannel> ring;
     std::unique_ptr<RingWaker> waker;

@@ -32,19 +32,13 @@ std::string hex(unsigned value) {
     return text;
 }
 
-// A descriptor is used only when it is a memfd of exactly `size` bytes that
-// can neither shrink nor be written through a new mapping.
+// A descriptor is used only when it is a memfd that can neither shrink nor
+// be written through a new mapping, and of exactly `size` bytes. The seals
+// are read first: once F_SEAL_SHRINK is there nobody can remove it, so the
+// size seen next stays. (Size first, a server holding another descriptor
+// could shrink the file between the two looks and seal it then: the client
+// would map the old size and die of SIGBUS.)
 void check_descriptor(int fd, std::size_t size, const char* what) {
-    struct stat info {};
-    if (::fstat(fd, &info) != 0) {
-        throw channel_error(std::string("cannot examine the ") + what + ": " +
-                            std::strerror(errno));
-    }
-    if (!S_ISREG(info.st_mode) || info.st_size < 0 ||
-        static_cast<std::size_t>(info.st_size) != size) {
-        throw channel_error(std::string("the ") + what + " is " + std::to_string(info.st_size) +
-                            " bytes, not the " + std::to_string(size) + " expected");
-    }
     const int seals = ::fcntl(fd, F_GET_SEALS);
     if (seals < 0) {
         throw channel_error(std::string("the ") + what +
@@ -56,6 +50,16 @@ void check_descriptor(int fd, std::size_t size, const char* what) {
                             "writing (seals " + hex(have) +
                             "; F_SEAL_SHRINK and F_SEAL_WRITE or F_SEAL_FUTURE_WRITE are "
                             "required): refused");
+    }
+    struct stat info {};
+    if (::fstat(fd, &info) != 0) {
+        throw channel_error(std::string("cannot examine the ") + what + ": " +
+                            std::strerror(errno));
+    }
+    if (!S_ISREG(info.st_mode) || info.st_size < 0 ||
+        static_cast<std::size_t>(info.st_size) != size) {
+        throw channel_error(std::string("the ") + what + " is " + std::to_string(info.st_size) +
+                            " bytes, not the " + std::to_string(size) + " expected");
     }
 }
 
@@ -157,12 +161,8 @@ ChannelMapping::~ChannelMapping() {
 // on the word rather than on `published`: a thread may see a sample before
 // gportd's bump, and the thread gportd then wakes must still pass it on.
 void ChannelMapping::relay(std::uint32_t seen) {
-    std::uint32_t last = relayed_.load(std::memory_order_acquire);
-    while (last != seen) {
-        if (relayed_.compare_exchange_weak(last, seen, std::memory_order_acq_rel)) {
-            base::futex_wake_all(*word_);
-            return;
-        }
+    if (relayed_.claim(seen)) {  // only forward (WakeRelay)
+        base::futex_wake_all(*word_);
     }
 }
 

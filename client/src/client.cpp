@@ -96,10 +96,7 @@ struct Client::Impl {
     // ---- the shared-memory attitude channel ---------------------------------
     // The connection's channel: mapped from its first reply's descriptors,
     // shared by every later one.
-    AttitudeChannel open_channel() {
-        connection.expect_channel();
-        return connection.channel_from(call_raw("attitude_channel"));
-    }
+    AttitudeChannel open_channel() { return connection.channel_from(call_raw("attitude_channel")); }
 
     // Attitude from the ring from now on, woken through the connection's poll.
     void start_ring() {

@@ -73,9 +73,7 @@ Connection::Connection(Connection&& other) noexcept
       next_id_(other.next_id_),
       lines_(std::move(other.lines_)),
       closed_(other.closed_),
-      descriptors_(std::exchange(other.descriptors_, {})),
-      channel_requests_(std::exchange(other.channel_requests_, 0)),
-      channel_(std::move(other.channel_)),
+      claims_(std::exchange(other.claims_, {})),
       watched_(std::exchange(other.watched_, -1)),
       call_timeout_(other.call_timeout_),
       failure_(std::move(other.failure_)) {}
@@ -88,9 +86,7 @@ Connection& Connection::operator=(Connection&& other) noexcept {
         next_id_ = other.next_id_;
         lines_ = std::move(other.lines_);
         closed_ = other.closed_;
-        descriptors_ = std::exchange(other.descriptors_, {});
-        channel_requests_ = std::exchange(other.channel_requests_, 0);
-        channel_ = std::move(other.channel_);
+        claims_ = std::exchange(other.claims_, {});
         watched_ = std::exchange(other.watched_, -1);
         call_timeout_ = other.call_timeout_;
         failure_ = std::move(other.failure_);
@@ -107,14 +103,8 @@ void Connection::close() noexcept {
         ::close(fd_);
         fd_ = -1;
     }
-    close_descriptors();
-    channel_requests_ = 0;
-    channel_.reset();
+    claims_.reset();
     closed_ = true;
-}
-
-void Connection::close_descriptors() noexcept {
-    base::close_descriptors(descriptors_);
 }
 
 void Connection::fail(const std::string& why) {
@@ -136,6 +126,9 @@ std::optional<int> Connection::send(const std::string& method, const nlohmann::j
     nlohmann::json request = {{"jsonrpc", "2.0"}, {"id", id}, {"method", method}};
     if (!params.empty()) {
         request["params"] = params;
+    }
+    if (method == "attitude_channel") {
+        claims_.expect(id);  // two descriptors may come with its reply
     }
     if (!write_all(request.dump() + "\n", deadline)) {
         if (!closed_ && deadline && std::chrono::steady_clock::now() >= *deadline) {
@@ -188,8 +181,8 @@ bool Connection::fill(Deadline deadline) {
 // One recvmsg: the bytes go to the buffer, the descriptors to the FIFO.
 void Connection::receive() {
     char chunk[65536];
-    const auto n = base::receive_with_descriptors(fd_, chunk, sizeof(chunk), descriptors_);
-    base::keep_descriptors(descriptors_, 2 * channel_requests_);  // none nobody asked for
+    const auto n = base::receive_with_descriptors(fd_, chunk, sizeof(chunk), claims_.inbox());
+    claims_.received();  // none nobody asked for
     if (n < 0 && errno == EINTR) {
         return;
     }
@@ -214,6 +207,7 @@ Connection::ReadStatus Connection::read(nlohmann::json& message,
                     continue;
                 }
                 message = detail::parse_line(*line);
+                claims_.late(message);  // a reply whose caller gave up: its descriptors closed
                 return ReadStatus::kMessage;
             }
         } catch (const Error& e) {  // over a limit, not JSON: gportd is broken or hostile
@@ -245,30 +239,61 @@ std::optional<nlohmann::json> Connection::call(
     if (!id) {
         return std::nullopt;
     }
+    return await_reply(*id, method, limit, deadline, on_notification);
+}
+
+std::optional<nlohmann::json> Connection::await_reply(
+    int id, const std::string& method, std::optional<std::chrono::milliseconds> limit,
+    Deadline deadline, const std::function<void(const nlohmann::json&)>& on_notification) {
     // The watched descriptor is for the caller's own reads: not polled here
     // (it would stay readable until the caller drains it).
-    const int watched = std::exchange(watched_, -1);
+    struct Unwatch {
+        Connection& c;
+        int watched = std::exchange(c.watched_, -1);
+        ~Unwatch() { c.watched_ = watched; }
+    } unwatch{*this};
+    // Whatever ends the wait but the reply itself: an attitude_channel
+    // request no longer awaited (its late reply's descriptors are closed).
+    struct Abandon {
+        Connection& c;
+        int id;
+        bool answered = false;
+        ~Abandon() {
+            if (!answered) {
+                c.claims_.abandon(id);
+            }
+        }
+    } abandon{*this, id};
     nlohmann::json message;
     while (true) {
         const auto status = read(message, time_left(deadline));
         if (status == ReadStatus::kTimeout) {
-            watched_ = watched;
             throw codec::no_reply(method, *limit);
         }
         if (status != ReadStatus::kMessage) {
-            break;
+            return std::nullopt;
         }
         if (message.contains("id")) {
-            if (message["id"] == *id || message["id"].is_null()) {
-                watched_ = watched;
-                return message;  // null id: the daemon refused us (e.g. too many clients)
+            if (message["id"] == id) {
+                abandon.answered = true;
+                return message;
+            }
+            if (message["id"].is_null()) {
+                return message;  // the daemon refused us (e.g. too many clients)
             }
         } else if (on_notification) {
             on_notification(message);
         }
+        // read() gives every complete line at once, without looking at the
+        // clock: a server that keeps the socket full would otherwise hold
+        // the call for as long as it floods.
+        if (deadline && Clock::now() >= *deadline) {
+            throw codec::no_reply(method, *limit);
+        }
+        if (interrupted()) {
+            return std::nullopt;
+        }
     }
-    watched_ = watched;
-    return std::nullopt;
 }
 
 }  // namespace gport::client

@@ -28,6 +28,7 @@
 #include "gport/base/futex.hpp"
 #include "gport/client/attitude_channel.hpp"
 #include "gport/client/types.hpp"
+#include "wake_relay.hpp"
 
 namespace gport::client {
 
@@ -43,8 +44,9 @@ struct ChannelReply {
 
 class ChannelMapping {
   public:
-    // Checks both descriptors (fstat size: the ring's as the reply says,
-    // the wake block's 64; seals: F_SEAL_SHRINK and a write seal), maps
+    // Checks both descriptors (the seals first: F_SEAL_SHRINK and a write
+    // seal; then the size: the ring's as the reply says, the wake block's
+    // 64), maps
     // them read-only and checks their headers. Throws Error (kBadReply)
     // naming the block and the problem; the descriptors stay the caller's.
     static std::shared_ptr<ChannelMapping> map(int ring_fd, int wake_fd, const ChannelReply& reply);
@@ -56,8 +58,9 @@ class ChannelMapping {
     const std::atomic<std::uint32_t>& word() const { return *word_; }
     // The word's value now (read it before looking for samples).
     std::uint32_t load() const { return word_->load(std::memory_order_acquire); }
-    // Passes a wake on: when `seen` (a value of the word just loaded) was
-    // not relayed yet, wakes every other waiter of this process.
+    // Passes a wake on: when `seen` (a value of the word just loaded) is
+    // newer than every value relayed yet, wakes every other waiter of this
+    // process (WakeRelay: never backwards).
     void relay(std::uint32_t seen);
     // Sleeps while the word holds `seen`, at most `timeout`.
     base::FutexWait wait(std::uint32_t seen, std::chrono::nanoseconds timeout) const {
@@ -72,7 +75,7 @@ class ChannelMapping {
     const void* wake_;
     base::RingReader reader_;
     const std::atomic<std::uint32_t>* word_;
-    std::atomic<std::uint32_t> relayed_;
+    WakeRelay relayed_;
 };
 
 // Claims the channel an attitude_channel reply announces: with

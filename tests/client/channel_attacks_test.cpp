@@ -2,7 +2,9 @@
 // 22, items 6 and 8), each attack performed by the fake server: blocks
 // without seals, truncated or of the wrong size, a slot count rewritten
 // after the check, more descriptors than announced, "descriptors":0 on a
-// connection without a channel, and descriptors attached to notifications.
+// connection without a channel, descriptors attached to notifications, and
+// late replies to timed-out attitude_channel calls.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -65,10 +67,29 @@ TEST(ChannelAttacks, ATruncatedBlockIsRefusedBeforeItIsMapped) {
     FakeServer server;
     RingBlock truncated(64, 0);
     ASSERT_EQ(::ftruncate(truncated.fd(), 4096), 0);
+    ASSERT_EQ(::fcntl(truncated.fd(), F_ADD_SEALS, kSeals), 0);
     server.offer(Offer{&truncated, std::nullopt, {{"size", base::ring_bytes(64)}}});
     auto client = gc::Client::connect(server.path());
     const auto message = bad_reply([&] { client.attitude_channel(); });
     EXPECT_NE(message.find("the ring is 4096 bytes, not the 8256 expected"), std::string::npos)
+        << message;
+}
+
+// The seals come first: a block that may still shrink is refused before
+// its size is looked at, since a server holding another descriptor could
+// shrink it after that look and seal it then (before: the size was looked
+// at first, so this block was refused for its size, and one truncated in
+// between the two looks was mapped at the old size: SIGBUS).
+TEST(ChannelAttacks, ABlockThatMayShrinkIsRefusedBeforeItsSizeIsLookedAt) {
+    FakeServer server;
+    RingBlock shrinkable(64, 0);
+    ASSERT_EQ(::ftruncate(shrinkable.fd(), 4096), 0);
+    ASSERT_EQ(::fcntl(shrinkable.fd(), F_ADD_SEALS, kSeals & ~unsigned{F_SEAL_SHRINK}), 0);
+    server.offer(Offer{&shrinkable, std::nullopt, {{"size", base::ring_bytes(64)}}});
+    auto client = gc::Client::connect(server.path());
+    const auto message = bad_reply([&] { client.attitude_channel(); });
+    EXPECT_NE(message.find("the ring is not sealed against shrinking and writing (seals 0x15;"),
+              std::string::npos)
         << message;
 }
 
@@ -224,6 +245,114 @@ TEST(ChannelAttacks, AsyncClientClosesDescriptorsOnNotificationsToo) {
     ::close(pipe_fds[1]);
 }
 
+bool timed_out(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const gc::Error& e) {
+        return e.is(gc::ErrorCode::kTimeout);
+    }
+    return false;
+}
+
+// Review finding 6. Before: each timed-out attitude_channel call let two
+// more descriptors stay (3 timeouts: the 6 pipes of one notification and
+// the 6 descriptors of the late replies stayed open until disconnect).
+TEST(ChannelAttacks, TimedOutChannelCallsLeaveNoRoomForDescriptors) {
+    FakeServer server;
+    RingBlock block;
+    for (int i = 0; i < 3; ++i) {
+        server.offer(Offer{&block, std::nullopt, {}, true});  // answered late
+    }
+    int pipe_fds[2];
+    ASSERT_EQ(::pipe(pipe_fds), 0);
+    const nlohmann::json note = {
+        {"jsonrpc", "2.0"}, {"method", "link"}, {"params", {{"state", "up"}}}};
+    const auto before = open_descriptors();
+    {
+        auto client = gc::Client::connect(server.path());
+        client.subscribe({"link"});  // the fake has accepted us
+        const auto connected = open_descriptors();
+        client.set_call_timeout(50ms);
+        for (int i = 0; i < 3; ++i) {
+            EXPECT_TRUE(timed_out([&] { client.attitude_channel(); }));
+        }
+        server.push(note,
+                    {pipe_fds[0], pipe_fds[1], pipe_fds[0], pipe_fds[1], pipe_fds[0], pipe_fds[1]});
+        ASSERT_TRUE(client.next_notification(5s));
+        EXPECT_EQ(open_descriptors(), connected);
+        server.release_held();  // the three late replies, two descriptors each
+        server.push(note);
+        ASSERT_TRUE(client.next_notification(5s));
+        EXPECT_EQ(open_descriptors(), connected);
+    }
+    EXPECT_EQ(settled(before), before);
+    ::close(pipe_fds[0]);
+    ::close(pipe_fds[1]);
+}
+
+// Before: the late reply's descriptors were kept too and the next reply
+// claimed them: the channel was the abandoned request's block (here: one
+// that never publishes) and the right one's descriptors stayed open.
+TEST(ChannelAttacks, ALateChannelReplyIsClosedAndTheAwaitedOneMapped) {
+    FakeServer server;
+    RingBlock abandoned;
+    RingBlock awaited;
+    server.offer(Offer{&abandoned, std::nullopt, {}, true});
+    server.offer(&awaited);  // answered after the late reply
+    auto client = gc::Client::connect(server.path());
+    client.subscribe({"link"});
+    const auto connected = open_descriptors();
+    client.set_call_timeout(50ms);
+    EXPECT_TRUE(timed_out([&] { client.attitude_channel(); }));
+    client.set_call_timeout(5s);
+    auto channel = client.attitude_channel();
+    EXPECT_EQ(open_descriptors(), connected);
+    awaited.publish(7);
+    const auto sample = channel.next(1s);
+    ASSERT_TRUE(sample);
+    EXPECT_EQ(sample->seq, 7U);
+}
+
+TEST(ChannelAttacks, AsyncClientClosesALateChannelReplyToo) {
+    FakeServer server;
+    RingBlock abandoned;
+    RingBlock awaited;
+    server.offer(Offer{&abandoned, std::nullopt, {}, true});
+    server.offer(&awaited);
+    boost::asio::io_context io;
+    gc::AsyncClient client(io);
+    client.set_call_timeout(50ms);
+    std::size_t connected = 0;
+    std::size_t after = 0;
+    bool first_timed_out = false;
+    std::optional<gc::AttitudeChannel> channel;
+    client.async_connect(server.path(), [&](std::optional<gc::Error> error) {
+        ASSERT_FALSE(error);
+        client.async_subscribe({"link"}, std::nullopt, [&](auto, auto) {
+            connected = open_descriptors();
+            client.async_attitude_channel([&](std::optional<gc::Error> e, gc::AttitudeChannel) {
+                first_timed_out = e && e->is(gc::ErrorCode::kTimeout);
+                client.set_call_timeout(5s);
+                client.async_attitude_channel(
+                    [&](std::optional<gc::Error> e2, gc::AttitudeChannel c) {
+                        EXPECT_FALSE(e2) << e2->message();
+                        after = open_descriptors();
+                        channel = std::move(c);
+                        client.close();
+                    });
+            });
+        });
+    });
+    io.run_for(30s);
+    EXPECT_TRUE(first_timed_out);
+    EXPECT_EQ(after, connected);
+    ASSERT_TRUE(channel);
+    awaited.publish(9);
+    const auto sample = channel->next(1s);
+    ASSERT_TRUE(sample);
+    EXPECT_EQ(sample->seq, 9U);
+}
+
 // The C entry point other languages read the ring with (ring_read.h).
 TEST(ChannelAttacks, GportRingReadGivesWholeSamplesAndNothingForTheRest) {
     RingBlock block(8);
@@ -244,8 +373,33 @@ TEST(ChannelAttacks, GportRingReadGivesWholeSamplesAndNothingForTheRest) {
     EXPECT_EQ(gport_ring_read(memory, 0, 10, words), 0);  // no slot count: no division
     EXPECT_EQ(gport_ring_read(nullptr, 8, 10, words), 0);
     EXPECT_EQ(gport_ring_read(memory, 8, 10, nullptr), 0);
-    EXPECT_EQ(gport_client_abi_minor(), 2U);
+    EXPECT_EQ(gport_client_abi_minor(), 3U);
     ::munmap(memory, block.size());
+}
+
+// The acquire loads other languages order their looks with (ring_read.h).
+TEST(ChannelAttacks, TheCLoadsReadPublishedTheFlagsAndTheWakeWord) {
+    RingBlock block(8);
+    void* ring = ::mmap(nullptr, block.size(), PROT_READ, MAP_SHARED, block.fd(), 0);
+    void* wake = ::mmap(nullptr, base::kWakeBlockBytes, PROT_READ, MAP_SHARED, block.wake_fd(), 0);
+    ASSERT_NE(ring, MAP_FAILED);
+    ASSERT_NE(wake, MAP_FAILED);
+    EXPECT_EQ(gport_ring_published(ring), 0U);
+    EXPECT_EQ(gport_wake_word(wake), 0U);
+    for (std::uint64_t seq = 1; seq <= 10; ++seq) {
+        block.publish(seq);
+    }
+    EXPECT_EQ(gport_ring_published(ring), 10U);
+    EXPECT_EQ(gport_wake_word(wake), 10U);
+    EXPECT_EQ(gport_ring_flags(ring), 0U);
+    block.close();
+    EXPECT_EQ(gport_ring_flags(ring) & GPORT_RING_FLAG_CLOSED, GPORT_RING_FLAG_CLOSED);
+    EXPECT_EQ(gport_wake_word(wake), 11U);
+    EXPECT_EQ(gport_ring_published(nullptr), 0U);
+    EXPECT_EQ(gport_ring_flags(nullptr), 0U);
+    EXPECT_EQ(gport_wake_word(nullptr), 0U);
+    ::munmap(ring, block.size());
+    ::munmap(wake, base::kWakeBlockBytes);
 }
 
 }  // namespace

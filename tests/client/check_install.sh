@@ -2,7 +2,8 @@
 # Installs libgport-client from a build tree into a temporary prefix
 # (components client and client-dev only) and builds a program outside the
 # tree against it twice: with `pkg-config --cflags --libs gport-client`, and
-# with CMake's find_package(gport-client). Both must run.
+# with CMake's find_package(gport-client); and a C program (the C interface,
+# ring_read.h) with pkg-config. All must run.
 #
 # usage: check_install.sh BUILD_DIR CONSUMER_SOURCE_DIR
 set -eu
@@ -44,6 +45,13 @@ flags=$(PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config --cflags --libs gport-cli
 "$cxx" -std=c++17 ${CONSUMER_FLAGS:-} "$source/main.cpp" $flags -Wl,-rpath,"$libdir" -o "$work/pc-consumer" \
     || fail "building with pkg-config flags ($flags) failed"
 "$work/pc-consumer" "$work/no-gportd.sock" || fail "the pkg-config program did not run"
+
+# 1b. The C interface from C (ring_read.h is a standalone C99 header).
+# shellcheck disable=SC2086  # the flags are words
+"${CC:-cc}" -std=c99 -Wall -Wextra -Wpedantic -Werror ${CONSUMER_FLAGS:-} "$source/ring_reader.c" \
+    $flags -Wl,-rpath,"$libdir" -o "$work/c-consumer" \
+    || fail "building the C program against ring_read.h failed"
+"$work/c-consumer" || fail "the C program did not run"
 
 # 2. find_package.
 "$cmake" -S "$source" -B "$work/cmake-build" -DCMAKE_PREFIX_PATH="$prefix" \

@@ -25,6 +25,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "gport/base/attitude_ring.hpp"
@@ -133,11 +134,13 @@ class RingBlock {
 
 // What one attitude_channel request is answered with: `block` as gportd
 // sends it (nullptr: no descriptor), or a hostile variant: `fds` attached
-// instead (when set), `result` members changed.
+// instead (when set), `result` members changed; `late`: held back until
+// release_held() or the next attitude_channel request, answered first.
 struct Offer {
     const RingBlock* block = nullptr;
     std::optional<std::vector<int>> fds;
     nlohmann::json result = nlohmann::json::object();
+    bool late = false;
 };
 
 inline std::size_t open_descriptors() {
@@ -201,6 +204,11 @@ class FakeServer {
         }
         throw std::runtime_error("no client connected to the fake server");
     }
+    // Sends the replies held back (Offer::late), in order.
+    void release_held() {
+        std::lock_guard lock(mutex_);
+        send_held();
+    }
     // The topics of the last subscribe request.
     nlohmann::json last_subscribe() {
         std::lock_guard lock(mutex_);
@@ -254,6 +262,12 @@ class FakeServer {
         nlohmann::json reply = {{"jsonrpc", "2.0"}, {"id", request.at("id")}};
         std::vector<int> fds;
         if (method == "attitude_channel") {
+            if (!offers_.empty() && offers_.front().late) {
+                held_.emplace_back(request.at("id"), std::move(offers_.front()));
+                offers_.erase(offers_.begin());
+                return;
+            }
+            send_held();
             reply["result"] = channel_result(fds);
         } else if (method == "subscribe" || method == "unsubscribe") {
             const auto params = request.value("params", nlohmann::json::object());
@@ -267,18 +281,37 @@ class FakeServer {
         send_line(reply.dump() + "\n", fds);
     }
 
+    // Caller holds mutex_.
+    void send_held() {
+        for (auto& [id, offer] : held_) {
+            std::vector<int> fds;
+            nlohmann::json reply = {{"jsonrpc", "2.0"}, {"id", id}};
+            reply["result"] = offer_result(offer, fds);
+            send_line(reply.dump() + "\n", fds);
+        }
+        held_.clear();
+    }
+
     // Caller holds mutex_. The next offer, or "descriptors":0 without one.
     nlohmann::json channel_result(std::vector<int>& fds) {
-        nlohmann::json result = {{"version", 2},
-                                 {"slots", 64},
-                                 {"size", base::ring_bytes(64)},
-                                 {"published", 0},
-                                 {"descriptors", 0}};
         if (offers_.empty()) {
-            return result;
+            return plain_result();
         }
         Offer offer = std::move(offers_.front());
         offers_.erase(offers_.begin());
+        return offer_result(offer, fds);
+    }
+
+    static nlohmann::json plain_result() {
+        return {{"version", 2},
+                {"slots", 64},
+                {"size", base::ring_bytes(64)},
+                {"published", 0},
+                {"descriptors", 0}};
+    }
+
+    static nlohmann::json offer_result(const Offer& offer, std::vector<int>& fds) {
+        auto result = plain_result();
         result["descriptors"] = 2;
         if (offer.block != nullptr) {
             result["slots"] = offer.block->slots();
@@ -322,6 +355,7 @@ class FakeServer {
     std::atomic<bool> stopping_{false};
     std::mutex mutex_;
     std::vector<Offer> offers_;
+    std::vector<std::pair<nlohmann::json, Offer>> held_;  // request id, its late answer
     nlohmann::json last_subscribe_;
     std::thread thread_;
 };

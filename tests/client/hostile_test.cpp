@@ -5,7 +5,10 @@
 // memory, without hanging or crashing.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <string>
+#include <thread>
 #include <utility>
 #include <variant>
 
@@ -173,6 +176,70 @@ TEST(HostileServer, AnEndlessFloodDoesNotHoldACallPastItsTimeout) {
     client.set_call_timeout(300ms);
     EXPECT_TRUE(error_of([&] { client.status(); }).is(gc::ErrorCode::kTimeout));
     EXPECT_GT(client.dropped_notifications(), 0U);
+}
+
+// Notifications written in bulk, for up to 30 s or until the client leaves:
+// each write is whole lines and at most one socket buffer (an skb of a Unix
+// stream socket holds up to ~48 KiB), so what the client can read always
+// ends with a complete line. `over` turns true when the flood ends.
+HostileServer::Script bulk_flood(std::atomic<bool>& over) {
+    return [&over](HostilePeer& peer, const json&) {
+        std::string chunk;
+        for (std::uint64_t seq = 1;; ++seq) {
+            const auto line = attitude_notification(seq).dump() + "\n";
+            if (chunk.size() + line.size() > 30 * 1024) {
+                break;
+            }
+            chunk += line;
+        }
+        const auto end = std::chrono::steady_clock::now() + 30s;
+        while (std::chrono::steady_clock::now() < end && peer.send(chunk)) {
+        }
+        over = true;
+    };
+}
+
+// A program that takes a little time per notification (here 50 us) reads
+// slower than the server writes: the socket is never empty.
+void slow_handling() {
+    std::this_thread::sleep_for(50us);
+}
+
+// Before: the deadline was looked at only when the socket had nothing more
+// to read, so a server that kept it full held the call until it stopped.
+TEST(HostileServer, ABulkFloodDoesNotHoldACallPastItsTimeout) {
+    std::atomic<bool> over{false};
+    HostileServer server(bulk_flood(over));
+    auto client = gc::Client::connect(server.path());
+    std::size_t notifications = 0;
+    client.on_notification([&](const gc::Notification&) {
+        ++notifications;
+        slow_handling();
+    });
+    client.set_call_timeout(300ms);
+    const auto e = error_of([&] { client.status(); });
+    EXPECT_TRUE(e.is(gc::ErrorCode::kTimeout)) << e.what();
+    EXPECT_FALSE(over) << "the call returned only when the flood ended";
+    EXPECT_GT(notifications, 0U);
+}
+
+// Ctrl-C in gportctl: interrupted() is looked at after every message (it
+// was only when the buffer ran out of complete lines, once per 64 KiB read).
+TEST(HostileServer, ABulkFloodDoesNotHoldAnInterruptedCall) {
+    std::atomic<bool> over{false};
+    HostileServer server(bulk_flood(over));
+    auto connection = gc::Connection::open(server.path());
+    connection.set_call_timeout(std::nullopt);
+    const auto asked = std::chrono::steady_clock::now() + 300ms;
+    connection.interrupted = [&] { return std::chrono::steady_clock::now() >= asked; };
+    std::size_t notifications = 0;
+    const auto reply = connection.call("status", json::object(), [&](const json&) {
+        ++notifications;
+        slow_handling();
+    });
+    EXPECT_FALSE(reply.has_value());
+    EXPECT_FALSE(over) << "the call returned only when the flood ended";
+    EXPECT_GT(notifications, 0U);
 }
 
 TEST(HostileServer, AWaitCallMayTakeLongerThanTheCallTimeout) {

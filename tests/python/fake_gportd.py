@@ -117,11 +117,13 @@ class RingBlock:
 class Offer:
     """What one attitude_channel request is answered with: ``block`` sent
     as gportd would (None: none), or a hostile variant: ``fds`` to attach
-    instead, ``result`` members to change."""
+    instead, ``result`` members to change; ``late``: held back until
+    release_held() or the next attitude_channel request, answered first."""
 
     block: RingBlock | None
     fds: list[int] | None = None
     result: dict[str, Any] = field(default_factory=dict)
+    late: bool = False
 
 
 class FakeServer:
@@ -135,6 +137,7 @@ class FakeServer:
         self.path = os.path.join(self.dir, "gportd.sock")
         self.offers: list[RingBlock | Offer | None] = []
         self.subscribed: list[Any] | None = None
+        self._held: list[tuple[Any, Offer]] = []
         self._lock = threading.Lock()
         self._conn: socket.socket | None = None
         self._listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -161,22 +164,25 @@ class FakeServer:
                 self._conn = None
             conn.close()
 
-    def _channel_reply(self) -> tuple[dict[str, Any], list[int]]:
-        result = {"version": 2, "slots": 64, "size": ring.HEADER_SIZE + 64 * ring.SLOT_SIZE}
-        result |= {"published": 0, "descriptors": 0}
+    def _channel_reply(self, request_id: Any) -> tuple[dict[str, Any], list[int]] | None:
+        """The next offer's result and descriptors; None when it is held back."""
         if not self.offers:
-            return result, []
+            return _offer_result(Offer(None)), []
         offer = self.offers.pop(0)
         if not isinstance(offer, Offer):
             offer = Offer(offer)
-        fds: list[int] = []
-        if offer.block is not None:
-            result |= {"slots": offer.block.slots, "size": offer.block.size, "descriptors": 2}
-            fds = [offer.block.fd, offer.block.wake.fd]
-        if offer.fds is not None:
-            fds = offer.fds
-        result |= offer.result
-        return result, fds
+        if offer.late:
+            self._held.append((request_id, offer))
+            return None
+        self.release_held()
+        return _offer_result(offer), _offer_fds(offer)
+
+    def release_held(self) -> None:
+        """Sends the replies held back (Offer.late), in order."""
+        held, self._held = self._held, []
+        for request_id, offer in held:
+            reply = {"jsonrpc": "2.0", "id": request_id, "result": _offer_result(offer)}
+            self.push(reply, _offer_fds(offer))
 
     def _answer(self, request: dict[str, Any]) -> None:
         method = request["method"]
@@ -184,7 +190,10 @@ class FakeServer:
         fds: list[int] = []
         params = request.get("params", {})
         if method == "attitude_channel":
-            reply["result"], fds = self._channel_reply()
+            answer = self._channel_reply(request["id"])
+            if answer is None:
+                return
+            reply["result"], fds = answer
         elif method in ("subscribe", "unsubscribe"):
             if method == "subscribe":
                 self.subscribed = params.get("topics")
@@ -218,6 +227,20 @@ class FakeServer:
         self._listener.close()
         self._thread.join(timeout=10)
         shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def _offer_result(offer: Offer) -> dict[str, Any]:
+    result = {"version": 2, "slots": 64, "size": ring.HEADER_SIZE + 64 * ring.SLOT_SIZE}
+    result |= {"published": 0, "descriptors": 0}
+    if offer.block is not None:
+        result |= {"slots": offer.block.slots, "size": offer.block.size, "descriptors": 2}
+    return result | offer.result
+
+
+def _offer_fds(offer: Offer) -> list[int]:
+    if offer.fds is not None:
+        return offer.fds
+    return [] if offer.block is None else [offer.block.fd, offer.block.wake.fd]
 
 
 def open_descriptors() -> int:

@@ -254,6 +254,32 @@ def test_a_daemon_that_never_reads_cannot_block_a_call(hostile: Callable[..., Ho
         assert not client.connected
 
 
+def test_a_thread_waiting_to_write_behind_a_stuck_one_keeps_its_own_timeout(
+    hostile: Callable[..., Hostile],
+) -> None:
+    """Before: a call waited for the write lock without a deadline, for as
+    long as the thread holding it was allowed (here PATIENT)."""
+    server = hostile(None)
+    with gport.Client(server.path, timeout=PATIENT) as client:
+        stuck = threading.Thread(
+            target=lambda: pytest.raises(
+                gport.ConnectionLost, client.call, "status", {"pad": "x" * (16 * MiB)}
+            )
+        )
+        stuck.start()
+        deadline = time.monotonic() + PATIENT
+        while not client._write_lock.locked():  # until the stuck thread writes
+            assert time.monotonic() < deadline and stuck.is_alive()
+            time.sleep(0.01)
+        started = time.monotonic()
+        with pytest.raises(gport.ConnectionLost) as raised:
+            client.call("status", timeout=0.3)
+        assert "did not read" in raised.value.message
+        assert time.monotonic() - started < PATIENT / 2
+        stuck.join(PATIENT)
+        assert not stuck.is_alive(), "the connection the late writer closed ends the other"
+
+
 def test_a_silent_daemon_gives_a_timeout_and_the_connection_stays(
     hostile: Callable[..., Hostile],
 ) -> None:
@@ -296,6 +322,35 @@ def test_a_flood_nobody_takes_is_bounded_and_counted(hostile: Callable[..., Host
             assert isinstance(item, gport.Attitude)
             seqs.append(item.seq)
         assert seqs == list(range(flood - gport.INBOX_LIMIT + 1, flood + 1)), "the newest"
+
+
+def long_link_events(count: int) -> Callable[[Hostile, Any], None]:
+    """A script: ``count`` link events whose reason is a 1 MiB string, then the reply."""
+    line = json.dumps(
+        {"jsonrpc": "2.0", "method": "link", "params": {"state": "down", "reason": "r" * MiB}}
+    )
+
+    def script(peer: Hostile, request: Any) -> None:
+        for _ in range(count):
+            peer.send((line + "\n").encode())
+        peer.reply(request, {"sent": True})
+
+    return script
+
+
+def test_long_notifications_are_bounded_in_bytes_too(hostile: Callable[..., Hostile]) -> None:
+    """Review finding 7. Before: all 32 were kept (1024 per topic), and a
+    few lines of [{},{},...] could take gigabytes."""
+    events = 32
+    server = hostile(long_link_events(events))
+    with gport.Client(server.path, timeout=PATIENT) as client:
+        client.call("photo")
+        kept = 0
+        while (item := client.next_notification(timeout=0)) is not None:
+            assert isinstance(item, gport.Link)
+            kept += 1
+        assert kept <= gport.INBOX_BYTES // MiB
+        assert client.dropped_notifications == events - kept
 
 
 # ---- the asyncio client ---------------------------------------------------
@@ -431,6 +486,26 @@ def test_async_a_flood_nobody_takes_is_counted(hostile: Callable[..., Hostile]) 
         first = await client.next_notification(timeout=0)
         assert isinstance(first, gport.Attitude)
         assert first.seq == flood - gport.INBOX_LIMIT + 1
+        await client.close()
+
+    asyncio.run(main())
+
+
+def test_async_long_notifications_are_bounded_in_bytes_too(
+    hostile: Callable[..., Hostile],
+) -> None:
+    events = 32
+    server = hostile(long_link_events(events))
+
+    async def main() -> None:
+        client = await gport.AsyncClient.open(server.path, timeout=PATIENT)
+        await client.call("photo")
+        kept = 0
+        while (item := await client.next_notification(timeout=0)) is not None:
+            assert isinstance(item, gport.Link)
+            kept += 1
+        assert kept <= gport.INBOX_BYTES // MiB
+        assert client.dropped_notifications == events - kept
         await client.close()
 
     asyncio.run(main())

@@ -10,7 +10,7 @@ asyncio. Both speak gportd's JSON-RPC over its Unix socket (default
         gimbal.photo()
 """
 
-from ._protocol import INBOX_LIMIT, LINE_LIMIT, NESTING_LIMIT, WAIT_ALLOWANCE
+from ._protocol import INBOX_BYTES, INBOX_LIMIT, LINE_LIMIT, NESTING_LIMIT, WAIT_ALLOWANCE
 from .aio import AsyncClient
 from .channel import AttitudeChannel
 from .client import Client
@@ -61,6 +61,7 @@ from .results import (
 __version__ = "0.1.0"
 
 __all__ = [
+    "INBOX_BYTES",
     "INBOX_LIMIT",
     "LINE_LIMIT",
     "NESTING_LIMIT",

@@ -20,6 +20,13 @@ SOCKET_ENV = "GPORT_SOCKET"
 TOPICS = ("attitude", "link", "motion")
 # Notifications kept per topic while nobody reads them; the oldest go first.
 INBOX_LIMIT = 1024
+# Bytes of notification lines kept in all (as the C++ client's kQueueBytes):
+# a daemon cannot fill memory with long lines (json.loads of such a line can
+# take some 24 bytes per byte); the oldest of any topic go first, and the
+# newest stays even alone over the bound.
+INBOX_BYTES = 16 * 1024 * 1024
+# What a sample from the shared-memory ring counts (about its line's length).
+RING_SAMPLE_BYTES = 256
 # Longest line accepted from the daemon, in bytes without the newline (as the
 # C++ client's kLineLimit); a longer one ends the connection.
 LINE_LIMIT = 16 * 1024 * 1024
@@ -190,6 +197,7 @@ class Pushed:
 
     topic: str
     item: Notification
+    size: int  # the line's length, what the inbox counts
 
 
 @dataclass(frozen=True)
@@ -227,11 +235,11 @@ def decode(line: bytes) -> Message:
     if not isinstance(message, dict):
         raise BadLine(f"a line that is not a JSON object ({type(message).__name__})")
     if "method" in message:
-        return _notification(message)
+        return _notification(message, len(line))
     return _reply(message)
 
 
-def _notification(message: dict[str, Any]) -> Pushed | None:
+def _notification(message: dict[str, Any], size: int) -> Pushed | None:
     method, params = message["method"], message.get("params")
     if not isinstance(method, str):
         raise BadLine(f"a notification whose method is not a string ({type(method).__name__})")
@@ -244,7 +252,7 @@ def _notification(message: dict[str, Any]) -> Pushed | None:
     except (KeyError, TypeError, ValueError, AttributeError, OverflowError) as error:
         raise BadLine(f"a {method} notification this client cannot read ({_short(repr(error))})")
     assert item is not None  # every topic of TOPICS parses
-    return Pushed(method, item)
+    return Pushed(method, item, size)
 
 
 def _reply(message: dict[str, Any]) -> Reply | Refused:
@@ -346,30 +354,53 @@ def keepalive_interval(lease_ms: int) -> float:
 
 class Inbox:
     """Notifications waiting to be read, per topic, in arrival order; at most
-    INBOX_LIMIT per topic, the oldest dropped and counted (not thread-safe)."""
+    INBOX_LIMIT per topic and INBOX_BYTES of lines in all, the oldest dropped
+    and counted (not thread-safe)."""
 
     def __init__(self) -> None:
-        self._queues: dict[str, deque[tuple[int, Notification]]] = {}
+        self._queues: dict[str, deque[tuple[int, Notification, int]]] = {}
         self._seq = 0
+        self._count = 0
+        self._bytes = 0
         self.dropped = 0
 
-    def put(self, topic: str, item: Notification) -> None:
-        queue = self._queues.setdefault(topic, deque(maxlen=INBOX_LIMIT))
-        self._seq += 1
+    def put(self, topic: str, item: Notification, size: int = RING_SAMPLE_BYTES) -> None:
+        """Queues ``item``; ``size``: its line's length."""
+        queue = self._queues.setdefault(topic, deque())
         if len(queue) == INBOX_LIMIT:
+            self._pop(queue)
             self.dropped += 1
-        queue.append((self._seq, item))
+        self._seq += 1
+        queue.append((self._seq, item, size))
+        self._count += 1
+        self._bytes += size
+        while self._bytes > INBOX_BYTES and self._count > 1:
+            self._pop(self._oldest(None) or queue)
+            self.dropped += 1
 
     def take(self, topics: Iterable[str] | None) -> Notification | None:
         """The oldest waiting notification of the topics (all when None), or None."""
-        best: deque[tuple[int, Notification]] | None = None
-        for topic, queue in self._queues.items():
-            if queue and (topics is None or topic in topics):
-                if best is None or queue[0][0] < best[0][0]:
-                    best = queue
-        return None if best is None else best.popleft()[1]
+        queue = self._oldest(topics)
+        return None if queue is None else self._pop(queue)
 
     def clear(self, topics: Iterable[str] | None = None) -> None:
         for topic, queue in self._queues.items():
             if topics is None or topic in topics:
-                queue.clear()
+                while queue:
+                    self._pop(queue)
+
+    def _oldest(
+        self, topics: Iterable[str] | None
+    ) -> deque[tuple[int, Notification, int]] | None:
+        best: deque[tuple[int, Notification, int]] | None = None
+        for topic, queue in self._queues.items():
+            if queue and (topics is None or topic in topics):
+                if best is None or queue[0][0] < best[0][0]:
+                    best = queue
+        return best
+
+    def _pop(self, queue: deque[tuple[int, Notification, int]]) -> Notification:
+        _, item, size = queue.popleft()
+        self._count -= 1
+        self._bytes -= size
+        return item

@@ -21,9 +21,10 @@ The wake block (base/include/gport/base/wake_block.hpp), 64 bytes: u32 magic
 futex word at 16. gportd bumps it and wakes ONE waiter per sample; the first
 thread of this process to see a new value wakes the others (relay()).
 
-Checks: each descriptor must be a memfd of exactly the size announced (the
-ring's ``size``; 64) sealed with F_SEAL_SHRINK and F_SEAL_WRITE or
-F_SEAL_FUTURE_WRITE, so it can never shrink under this process (SIGBUS);
+Checks: each descriptor must be a memfd sealed with F_SEAL_SHRINK and
+F_SEAL_WRITE or F_SEAL_FUTURE_WRITE (looked at first), then of exactly the
+size announced (the ring's ``size``; 64), so it can never shrink under this
+process (SIGBUS);
 the slot count used is the one checked here, never re-read.
 
 Reads: a slot is a seqlock (its seq, the words, its seq again). On a weakly
@@ -40,13 +41,14 @@ mapping the channel raises BadChannel. The futex is ``syscall(SYS_futex,
 from __future__ import annotations
 
 import ctypes
+import fcntl
 import mmap
 import os
 import platform
 import stat
 import struct
 import threading
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 from .errors import BadChannel
 
@@ -122,12 +124,55 @@ def load_fenced_reader() -> Callable[..., int] | None:
     return read
 
 
-_fenced: list[Callable[..., int] | None] = []  # loaded once, on first use
+class Loads(NamedTuple):
+    """libgport-client's acquire loads (since 1.3): the order of the wake
+    word, ``published`` and the flags is kept on weakly ordered CPUs."""
+
+    published: Callable[[int], int]
+    flags: Callable[[int], int]
+    wake_word: Callable[[int], int]
+
+
+def load_fenced_loads() -> Loads | None:
+    """The acquire loads of libgport-client 1.3 or later, else None."""
+    path = os.environ.get(LIBRARY_ENV) or "libgport-client.so.1"
+    if path == "none":
+        return None
+    try:
+        library = ctypes.CDLL(path)
+        minor = library.gport_client_abi_minor
+        minor.restype = ctypes.c_uint32
+        if minor() < 3:
+            return None
+        loads = []
+        for name, result in (
+            ("gport_ring_published", ctypes.c_uint64),
+            ("gport_ring_flags", ctypes.c_uint32),
+            ("gport_wake_word", ctypes.c_uint32),
+        ):
+            load = getattr(library, name)
+            load.restype, load.argtypes = result, [ctypes.c_void_p]
+            loads.append(load)
+    except (OSError, AttributeError):
+        return None
+    return Loads(*loads)
+
+
+_fenced: list[tuple[Callable[..., int] | None, Loads | None]] = []  # loaded once, on first use
 
 
 def fenced_reader() -> Callable[..., int] | None:
+    return _library()[0]
+
+
+def fenced_loads() -> Loads | None:
+    return _library()[1]
+
+
+def _library() -> tuple[Callable[..., int] | None, Loads | None]:
     if not _fenced:
-        _fenced.append(load_fenced_reader())
+        read = load_fenced_reader()
+        _fenced.append((read, None if read is None else load_fenced_loads()))
     return _fenced[0]
 
 
@@ -173,13 +218,12 @@ def reply_fields(result: Any) -> tuple[int, int, int]:
 
 
 def check_descriptor(fd: int, size: int, what: str) -> None:
-    """A memfd of exactly ``size`` bytes that can neither shrink nor be written."""
-    info = os.fstat(fd)
-    if not stat.S_ISREG(info.st_mode) or info.st_size != size:
-        raise _fail(f"the {what} is {info.st_size} bytes, not the {size} expected")
+    """A memfd that can neither shrink nor be written, of exactly ``size``
+    bytes. The seals are read first: once F_SEAL_SHRINK is there nobody can
+    remove it, so the size seen next stays (size first, a server holding
+    another descriptor could shrink the file between the two looks and seal
+    it then: the client would map the old size and die of SIGBUS)."""
     try:
-        import fcntl
-
         seals = fcntl.fcntl(fd, F_GET_SEALS)
     except OSError as error:
         raise _fail(f"the {what} is not a sealed memfd (F_GET_SEALS: {error.strerror})") from None
@@ -188,6 +232,9 @@ def check_descriptor(fd: int, size: int, what: str) -> None:
             f"the {what} is not sealed against shrinking and writing (seals {seals:#x}; "
             "F_SEAL_SHRINK and F_SEAL_WRITE or F_SEAL_FUTURE_WRITE are required): refused"
         )
+    info = os.fstat(fd)
+    if not stat.S_ISREG(info.st_mode) or info.st_size != size:
+        raise _fail(f"the {what} is {info.st_size} bytes, not the {size} expected")
 
 
 def ring_problem(header: bytes, size: int) -> str | None:
@@ -233,41 +280,34 @@ class Mapping:
     """One connection's ring and wake block, mapped read-only and checked,
     with the relay state every reader of the connection in this process
     shares. Unmapped when the last reference goes (each AttitudeChannel and
-    the client that cached it hold one). The descriptors stay the caller's."""
+    the client that cached it hold one; the mapping refers to none of them
+    nor to itself, so no cycle waits for the collector). The descriptors
+    stay the caller's."""
 
     def __init__(self, ring_fd: int, wake_fd: int, slots: int, size: int) -> None:
         self._ring = self._wake = 0
-        self.read_words = self._choose_reader()
+        self._read, self._loads = _reader()  # module functions: no reference to self
         check_descriptor(ring_fd, size, "ring")
         check_descriptor(wake_fd, WAKE_SIZE, "wake block")
         self.size = size
         self.slots = slots  # the count checked: never re-read from the block
-        self._ring = _map(ring_fd, size, "ring")
         try:
+            self._ring = _map(ring_fd, size, "ring")
             self._wake = _map(wake_fd, WAKE_SIZE, "wake block")
-            problem = ring_problem(ctypes.string_at(self._ring, HEADER_SIZE), size)
-            if problem is None and (size - HEADER_SIZE) // SLOT_SIZE != slots:
-                problem = "the ring does not hold the slots the reply announced"
-            problem = problem or wake_problem(ctypes.string_at(self._wake, WAKE_SIZE))
-            if problem is not None:
-                raise _fail(problem)
+            self._check_headers()
         except BaseException:
             self._unmap()
             raise
         self._lock = threading.Lock()
         self._relayed = self.wake_word()
 
-    def _choose_reader(self) -> Callable[[int], tuple[Any, ...] | None]:
-        fenced = fenced_reader()
-        if fenced is not None:
-            return self._read_fenced(fenced)
-        if MACHINE == "x86_64":
-            return self._read_plain
-        raise _fail(
-            f"the shared-memory channel needs libgport-client on this CPU ({MACHINE}): its "
-            "ring cannot be read safely without fences; install libgport-client.so.1 (gportd's "
-            f"package ships it) or set {LIBRARY_ENV} to its path (the socket keeps working)"
-        )
+    def _check_headers(self) -> None:
+        problem = ring_problem(ctypes.string_at(self._ring, HEADER_SIZE), self.size)
+        if problem is None and (self.size - HEADER_SIZE) // SLOT_SIZE != self.slots:
+            problem = "the ring does not hold the slots the reply announced"
+        problem = problem or wake_problem(ctypes.string_at(self._wake, WAKE_SIZE))
+        if problem is not None:
+            raise _fail(problem)
 
     # ---- loads ----------------------------------------------------------------
     def u32(self, offset: int) -> int:
@@ -277,28 +317,35 @@ class Mapping:
         return ctypes.c_uint64.from_address(self._ring + offset).value
 
     def published(self) -> int:
+        if self._loads is not None:
+            return self._loads.published(self._ring)
         return self.u64(OFF_PUBLISHED)
 
     def closed(self) -> bool:
-        return bool(self.u32(OFF_FLAGS) & FLAG_CLOSED)
+        flags = self._loads.flags(self._ring) if self._loads else self.u32(OFF_FLAGS)
+        return bool(flags & FLAG_CLOSED)
 
     def wake_word(self) -> int:
+        if self._loads is not None:
+            return self._loads.wake_word(self._wake)
         return ctypes.c_uint32.from_address(self._wake + OFF_WAKE).value
 
-    def _read_fenced(self, read: Callable[..., int]) -> Callable[[int], tuple[Any, ...] | None]:
+    def read_words(self, n: int) -> tuple[Any, ...] | None:
+        """The words of sample ``n`` when slot n still holds it, else None."""
+        if n == 0:
+            return None
+        if self._read is None:
+            return self._read_plain(n)
+        # A buffer per read: the library fills it with the GIL released, so
+        # a buffer shared by the threads could be rewritten by another read
+        # between this one's return and the copy below.
         words = _Words()
-
-        def fenced(n: int) -> tuple[Any, ...] | None:
-            if n == 0 or not read(self._ring, self.slots, n, words):
-                return None
-            return WORDS.unpack(bytes(words))
-
-        return fenced
+        if not self._read(self._ring, self.slots, n, words):
+            return None
+        return WORDS.unpack(bytes(words))
 
     def _read_plain(self, n: int) -> tuple[Any, ...] | None:
         """x86_64 only: loads are not reordered with loads."""
-        if n == 0:
-            return None
         slot = HEADER_SIZE + ((n - 1) % self.slots) * SLOT_SIZE
         before = self.u64(slot)
         if before != 2 * n:
@@ -311,17 +358,21 @@ class Mapping:
     @property
     def fenced(self) -> bool:
         """True when reads go through libgport-client's gport_ring_read."""
-        return self.read_words != self._read_plain
+        return self._read is not None
 
     # ---- waiting ----------------------------------------------------------------
-    def relay(self, seen: int) -> None:
-        """Passes a wake on: the first thread of this process to see a new
-        value of the word wakes the others (gportd wakes only one)."""
+    def relay(self, seen: int) -> bool:
+        """Passes a wake on: the first thread of this process to see a value
+        of the word newer than every one relayed yet wakes the others
+        (gportd wakes only one); True for that thread. Only forward: a
+        thread that loaded an older value and was preempted neither moves
+        the relay back nor wakes everyone again (modulo 2**32: it wraps)."""
         with self._lock:
-            if seen == self._relayed:
-                return
+            if not 0 < (seen - self._relayed) % 2**32 < 2**31:
+                return False
             self._relayed = seen
         self.wake_all()
+        return True
 
     def wait(self, seen: int, timeout: float) -> None:
         """Sleeps while the word still holds ``seen``, at most ``timeout`` s."""
@@ -366,3 +417,18 @@ class Mapping:
             self._unmap()
         except Exception:  # interpreter shutdown: ctypes may be gone already
             pass
+
+
+def _reader() -> tuple[Callable[..., int] | None, Loads | None]:
+    """libgport-client's fenced read and loads, or (None, None) for plain
+    loads where they are safe (x86_64); BadChannel on any other CPU."""
+    read = fenced_reader()
+    if read is not None:
+        return read, fenced_loads()
+    if MACHINE == "x86_64":
+        return None, None
+    raise _fail(
+        f"the shared-memory channel needs libgport-client on this CPU ({MACHINE}): its "
+        "ring cannot be read safely without fences; install libgport-client.so.1 (gportd's "
+        f"package ships it) or set {LIBRARY_ENV} to its path (the socket keeps working)"
+    )

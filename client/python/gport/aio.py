@@ -11,8 +11,7 @@ from contextlib import asynccontextmanager
 from typing import Any, AsyncGenerator, AsyncIterator, Iterable, Mapping
 
 from . import _protocol as p
-from . import _ring
-from .channel import AttitudeChannel, RingPump, channel_from
+from .channel import AttitudeChannel, ChannelClaims, RingPump
 from .errors import ConnectionLost, GportError, Timeout
 from .moving import AsyncMovement, quietly_async
 from .results import (
@@ -60,13 +59,8 @@ class AsyncClient:
         self._next_id = 0
         self._sock: socket.socket | None = None
         self._lines = p.LineBuffer()
-        self._fds = p.Descriptors()
         self._send_lock: asyncio.Lock | None = None
-        # attitude_channel requests awaiting their reply (two descriptors may
-        # come with each), and the descriptors each reply claimed
-        self._awaiting: set[int] = set()
-        self._claims: dict[int, list[int]] = {}
-        self._mapping: _ring.Mapping | None = None  # this connection's channel
+        self._claims = ChannelClaims()  # received descriptors, the channel
         self._pump: RingPump | None = None
         self._shared_attitude = False
         self._alive = False
@@ -93,7 +87,7 @@ class AsyncClient:
             sock.close()
             raise ConnectionLost(f"cannot connect to {self.path}: {error.strerror}") from error
         self._sock, self._alive, self._refused, self._reason = sock, True, None, None
-        self._lines, self._fds = p.LineBuffer(), p.Descriptors()
+        self._lines, self._claims = p.LineBuffer(), ChannelClaims()
         self._send_lock = asyncio.Lock()
         loop.add_reader(sock.fileno(), self._readable, sock)
 
@@ -106,8 +100,7 @@ class AsyncClient:
             return
         except OSError:
             data, fds = b"", []
-        self._fds.extend(fds)
-        self._fds.keep(2 * len(self._awaiting))  # none nobody asked for
+        self._claims.received(fds)  # none nobody asked for
         if not data:
             self._detach(sock)
             self._lost()
@@ -132,7 +125,7 @@ class AsyncClient:
         self._lost()
 
     def _detach(self, sock: socket.socket) -> None:
-        """Stops reading ``sock`` and closes it and the unclaimed descriptors."""
+        """Stops reading ``sock`` and closes it and the received descriptors."""
         if self._sock is sock:
             self._sock = None
         try:
@@ -140,7 +133,7 @@ class AsyncClient:
         except (RuntimeError, ValueError):
             pass
         sock.close()
-        self._fds.close()
+        self._claims.reset()
 
     def _lost(self) -> None:
         self._alive = False
@@ -148,30 +141,19 @@ class AsyncClient:
             if not future.done():
                 future.set_exception(ConnectionLost(p.closed_message(self._refused, self._reason)))
         self._pending.clear()
-        for fds in self._claims.values():
-            for fd in fds:
-                p.close_quietly(fd)
-        self._claims.clear()
-        self._awaiting.clear()
-        self._mapping = None  # a new connection gets new blocks
+        self._claims.reset()
         self._changed.set()
 
     def _dispatch(self, message: p.Message) -> None:
         if isinstance(message, p.Reply):
             future = self._pending.pop(message.id, None)
-            if message.id in self._awaiting:  # its descriptors came with its first byte
-                self._awaiting.discard(message.id)
-                claimed = self._fds.take(p.announced_descriptors(message))
-                if future is not None and not future.done():
-                    self._claims[message.id] = claimed
-                else:  # the caller gave up waiting
-                    for fd in claimed:
-                        p.close_quietly(fd)
-                self._fds.keep(2 * len(self._awaiting))
+            self._claims.reply(message)
             if future is not None and not future.done():
                 future.set_result(message)
+            else:  # the caller gave up waiting
+                self._claims.abandon(message.id)
         elif isinstance(message, p.Pushed):
-            self._inbox.put(message.topic, message.item)
+            self._inbox.put(message.topic, message.item, message.size)
             self._changed.set()
         elif isinstance(message, p.Refused):
             self._refused = message.error
@@ -228,12 +210,23 @@ class AsyncClient:
     ) -> Any:
         """Any method by name; returns the decoded ``result`` or raises GportError."""
         limit: float | None = self.timeout if timeout is _DEFAULT else timeout
-        return (await self._request(method, params, limit))[0]
+        return (await self._request(method, params, limit))[1]
 
     async def _request(
         self, method: str, params: Mapping[str, Any] | None, limit: float | None
-    ) -> tuple[Any, list[int]]:
-        """The result and, for attitude_channel, the descriptors its reply carried."""
+    ) -> tuple[int, Any]:
+        """The request's id and the result of its reply, at most ``limit``
+        seconds after it was sent (Timeout), or the daemon's error."""
+        started = time.monotonic()
+        request_id, future = await self._send(method, params, limit)
+        left = None if limit is None else max(0.0, limit - (time.monotonic() - started))
+        return request_id, await self._await_reply(request_id, future, method, limit, left)
+
+    async def _send(
+        self, method: str, params: Mapping[str, Any] | None, limit: float | None
+    ) -> tuple[int, asyncio.Future[p.Reply]]:
+        """Sends a request; its id and the future of its reply. Not taken
+        within ``limit``: the connection is closed (ConnectionLost)."""
         sock, lock = self._sock, self._send_lock
         if not self._alive or sock is None or lock is None:
             raise ConnectionLost(p.closed_message(self._refused, self._reason))
@@ -242,41 +235,41 @@ class AsyncClient:
         future: asyncio.Future[p.Reply] = asyncio.get_running_loop().create_future()
         self._pending[request_id] = future
         if method == p.CHANNEL_METHOD:
-            self._awaiting.add(request_id)
-        started = time.monotonic()
-        line = p.encode(request_id, method, params)
+            self._claims.expect(request_id)
         try:
+            line = p.encode(request_id, method, params)
             await asyncio.wait_for(self._send_line(sock, lock, line), limit)
         except (OSError, asyncio.TimeoutError, ConnectionLost) as error:
             self._pending.pop(request_id, None)
-            self._awaiting.discard(request_id)
+            self._claims.abandon(request_id)
             if future.done():
                 future.exception()  # seen: the error raised here tells it
             if isinstance(error, ConnectionLost):
                 raise
-            if isinstance(error, asyncio.TimeoutError):  # (an OSError since 3.11: first)
-                # A part of a line may have gone: the stream is unusable.
-                failure = (
-                    f"the daemon did not read the request to {method} within {limit} s; "
-                    "the connection is closed"
-                )
-            else:
-                failure = f"cannot send to {self.path}: {error.strerror}"
-            self._end(sock, failure)
+            self._end(sock, _send_failure(error, method, limit, self.path))
             raise ConnectionLost(p.closed_message(self._refused, self._reason)) from None
-        left = None if limit is None else max(0.0, limit - (time.monotonic() - started))
+        return request_id, future
+
+    async def _await_reply(
+        self,
+        request_id: int,
+        future: asyncio.Future[p.Reply],
+        method: str,
+        limit: float | None,
+        left: float | None,
+    ) -> Any:
         try:
             reply = await asyncio.wait_for(future, left)
-        except asyncio.TimeoutError:
-            # Still awaited: a late reply's descriptors are closed by _dispatch.
+        except BaseException as error:  # a late reply's descriptors are closed
             self._pending.pop(request_id, None)
-            raise Timeout(f"no reply to {method} within {limit} s") from None
-        fds = self._claims.pop(request_id, [])
+            self._claims.abandon(request_id)
+            if isinstance(error, asyncio.TimeoutError):
+                raise Timeout(f"no reply to {method} within {limit} s") from None
+            raise
         if reply.error is not None:
-            for fd in fds:
-                p.close_quietly(fd)
+            self._claims.abandon(request_id)
             raise reply.error
-        return reply.result, fds
+        return reply.result
 
     async def _send_line(self, sock: socket.socket, lock: asyncio.Lock, line: bytes) -> None:
         async with lock:  # whole lines: one sendall at a time
@@ -290,9 +283,8 @@ class AsyncClient:
     async def attitude_channel(self) -> AttitudeChannel:
         """As gport.Client.attitude_channel: gportd's shared-memory attitude
         channel, received once per connection and shared by later calls."""
-        result, fds = await self._request(p.CHANNEL_METHOD, None, self.timeout)
-        channel, self._mapping = channel_from(result, fds, self._mapping)
-        return channel
+        request_id, result = await self._request(p.CHANNEL_METHOD, None, self.timeout)
+        return self._claims.channel(request_id, result)
 
     async def attitude(self) -> Attitude:
         return parse_attitude(await self.call("attitude"))
@@ -522,3 +514,14 @@ class AsyncClient:
         await self.stop()
         if movement.error is not None:
             raise movement.error
+
+
+def _send_failure(error: BaseException, method: str, limit: float | None, path: str) -> str:
+    """Why a request that could not be sent ends the connection."""
+    if isinstance(error, asyncio.TimeoutError):  # (an OSError since 3.11: first)
+        # A part of a line may have gone: the stream is unusable.
+        return (
+            f"the daemon did not read the request to {method} within {limit} s; "
+            "the connection is closed"
+        )
+    return f"cannot send to {path}: {getattr(error, 'strerror', None) or error}"

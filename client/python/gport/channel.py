@@ -15,8 +15,9 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import Any, Callable, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
+from . import _protocol as p
 from . import _ring
 from ._ring import FLAG_CLOSED, HEADER_SIZE, MAGIC, SLOT_SIZE, VERSION, futex_available
 from .errors import BadChannel
@@ -24,6 +25,7 @@ from .results import Attitude, Axes, ImuRates, Rates
 
 __all__ = [
     "AttitudeChannel",
+    "ChannelClaims",
     "RingPump",
     "channel_from",
     "futex_available",
@@ -73,6 +75,85 @@ def _close(fd: int) -> None:
         os.close(fd)
     except OSError:
         pass
+
+
+class ChannelClaims:
+    """The descriptors of one connection's attitude_channel replies, for
+    both clients: which may be kept, which reply claims them, and the
+    connection's mapping once it has one (not thread-safe: the client holds
+    its lock).
+
+    gportd attaches the two descriptors of a connection's channel to that
+    connection's first attitude_channel result and to no other message, so
+    two are kept only while the connection has no mapping and at least one
+    attitude_channel request has a caller waiting for its reply; any other
+    is closed as soon as it is received. A request whose caller gave up (a
+    timeout, an interruption) no longer counts, and the descriptors its late
+    reply carries are closed."""
+
+    def __init__(self) -> None:
+        self._fds = p.Descriptors()
+        self._waiting: set[int] = set()
+        self._abandoned: set[int] = set()
+        self._claimed: dict[int, list[int]] = {}
+        self._mapping: _ring.Mapping | None = None
+
+    def expect(self, request_id: int) -> None:
+        """An attitude_channel request goes out with this id."""
+        self._waiting.add(request_id)
+
+    def received(self, fds: Iterable[int]) -> None:
+        """Descriptors one recvmsg received (before its lines are handled)."""
+        self._fds.extend(fds)
+        self._keep()
+
+    def reply(self, reply: p.Reply) -> None:
+        """Every reply, in arrival order: an awaited attitude_channel reply
+        claims the descriptors it announced (they came with its first
+        byte), an abandoned one's are closed."""
+        if reply.id in self._waiting:
+            self._waiting.discard(reply.id)
+            self._claimed[reply.id] = self._fds.take(p.announced_descriptors(reply))
+        elif reply.id in self._abandoned:
+            self._abandoned.discard(reply.id)
+            _close_all(self._fds.take(p.announced_descriptors(reply)))
+        self._keep()
+
+    def abandon(self, request_id: int) -> None:
+        """The caller of ``request_id`` stopped waiting (or got an error)."""
+        if request_id in self._waiting:
+            self._waiting.discard(request_id)
+            self._abandoned.add(request_id)
+        _close_all(self._claimed.pop(request_id, []))
+        self._keep()
+
+    def channel(self, request_id: int, result: Any) -> AttitudeChannel:
+        """The channel the reply to ``request_id`` gives (see channel_from)."""
+        fds = self._claimed.pop(request_id, [])
+        try:
+            channel, self._mapping = channel_from(result, fds, self._mapping)
+        finally:
+            self._keep()
+        return channel
+
+    def reset(self) -> None:
+        """The connection ended: closes every descriptor, forgets the mapping
+        (a new connection gets new blocks)."""
+        self._fds.close()
+        for fds in self._claimed.values():
+            _close_all(fds)
+        self._claimed.clear()
+        self._waiting.clear()
+        self._abandoned.clear()
+        self._mapping = None
+
+    def _keep(self) -> None:
+        self._fds.keep(2 if self._mapping is None and self._waiting else 0)
+
+
+def _close_all(fds: Iterable[int]) -> None:
+    for fd in fds:
+        _close(fd)
 
 
 class AttitudeChannel:

@@ -11,8 +11,7 @@ from contextlib import contextmanager
 from typing import Any, Generator, Iterable, Iterator, Mapping
 
 from . import _protocol as p
-from . import _ring
-from .channel import AttitudeChannel, RingPump, channel_from
+from .channel import AttitudeChannel, ChannelClaims, RingPump
 from .errors import ConnectionLost, GportError, Timeout
 from .moving import Movement, quietly
 from .results import (
@@ -66,11 +65,7 @@ class Client:
         self._reader: threading.Thread | None = None
         self._alive = False
         self._refused: GportError | None = None
-        # attitude_channel requests awaiting their reply (two descriptors may
-        # come with each), and the descriptors each reply claimed
-        self._awaiting: set[int] = set()
-        self._claims: dict[int, list[int]] = {}
-        self._mapping: _ring.Mapping | None = None  # this connection's channel
+        self._claims = ChannelClaims()  # received descriptors, the channel
         self._reason: str | None = None  # why the client ended the connection
         self._pump: RingPump | None = None
         self._shared_attitude = False
@@ -96,25 +91,25 @@ class Client:
 
     def _read(self, sock: socket.socket) -> None:
         lines = p.LineBuffer()
-        fds = p.Descriptors()
         reason: str | None = None
         try:
             while True:
                 data, received = p.receive(sock)
-                fds.extend(received)
                 with self._cond:
-                    fds.keep(2 * len(self._awaiting))  # none nobody asked for
+                    if self._sock is sock:
+                        self._claims.received(received)  # none nobody asked for
+                    else:
+                        _close_all(received)
                 if not data:
                     break
                 for line in lines.feed(data):
-                    self._dispatch(p.decode(line), fds)
+                    self._dispatch(p.decode(line))
         except p.BadLine as error:
             reason = error.reason
         except OSError:
             pass
         except Exception as error:  # never leave a dead reader behind a live-looking client
             reason = f"the client's reader failed: {error!r}; the connection is closed"
-        fds.close()  # none of them was claimed
         self._end(sock, reason)
 
     def _end(self, sock: socket.socket, reason: str | None) -> None:
@@ -123,6 +118,7 @@ class Client:
         with self._cond:
             if self._sock is sock:
                 self._alive = False
+                self._claims.reset()
                 if reason is not None and self._reason is None:
                     self._reason = reason
             self._cond.notify_all()
@@ -132,22 +128,14 @@ class Client:
             except OSError:
                 pass
 
-    def _dispatch(self, message: p.Message, fds: p.Descriptors) -> None:
+    def _dispatch(self, message: p.Message) -> None:
         with self._cond:
             if isinstance(message, p.Reply):
-                if message.id in self._awaiting:  # its descriptors came with its first byte
-                    self._awaiting.discard(message.id)
-                    claimed = fds.take(p.announced_descriptors(message))
-                    if message.id in self._pending:
-                        self._claims[message.id] = claimed
-                    else:  # the caller gave up waiting
-                        for fd in claimed:
-                            p.close_quietly(fd)
-                    fds.keep(2 * len(self._awaiting))
+                self._claims.reply(message)
                 if message.id in self._pending:
                     self._pending[message.id] = message
             elif isinstance(message, p.Pushed):
-                self._inbox.put(message.topic, message.item)
+                self._inbox.put(message.topic, message.item, message.size)
             elif isinstance(message, p.Refused):
                 self._refused = message.error
             else:
@@ -174,12 +162,7 @@ class Client:
         with self._cond:
             sock, self._sock, self._alive = self._sock, None, False
             self._pending.clear()
-            for fds in self._claims.values():
-                for fd in fds:
-                    p.close_quietly(fd)
-            self._claims.clear()
-            self._awaiting.clear()
-            self._mapping = None  # a new connection gets new blocks
+            self._claims.reset()
             self._cond.notify_all()
         if sock is not None:
             try:
@@ -236,10 +219,9 @@ class Client:
             request_id, sock = self._next_id, self._sock
             self._pending[request_id] = None
             if method == p.CHANNEL_METHOD:
-                self._awaiting.add(request_id)
+                self._claims.expect(request_id)
         try:
-            with self._write_lock:
-                taken = _write(sock, p.encode(request_id, method, params), limit)
+            taken = self._write_whole(sock, p.encode(request_id, method, params), limit)
         except OSError as error:
             taken, failure = False, f"cannot send to {self.path}: {error.strerror}"
         else:
@@ -250,10 +232,23 @@ class Client:
         if not taken:
             with self._cond:
                 self._pending.pop(request_id, None)
-                self._awaiting.discard(request_id)
+                self._claims.abandon(request_id)
             self._end(sock, failure)  # a part of a line may have gone: the stream is unusable
             raise ConnectionLost(failure)
         return request_id
+
+    def _write_whole(self, sock: socket.socket, line: bytes, limit: float | None) -> bool:
+        """Writes a whole line, one thread at a time; waiting for the thread
+        that writes counts against ``limit`` too (that thread may be held by
+        a daemon that does not read for as long as its own limit)."""
+        deadline = None if limit is None else time.monotonic() + limit
+        if not self._write_lock.acquire(timeout=-1 if limit is None else limit):
+            return False
+        try:
+            left = None if deadline is None else max(0.0, deadline - time.monotonic())
+            return _write(sock, line, left)
+        finally:
+            self._write_lock.release()
 
     def _await_reply(self, request_id: int, method: str, limit: float | None) -> Any:
         deadline = None if limit is None else time.monotonic() + limit
@@ -269,7 +264,6 @@ class Client:
                         break
                     self._cond.wait(left)
             finally:  # also when interrupted (Ctrl-C): a late reply is dropped
-                # A late reply's descriptors are closed by _dispatch.
                 self._pending.pop(request_id, None)
             if reply is None and not self._alive:
                 raise ConnectionLost(p.closed_message(self._refused, self._reason))
@@ -292,15 +286,12 @@ class Client:
         request_id = self._send(p.CHANNEL_METHOD, None, self.timeout)
         try:
             result = self._await_reply(request_id, p.CHANNEL_METHOD, self.timeout)
-        except BaseException:
+        except BaseException:  # a late reply's descriptors are closed
             with self._cond:
-                for fd in self._claims.pop(request_id, []):
-                    p.close_quietly(fd)
+                self._claims.abandon(request_id)
             raise
         with self._cond:
-            fds = self._claims.pop(request_id, [])
-            channel, self._mapping = channel_from(result, fds, self._mapping)
-        return channel
+            return self._claims.channel(request_id, result)
 
     def attitude(self) -> Attitude:
         return parse_attitude(self.call("attitude"))
@@ -551,3 +542,8 @@ def _write(sock: socket.socket, data: bytes, limit: float | None) -> bool:
             return False
         poller.poll(None if left is None else max(1, int(left * 1000)))
     return True
+
+
+def _close_all(fds: Iterable[int]) -> None:
+    for fd in fds:
+        p.close_quietly(fd)

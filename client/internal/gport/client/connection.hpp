@@ -10,9 +10,9 @@
 //
 // The socket is read with recvmsg: file descriptors gportd attaches to a
 // reply (SCM_RIGHTS, only with a connection's first `attitude_channel`
-// result) are kept in arrival order, at most two per attitude_channel
-// request awaiting its reply; any others (with notifications, other
-// replies, or more than announced) are closed at once.
+// result) are kept as ChannelClaims allows (two, while the connection has
+// no channel and an attitude_channel request sent with send() or call()
+// awaits its reply); any others are closed at once.
 //
 // Internal to the project (not installed): its symbols are exported from
 // libgport-client for gportctl, but its interface may change in any release.
@@ -29,13 +29,12 @@
 #include <string_view>
 
 #include "gport/client/attitude_channel.hpp"
+#include "gport/client/channel_claims.hpp"
 #include "gport/client/export.hpp"
 #include "gport/client/limits.hpp"
 #include "gport/client/lines.hpp"
 
 namespace gport::client {
-
-class ChannelMapping;
 
 class GPORT_CLIENT_API Connection {
   public:
@@ -61,7 +60,8 @@ class GPORT_CLIENT_API Connection {
                     std::optional<std::chrono::milliseconds> timeout = std::nullopt);
 
     // Sends a request and waits for its reply; notifications meanwhile go to
-    // `on_notification`. Empty when the connection closed or was interrupted.
+    // `on_notification`. Empty when the connection closed or was interrupted
+    // (looked at between reads and after every notification).
     // Throws Error (kTimeout) when no reply came within the call timeout
     // (plus kWaitAllowance for params with "wait": true); the connection
     // stays usable and the late reply is dropped.
@@ -76,11 +76,9 @@ class GPORT_CLIENT_API Connection {
     // announced, kTransport when the connection is lost.
     AttitudeChannel attitude_channel(
         const std::function<void(const nlohmann::json&)>& on_notification = {});
-    // The same in two steps, for a caller that makes the call itself:
-    // expect_channel() before sending the request (two descriptors may then
-    // be kept for its reply), channel_from() with the whole reply.
-    void expect_channel() noexcept { ++channel_requests_; }
-    AttitudeChannel channel_from(const nlohmann::json& reply);
+    // The same for a caller that makes the call itself (send() or call()
+    // of "attitude_channel"): the channel of its whole reply.
+    AttitudeChannel channel_from(const nlohmann::json& reply) { return claims_.claim(reply); }
 
     // A descriptor (not owned; -1: none) that read() also polls: when it is
     // readable, read() returns kWoken.
@@ -112,17 +110,19 @@ class GPORT_CLIENT_API Connection {
     std::optional<int> send(const std::string& method, const nlohmann::json& params,
                             Deadline deadline);
     bool write_all(std::string_view data, Deadline deadline);
+    // Reads until the reply to request `id` (or a refusal) comes; the
+    // deadline and interrupted() are looked at after every other message.
+    std::optional<nlohmann::json> await_reply(
+        int id, const std::string& method, std::optional<std::chrono::milliseconds> limit,
+        Deadline deadline, const std::function<void(const nlohmann::json&)>& on_notification);
     // Ends the connection because of what gportd did.
     void fail(const std::string& why);
-    void close_descriptors() noexcept;
 
     int fd_ = -1;
     int next_id_ = 1;
     detail::LineReader lines_;
     bool closed_ = false;
-    std::deque<int> descriptors_;
-    std::size_t channel_requests_ = 0;         // attitude_channel requests awaiting their reply
-    std::shared_ptr<ChannelMapping> channel_;  // this connection's channel, once received
+    ChannelClaims claims_;  // received descriptors, attitude_channel requests, the channel
     int watched_ = -1;
     std::optional<std::chrono::milliseconds> call_timeout_ = kDefaultCallTimeout;
     std::string failure_;
