@@ -140,16 +140,20 @@ class Futex:
         if self._number is None:  # refused just now: wait the polling way
             threading.Event().wait(min(timeout, POLL_SLICE))
 
-    def wake_all(self, address: int) -> None:
-        """Wakes every waiter on the word at ``address``."""
+    def wake(self, address: int, count: int) -> None:
+        """Wakes at most ``count`` waiters on the word at ``address``."""
         self._call(
             ctypes.c_void_p(address),
             ctypes.c_int(FUTEX_WAKE),
-            ctypes.c_int(2**31 - 1),
+            ctypes.c_int(count),
             None,
             None,
             ctypes.c_int(0),
         )
+
+    def wake_all(self, address: int) -> None:
+        """Wakes every waiter on the word at ``address``."""
+        self.wake(address, 2**31 - 1)
 
 
 FUTEX = Futex(futex_number(*ARCHITECTURE) if ARCHITECTURE else None)
