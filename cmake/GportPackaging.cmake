@@ -37,6 +37,17 @@ function(_gport_pkg_var out module variable fallback)
   if(PKG_CONFIG_FOUND)
     pkg_get_variable(value ${module} ${variable})
   endif()
+  # pkg-config prefixes the paths it reports with PKG_CONFIG_SYSROOT_DIR (a
+  # cross build's sysroot); the package installs to the target's own paths.
+  if(DEFINED ENV{PKG_CONFIG_SYSROOT_DIR} AND NOT "$ENV{PKG_CONFIG_SYSROOT_DIR}" STREQUAL ""
+     AND NOT "$ENV{PKG_CONFIG_SYSROOT_DIR}" STREQUAL "/")
+    string(REGEX REPLACE "/+$" "" _sysroot "$ENV{PKG_CONFIG_SYSROOT_DIR}")
+    string(FIND "${value}" "${_sysroot}/" _at)
+    if(_at EQUAL 0)
+      string(LENGTH "${_sysroot}" _length)
+      string(SUBSTRING "${value}" ${_length} -1 value)
+    endif()
+  endif()
   if(value STREQUAL "")
     set(value "${fallback}")
   endif()
@@ -77,6 +88,40 @@ set(CPACK_STRIP_FILES ON)
 set(CPACK_PACKAGING_INSTALL_PREFIX "/usr")
 
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+# The package's architecture is the target's, not the build machine's (CPack
+# asks dpkg, which names the host: an arm64 build packaged on amd64 was once
+# labelled amd64). The toolchain files set it; a native build names its own.
+if(NOT CPACK_DEBIAN_PACKAGE_ARCHITECTURE)
+  set(_gport_deb_arches "x86_64-linux-gnu=amd64" "aarch64-linux-gnu=arm64"
+      "arm-linux-gnueabihf=armhf" "i386-linux-gnu=i386" "riscv64-linux-gnu=riscv64")
+  foreach(_pair IN LISTS _gport_deb_arches)
+    string(REPLACE "=" ";" _pair "${_pair}")
+    list(GET _pair 0 _triple)
+    list(GET _pair 1 _arch)
+    if(CMAKE_LIBRARY_ARCHITECTURE STREQUAL _triple)
+      set(CPACK_DEBIAN_PACKAGE_ARCHITECTURE ${_arch})
+    endif()
+  endforeach()
+  if(NOT CPACK_DEBIAN_PACKAGE_ARCHITECTURE AND CMAKE_CROSSCOMPILING)
+    message(FATAL_ERROR "cross-building for ${CMAKE_LIBRARY_ARCHITECTURE}: set "
+                        "CPACK_DEBIAN_PACKAGE_ARCHITECTURE to its Debian architecture")
+  endif()
+endif()
+# A cross build's libraries are the target's: dpkg-shlibdeps must read them
+# with the target's objdump and find their packages (DEB_HOST_ARCH), in the
+# sysroot's own dpkg database when there is one (scripts/cross-sysroot.sh
+# writes it; dpkg-query reads DPKG_ADMINDIR). cpack runs this file first.
+if(CMAKE_CROSSCOMPILING)
+  set(_gport_cpack_env "set(ENV{DEB_HOST_ARCH} \"${CPACK_DEBIAN_PACKAGE_ARCHITECTURE}\")\n")
+  if(GPORT_SYSROOT)
+    string(APPEND _gport_cpack_env "set(ENV{DPKG_ADMINDIR} \"${GPORT_SYSROOT}/var/lib/dpkg\")\n")
+    set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS "${GPORT_SYSROOT}/lib/${CMAKE_LIBRARY_ARCHITECTURE}"
+        "${GPORT_SYSROOT}/usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}")
+  endif()
+  file(WRITE ${CMAKE_BINARY_DIR}/cpack/cross-env.cmake "${_gport_cpack_env}")
+  set(CPACK_PROJECT_CONFIG_FILE ${CMAKE_BINARY_DIR}/cpack/cross-env.cmake)
+  unset(_gport_cpack_env)
+endif()
 set(CPACK_DEBIAN_PACKAGE_SECTION "misc")
 set(CPACK_DEBIAN_PACKAGE_PRIORITY "optional")
 # Library dependencies come from dpkg-shlibdeps (package dpkg-dev); the rest

@@ -74,3 +74,62 @@ gport_install_deps() {
     echo "== gpsd installed for bench_vs_gpsd only: USB hotplug turned off (/etc/default/gpsd USBAUTO)"
   fi
 }
+
+# ---- cross-building for ARM (scripts/test.sh's ARM stages; docs/operations.md,
+# "Building for ARM") -------------------------------------------------------
+
+# gport_cross_triple ARCH: the GNU triple of a Debian architecture.
+gport_cross_triple() {
+  case "$1" in
+    arm64) echo aarch64-linux-gnu ;;
+    armhf) echo arm-linux-gnueabihf ;;
+    *) echo "error: no cross build for Debian architecture '$1' (arm64 or armhf)" >&2; return 1 ;;
+  esac
+}
+
+# gport_install_cross_deps ARCH...: this machine's cross compiler and qemu-user
+# for each architecture (amd64 packages: the target's own libraries go into a
+# sysroot, scripts/cross-sysroot.sh, never into this machine's dpkg).
+gport_install_cross_deps() {
+  local arch triple missing=()
+  command -v qemu-aarch64-static >/dev/null || missing+=(qemu-user-static)
+  for arch in "$@"; do
+    triple=$(gport_cross_triple "$arch")
+    command -v "$triple-g++" >/dev/null || missing+=("g++-$triple")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "== installing: ${missing[*]}"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  fi
+}
+
+# gport_qemu_arch ARCH: qemu-user's name of a Debian architecture.
+gport_qemu_arch() {
+  case "$1" in
+    arm64) echo aarch64 ;;
+    armhf) echo arm ;;
+    *) echo "error: no qemu-user for Debian architecture '$1'" >&2; return 1 ;;
+  esac
+}
+
+# gport_register_binfmt QEMU_ARCH: runs the target's ELF files through
+# qemu-user-static, so that tests can start the target's programs by path (the
+# entry Debian's package ships for systemd-binfmt, whose F flag opens the
+# emulator now, so it also serves chroots and containers). Fails, saying why,
+# where binfmt_misc cannot be mounted or written (an unprivileged container).
+gport_register_binfmt() {
+  local dir=/proc/sys/fs/binfmt_misc entry=qemu-$1
+  if [ ! -e "$dir/register" ]; then
+    mount -t binfmt_misc binfmt_misc "$dir" ||
+      { echo "error: cannot mount binfmt_misc on $dir (the ARM tests need it)" >&2; return 1; }
+  fi
+  [ -e "$dir/$entry" ] && grep -qx enabled "$dir/$entry" && return 0
+  [ -e "$dir/$entry" ] && { echo -1 >"$dir/$entry" || return 1; }
+  [ -r "/usr/lib/binfmt.d/$entry.conf" ] ||
+    { echo "error: /usr/lib/binfmt.d/$entry.conf is missing (package qemu-user-static)" >&2; return 1; }
+  cat "/usr/lib/binfmt.d/$entry.conf" >"$dir/register" ||
+    { echo "error: cannot register $entry with binfmt_misc" >&2; return 1; }
+  echo "== binfmt_misc: $entry registered"
+}

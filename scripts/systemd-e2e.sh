@@ -9,6 +9,9 @@
 #
 #   scripts/systemd-e2e.sh [BUILD_DIR]      # default build/release, built
 #   GPORT_E2E_DEB=path/gportd_X_amd64.deb scripts/systemd-e2e.sh   # a given .deb
+#   GPORT_E2E_ARCH=arm64 scripts/systemd-e2e.sh build/arm64   # an arm64 root,
+#       run under qemu-user through binfmt_misc (docs/operations.md, "Building
+#       for ARM": what qemu-user cannot do for systemd there)
 #
 # Needs root (debootstrap, nspawn) and the network to Debian's mirror (the
 # container's apt resolves the package's dependencies). The Debian root is
@@ -25,13 +28,17 @@ cd "$(dirname "$0")/.."
 project=$(pwd)
 build=${1:-build/release}
 work=$project/build/systemd-e2e
+arch=${GPORT_E2E_ARCH:-$(dpkg --print-architecture)}
+native=$([ "$arch" = "$(dpkg --print-architecture)" ] && echo yes || echo no)
 root=$work/root        # pristine debootstrap root, reused between runs
+[ "$native" = yes ] || root=$work/root-$arch
 run=$work/run          # the copy one run boots (kept until the next run)
 stage=$work/mnt        # bound read-only at /mnt in the container: the .deb, the steps
 archives=$work/apt-archives  # apt's download cache, shared by the runs
 # What the root holds beyond debootstrap's minbase; a change rebuilds it.
 root_packages=systemd,dbus,procps
 root_recipe="bookworm minbase $root_packages v1"
+[ "$native" = yes ] || root_recipe="$root_recipe $arch"
 boot_timeout=${GPORT_E2E_TIMEOUT:-600}
 start=$(date +%s)
 
@@ -91,6 +98,11 @@ need() {
 }
 need debootstrap debootstrap
 need systemd-nspawn systemd-container
+if [ "$native" = no ]; then
+    source scripts/deps.sh
+    gport_register_binfmt "$(gport_qemu_arch "$arch")" ||
+        skip "a $arch root needs qemu-user through binfmt_misc, which cannot be set up here"
+fi
 
 # ---- the package -------------------------------------------------------------
 rm -rf "$stage"
@@ -129,7 +141,7 @@ root_is_fresh() {
 if ! root_is_fresh; then
     say "building the Debian 12 root in $root (debootstrap, once; about a minute)"
     rm -rf "$root" "$root.tmp"
-    debootstrap --variant=minbase --include="$root_packages" bookworm "$root.tmp" "$(mirror)" \
+    debootstrap --arch="$arch" --variant=minbase --include="$root_packages" bookworm "$root.tmp" "$(mirror)" \
         >"$work/debootstrap.log" 2>&1 ||
         { tail -n 20 "$work/debootstrap.log"; die "debootstrap failed (log: $work/debootstrap.log)"; }
     echo "$root_recipe" >"$root.tmp/.gport-e2e-recipe"

@@ -6,8 +6,12 @@
 #      a container (scripts/systemd-e2e.sh; about a minute, two the first
 #      time; GPORT_SYSTEMD_E2E=skip leaves it out, =require fails if this
 #      machine cannot run it);
-#   2. ASan+UBSan build, all tests;
-#   3. clang libFuzzer build, each fuzzer for $GPORT_FUZZ_SECONDS (60) on its corpus.
+#   2. ARM (scripts/test-arm.sh): arm64 cross build and every test under
+#      qemu-user; armhf cross build and the unit suites (GPORT_ARM=skip
+#      leaves them out);
+#   3. ASan+UBSan build, all tests;
+#   4. clang libFuzzer build, each fuzzer for $GPORT_FUZZ_SECONDS (60) on its
+#      corpus, one per core at a time.
 # Used word for word by .ci/run. The builds are unity builds (each target's
 # sources compiled as one unit), which halves the compile time on a 2-core
 # machine; every file also compiles on its own in a normal build.
@@ -42,6 +46,13 @@ elif [ "$e2e_status" -ne 0 ]; then
   exit "$e2e_status"
 fi
 
+if [ "${GPORT_ARM:-}" = skip ]; then
+  stage "ARM stages: SKIPPED (GPORT_ARM=skip)"
+else
+  stage "ARM stages (scripts/test-arm.sh)"
+  scripts/test-arm.sh
+fi
+
 stage "ASan+UBSan build"
 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGPORT_SANITIZE=ON \
   -DGPORT_BUILD_BENCH=OFF -DGPORT_WERROR=ON -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 \
@@ -60,20 +71,39 @@ for corpus in fuzz/corpus/*/; do
   fuzzers+=("$(basename "$corpus")_fuzz")
 done
 cmake --build build/fuzz -j "$jobs" --target "${fuzzers[@]}"
-for corpus in fuzz/corpus/*/; do
-  name=$(basename "$corpus")
-  stage "Fuzzing ${name}_fuzz for ${fuzz_seconds} s"
+# Each fuzzer runs for its full time; $jobs of them at once (they are
+# single-threaded), each log printed when it ends.
+fuzz_one() {
+  local name=$1 work log
   work=$(mktemp -d)
-  cp -r "$corpus". "$work/"
   log=$(mktemp)
+  cp -r "fuzz/corpus/$name/". "$work/"
   if ! "build/fuzz/fuzz/${name}_fuzz" -max_total_time="$fuzz_seconds" -print_final_stats=1 \
       "$work" >"$log" 2>&1; then
+    echo "== ${name}_fuzz FAILED"
     tail -n 60 "$log"
-    echo "fuzzer ${name}_fuzz failed" >&2
-    exit 1
+    rm -rf "$work" "$log"
+    return 1
   fi
-  grep -E "^#[0-9]+.*(DONE|pulse)|stat::number_of_executed_units|stat::peak_rss_mb" "$log" | tail -n 3
+  echo "== ${name}_fuzz: ${fuzz_seconds} s"
+  grep -E "^#[0-9]+.*(DONE|pulse)|stat::number_of_executed_units|stat::peak_rss_mb" "$log" |
+    tail -n 3 || true
   rm -rf "$work" "$log"
+}
+stage "Fuzzing ${#fuzzers[@]} fuzzers for ${fuzz_seconds} s each, $jobs at a time"
+pids=()
+failed=0
+for corpus in fuzz/corpus/*/; do
+  if [ ${#pids[@]} -ge "$jobs" ]; then
+    wait "${pids[0]}" || failed=1
+    pids=("${pids[@]:1}")
+  fi
+  fuzz_one "$(basename "$corpus")" &
+  pids+=($!)
 done
+for pid in "${pids[@]}"; do
+  wait "$pid" || failed=1
+done
+[ "$failed" -eq 0 ] || { echo "a fuzzer failed (above)" >&2; exit 1; }
 
 stage "All tests passed"

@@ -23,29 +23,45 @@ namespace {
 namespace asio = boost::asio;
 using stream_protocol = asio::local::stream_protocol;
 
+// SO_PEERGROUPS: the peer's supplementary groups at connect(). ERANGE says
+// the buffer was short and sets `bytes` to the size needed: retried with that
+// (twice at most; the set cannot change after connect, but an emulator may
+// answer ERANGE for ever: qemu-user truncates the option to 4 bytes). Returns
+// 0, or the errno when the groups cannot be read.
+int peer_groups(int fd, std::vector<gid_t>& groups) {
+    socklen_t bytes = static_cast<socklen_t>(64 * sizeof(gid_t));
+    for (int attempt = 0; attempt < 3; ++attempt) {
+        groups.resize(bytes / sizeof(gid_t) + 1);
+        bytes = static_cast<socklen_t>(groups.size() * sizeof(gid_t));
+        if (::getsockopt(fd, SOL_SOCKET, SO_PEERGROUPS, groups.data(), &bytes) == 0) {
+            groups.resize(bytes / sizeof(gid_t));
+            return 0;
+        }
+        if (errno != ERANGE) {
+            break;
+        }
+    }
+    const int error = errno;
+    groups.clear();
+    return error;
+}
+
 // SO_PEERCRED: who is on the other end, as the kernel saw it at connect();
 // SO_PEERGROUPS: its supplementary groups at that moment. Both come from the
 // peer's own credentials, not the user database, so access follows what the
-// process really holds (and nothing here can block on NSS).
-std::optional<daemon::ClientInfo> peer_of(stream_protocol::socket& socket) {
+// process really holds (and nothing here can block on NSS). When the groups
+// cannot be read the client is still served, judged by its uid and primary
+// gid only (`groups_error` says why): that can only refuse it commanding,
+// never grant it more (docs/api.md, "Access").
+std::optional<daemon::ClientInfo> peer_of(stream_protocol::socket& socket, int& groups_error) {
     const int fd = socket.native_handle();
     ucred credentials{};
     socklen_t size = sizeof(credentials);
     if (::getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &credentials, &size) != 0) {
         return std::nullopt;
     }
-    std::vector<gid_t> groups(64);
-    socklen_t bytes = static_cast<socklen_t>(groups.size() * sizeof(gid_t));
-    if (::getsockopt(fd, SOL_SOCKET, SO_PEERGROUPS, groups.data(), &bytes) != 0) {
-        if (errno != ERANGE) {
-            return std::nullopt;
-        }
-        groups.resize(bytes / sizeof(gid_t));  // the kernel said how much it needs
-        if (::getsockopt(fd, SOL_SOCKET, SO_PEERGROUPS, groups.data(), &bytes) != 0) {
-            return std::nullopt;
-        }
-    }
-    groups.resize(bytes / sizeof(gid_t));
+    std::vector<gid_t> groups;
+    groups_error = peer_groups(fd, groups);
     return daemon::ClientInfo{0, credentials.pid, credentials.uid, credentials.gid,
                               std::move(groups)};
 }
@@ -172,10 +188,20 @@ void Server::accept() {
 }
 
 void Server::on_accept(stream_protocol::socket socket) {
-    auto info = peer_of(socket);
+    int groups_error = 0;
+    auto info = peer_of(socket, groups_error);
     if (!info) {
         log_->warn("a client's credentials could not be read (SO_PEERCRED); closing it");
         return;
+    }
+    if (groups_error != 0) {
+        if (const auto count = peer_groups_log_.occur()) {
+            log_->warn(
+                "the supplementary groups of {} client(s) could not be read "
+                "(SO_PEERGROUPS: {}; the latest pid {} uid {}): they are judged by "
+                "their uid and primary gid only",
+                *count, std::strerror(groups_error), info->pid, info->uid);
+        }
     }
     info->id = next_id_++;
     bool asked_core = false;

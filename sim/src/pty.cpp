@@ -93,15 +93,17 @@ Exclusivity release_exclusive(const std::string& slave_path) {
         fail("open " + slave_path);
     }
     int exclusive = 0;
+    const char* step = "read the exclusive mode (TIOCGEXCL) of ";
     int rc = ::ioctl(slave, TIOCGEXCL, &exclusive);
     if (rc == 0 && exclusive != 0) {
+        step = "clear the exclusive mode (TIOCNXCL) of ";
         rc = ::ioctl(slave, TIOCNXCL);
     }
     const int saved = errno;
     ::close(slave);
     if (rc != 0) {
         errno = saved;
-        fail("clear exclusive mode (TIOCNXCL) on " + slave_path);
+        fail(step + slave_path);
     }
     return exclusive != 0 ? Exclusivity::kCleared : Exclusivity::kNone;
 }

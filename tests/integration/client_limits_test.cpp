@@ -19,6 +19,7 @@
 #include <sstream>
 #include <thread>
 
+#include "emulation.hpp"
 #include "harness.hpp"
 #include "unix_connect.hpp"
 
@@ -196,6 +197,15 @@ TEST(ClientLimits, RssStaysSmallWhenClientsSendBatchesAndNeverRead) {
 #if defined(__SANITIZE_ADDRESS__)
     GTEST_SKIP() << "RSS is not measured under AddressSanitizer (shadow memory, quarantine)";
 #endif
+    if (runs_under_emulator(daemon.pid())) {
+        // qemu-user's own memory (its code and the translation cache, 20 MiB
+        // or more) is in VmRSS: bound what gportd adds to its idle self, by
+        // the budget less gportd's idle RSS on a real machine (under 8 MiB).
+        std::cout << "gportd runs under an emulator: its growth is bounded instead\n";
+        EXPECT_LT(peak_kib - idle_kib, (32 - 8) * 1024);
+        EXPECT_LT(after_kib - idle_kib, (32 - 8) * 1024);
+        return;
+    }
     EXPECT_LT(peak_kib, 32 * 1024);
     EXPECT_LT(after_kib, 32 * 1024);
 }

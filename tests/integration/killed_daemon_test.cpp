@@ -8,6 +8,7 @@
 
 #include <fstream>
 
+#include "emulation.hpp"
 #include "harness.hpp"
 
 namespace gport::testing {
@@ -65,6 +66,9 @@ void restart_after_kill(SimProcess& sim, const TempDir& dir, const std::string& 
 TEST(KilledDaemon, ASimThatMayClearTheExclusiveModeClearsIt) {
     if (!has_cap_sys_admin()) {
         GTEST_SKIP() << "needs CAP_SYS_ADMIN (run as root); the other test covers the rest";
+    }
+    if (auto missing = tiocgexcl_missing()) {
+        GTEST_SKIP() << *missing;
     }
     TempDir dir;
     SimProcess sim(dir);

@@ -18,6 +18,7 @@
 #include <sstream>
 #include <thread>
 
+#include "emulation.hpp"
 #include "server_harness.hpp"
 #include "test_client.hpp"
 
@@ -198,6 +199,9 @@ TEST(Limits, HalfCloseRunsTheDeadmanAtOnceAndStillGetsEveryReply) {
 TEST(Limits, PeerGroupsAreTheConnectingProcesssOwn) {
     if (::geteuid() != 0) {
         GTEST_SKIP() << "needs root to give a child process other groups";
+    }
+    if (auto missing = testing::so_peergroups_missing()) {
+        GTEST_SKIP() << *missing;
     }
     ServerHarness h;
     sockaddr_un address{};

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from gport import _ring as ring
+from gport._futex import FUTEX
 
 _SLOT_WORDS = struct.Struct("=Qd3d3dQ3d3d")
 SEALS = ring.F_SEAL_SHRINK | 0x0004 | ring.F_SEAL_FUTURE_WRITE  # shrink, grow, future write
@@ -54,16 +55,7 @@ class WakeBlock:
     def bump(self) -> None:
         word = struct.unpack_from("=I", self.map, ring.OFF_WAKE)[0]
         struct.pack_into("=I", self.map, ring.OFF_WAKE, (word + 1) & 0xFFFFFFFF)
-        if ring.SYS_FUTEX is not None:
-            ring._libc.syscall(
-                ctypes.c_long(ring.SYS_FUTEX),
-                ctypes.c_void_p(self.address + ring.OFF_WAKE),
-                ctypes.c_int(1),
-                ctypes.c_int(self.wakes),
-                None,
-                None,
-                ctypes.c_int(0),
-            )
+        FUTEX.wake(self.address + ring.OFF_WAKE, self.wakes)
 
     def release(self) -> None:
         del self._word

@@ -334,12 +334,15 @@ def test_without_fences_only_x86_64_reads_with_plain_loads(
     block = RingBlock()
     server.offers += [block]
     monkeypatch.setattr(_ring, "_fenced", [(None, None)])  # libgport-client not found
-    monkeypatch.setattr(_ring, "MACHINE", "aarch64")
+    monkeypatch.setattr(_ring, "IS_X86_64", False)
+    monkeypatch.setattr(_ring, "NAME", "aarch64 (64-bit)")
     with gport.Client(server.path) as client:
-        with pytest.raises(gport.BadChannel, match=r"needs libgport-client on this CPU \(aarch64\)"):
+        with pytest.raises(
+            gport.BadChannel, match=r"needs libgport-client on this CPU \(aarch64 \(64-bit\)\)"
+        ):
             client.attitude_channel()
         assert client.connected  # the socket keeps working
-    monkeypatch.setattr(_ring, "MACHINE", "x86_64")
+    monkeypatch.setattr(_ring, "IS_X86_64", True)
     other = RingBlock()
     server.offers += [other]
     with gport.Client(server.path) as client:

@@ -81,6 +81,23 @@ for dependency in libc6 'libsystemd0' systemd udev init-system-helpers; do
         || fail "Depends lacks $dependency (dpkg-shlibdeps adds the libraries)"
 done
 
+# The Architecture field names the machine the programs were built for (read
+# from gportd's ELF header, e_machine), not the machine that packaged them.
+arch=$(dpkg-deb -f "$deb" Architecture)
+machine=$(dpkg-deb --fsys-tarfile "$deb" | tar -xOf - ./usr/bin/gportd | od -An -tu2 -j18 -N2 | tr -d ' ')
+case "$machine" in
+    62) expected=amd64 triple=x86_64-linux-gnu ;;
+    183) expected=arm64 triple=aarch64-linux-gnu ;;
+    40) expected=armhf triple=arm-linux-gnueabihf ;;
+    3) expected=i386 triple=i386-linux-gnu ;;
+    *) fail "gportd is built for ELF machine $machine, which this check does not know" ;;
+esac
+[ "$arch" = "$expected" ] || fail "Architecture: $arch, but gportd is built for $expected"
+echo "Architecture: $arch (gportd's ELF machine $machine)"
+# The library in Debian's multiarch directory of that architecture.
+printf '%s\n' "$contents" | grep -qx "\./usr/lib/$triple/libgport-client\.so\.1" \
+    || fail "libgport-client.so.1 is not in /usr/lib/$triple"
+
 printf '%s\n' "$contents" | grep -q '__pycache__' && fail "the package holds Python bytecode"
 printf '%s\n' "$(dpkg-deb -f "$deb" Suggests)" | grep -q python3 \
     || fail "Suggests lacks python3 (the gport module)"

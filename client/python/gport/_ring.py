@@ -32,10 +32,11 @@ ordered CPU (arm64) the loads need fences that ctypes cannot make, so the
 read is libgport-client's ``gport_ring_read`` (loaded from
 $GPORT_CLIENT_LIBRARY, else ``libgport-client.so.1``; "none" loads nothing)
 when it is there.
-Without it plain loads are used on x86_64 only (loads are not reordered
-with loads there, and aligned 8-byte loads are atomic); on any other CPU
-mapping the channel raises BadChannel. The futex is ``syscall(SYS_futex,
-...)`` (202 on x86_64, 98 on aarch64); elsewhere waits poll every millisecond.
+Without it plain loads are used by an x86_64 interpreter only (loads are
+not reordered with loads there, and aligned 8-byte loads are atomic); on any
+other CPU mapping the channel raises BadChannel. The futex: _futex.py (the
+system call of the interpreter's own architecture; elsewhere, or where it is
+refused, waits poll every millisecond).
 """
 
 from __future__ import annotations
@@ -44,12 +45,12 @@ import ctypes
 import fcntl
 import mmap
 import os
-import platform
 import stat
 import struct
 import threading
 from typing import Any, Callable, NamedTuple
 
+from ._futex import FUTEX, IS_X86_64, NAME
 from .errors import BadChannel
 
 MAGIC = 0x52415047
@@ -75,11 +76,6 @@ F_SEAL_SHRINK = 0x0002
 F_SEAL_WRITE = 0x0008
 F_SEAL_FUTURE_WRITE = 0x0010
 
-MACHINE = platform.machine()
-SYS_FUTEX = {"x86_64": 202, "aarch64": 98}.get(MACHINE)
-_FUTEX_WAIT = 0
-_FUTEX_WAKE = 1
-_POLL_SLICE = 0.001  # seconds, without a futex
 LIBRARY_ENV = "GPORT_CLIENT_LIBRARY"
 
 _libc = ctypes.CDLL(None, use_errno=True)
@@ -94,13 +90,8 @@ _libc.mmap.argtypes = [
 ]
 _libc.munmap.restype = ctypes.c_int
 _libc.munmap.argtypes = [ctypes.c_void_p, ctypes.c_size_t]
-_libc.syscall.restype = ctypes.c_long
 _MAP_FAILED = ctypes.c_void_p(-1).value
 _Words = ctypes.c_uint64 * 15
-
-
-class _Timespec(ctypes.Structure):
-    _fields_ = [("tv_sec", ctypes.c_long), ("tv_nsec", ctypes.c_long)]
 
 
 def load_fenced_reader() -> Callable[..., int] | None:
@@ -177,8 +168,8 @@ def _library() -> tuple[Callable[..., int] | None, Loads | None]:
 
 
 def futex_available() -> bool:
-    """True when waits sleep on the futex (x86_64, aarch64), False when they poll."""
-    return SYS_FUTEX is not None
+    """True when waits sleep on the futex, False when they poll (_futex.py)."""
+    return FUTEX.available
 
 
 def _fail(what: str) -> BadChannel:
@@ -376,33 +367,11 @@ class Mapping:
 
     def wait(self, seen: int, timeout: float) -> None:
         """Sleeps while the word still holds ``seen``, at most ``timeout`` s."""
-        if SYS_FUTEX is None:
-            threading.Event().wait(min(timeout, _POLL_SLICE))
-            return
-        whole = int(timeout)
-        span = _Timespec(whole, int((timeout - whole) * 1e9))
-        _libc.syscall(
-            ctypes.c_long(SYS_FUTEX),
-            ctypes.c_void_p(self._wake + OFF_WAKE),
-            ctypes.c_int(_FUTEX_WAIT),
-            ctypes.c_uint32(seen),
-            ctypes.byref(span),
-            None,
-            ctypes.c_int(0),
-        )
+        FUTEX.wait(self._wake + OFF_WAKE, seen, timeout)
 
     def wake_all(self) -> None:
         """Wakes every waiter on the word (a read-only mapping is enough)."""
-        if SYS_FUTEX is not None:
-            _libc.syscall(
-                ctypes.c_long(SYS_FUTEX),
-                ctypes.c_void_p(self._wake + OFF_WAKE),
-                ctypes.c_int(_FUTEX_WAKE),
-                ctypes.c_int(2**31 - 1),
-                None,
-                None,
-                ctypes.c_int(0),
-            )
+        FUTEX.wake_all(self._wake + OFF_WAKE)
 
     def _unmap(self) -> None:
         if self._ring:
@@ -425,10 +394,10 @@ def _reader() -> tuple[Callable[..., int] | None, Loads | None]:
     read = fenced_reader()
     if read is not None:
         return read, fenced_loads()
-    if MACHINE == "x86_64":
+    if IS_X86_64:
         return None, None
     raise _fail(
-        f"the shared-memory channel needs libgport-client on this CPU ({MACHINE}): its "
+        f"the shared-memory channel needs libgport-client on this CPU ({NAME}): its "
         "ring cannot be read safely without fences; install libgport-client.so.1 (gportd's "
         f"package ships it) or set {LIBRARY_ENV} to its path (the socket keeps working)"
     )

@@ -87,12 +87,17 @@ constexpr std::size_t ring_bytes(std::uint32_t slot_count) {
 
 namespace ring_detail {
 
+// Slot 0 starts right after the header (header + 1): a cast between two
+// types of the same alignment, never from a byte pointer (which 32-bit ARM's
+// -Wcast-align rightly questions).
+static_assert(alignof(RingHeader) >= alignof(RingSlot));
+static_assert(sizeof(RingHeader) % alignof(RingSlot) == 0);
+
 inline RingSlot* slots(RingHeader* header) {
-    return reinterpret_cast<RingSlot*>(reinterpret_cast<std::byte*>(header) + sizeof(RingHeader));
+    return reinterpret_cast<RingSlot*>(header + 1);
 }
 inline const RingSlot* slots(const RingHeader* header) {
-    return reinterpret_cast<const RingSlot*>(reinterpret_cast<const std::byte*>(header) +
-                                             sizeof(RingHeader));
+    return reinterpret_cast<const RingSlot*>(header + 1);
 }
 
 inline std::array<std::uint64_t, kRingSampleWords> to_words(const RingSample& s) {

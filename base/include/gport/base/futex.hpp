@@ -9,26 +9,61 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <climits>
 #include <cstdint>
-#include <ctime>
 
 namespace gport::base {
 
 enum class FutexWait { kWoken, kChanged, kTimedOut, kInterrupted };
 
+namespace futex_detail {
+
+// The timeouts are given to the kernel in its own layouts, never in the C
+// library's timespec, whose size follows the C library's time_t and not the
+// system call being made:
+// - 64-bit targets: SYS_futex takes two 64-bit longs.
+// - 32-bit targets (armhf): SYS_futex takes two 32-bit longs, whatever
+//   _TIME_BITS says (with _TIME_BITS=64, Debian 13's armhf default, the libc
+//   timespec is 64-bit and the kernel would read its seconds' low and high
+//   halves as seconds and nanoseconds); SYS_futex_time64 (Linux 5.1) takes
+//   two 64-bit integers. It is tried first; a kernel without it (ENOSYS)
+//   gets the old call, with the seconds capped to what 32 bits hold.
+struct OldTimespec {
+    long tv_sec;
+    long tv_nsec;
+};
+struct Timespec64 {
+    std::int64_t tv_sec;
+    std::int64_t tv_nsec;
+};
+
+inline long wait(const std::uint32_t* word, std::uint32_t seen, std::int64_t ns) {
+    const std::int64_t sec = ns / 1'000'000'000;
+    const std::int64_t nsec = ns % 1'000'000'000;
+#if defined(SYS_futex_time64)
+    const Timespec64 t64{sec, nsec};
+    const long rc = ::syscall(SYS_futex_time64, word, FUTEX_WAIT, seen, &t64, nullptr, 0);
+    if (rc == 0 || errno != ENOSYS) {
+        return rc;
+    }
+#endif
+    const OldTimespec old{static_cast<long>(std::min<std::int64_t>(sec, LONG_MAX)),
+                          static_cast<long>(nsec)};
+    return ::syscall(SYS_futex, word, FUTEX_WAIT, seen, &old, nullptr, 0);
+}
+
+}  // namespace futex_detail
+
 // Sleeps while `word` still holds `seen`, at most `timeout`. kChanged: the
 // word no longer held `seen` when the kernel looked (no sleep at all).
 inline FutexWait futex_wait(const std::atomic<std::uint32_t>& word, std::uint32_t seen,
                             std::chrono::nanoseconds timeout) {
-    const auto ns = timeout.count() < 0 ? 0 : timeout.count();
-    timespec relative{static_cast<time_t>(ns / 1'000'000'000),
-                      static_cast<long>(ns % 1'000'000'000)};
-    const long rc = ::syscall(SYS_futex, reinterpret_cast<const std::uint32_t*>(&word), FUTEX_WAIT,
-                              seen, &relative, nullptr, 0);
+    const std::int64_t ns = timeout.count() < 0 ? 0 : timeout.count();
+    const long rc = futex_detail::wait(reinterpret_cast<const std::uint32_t*>(&word), seen, ns);
     if (rc == 0) {
         return FutexWait::kWoken;
     }

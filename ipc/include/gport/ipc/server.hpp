@@ -147,6 +147,9 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     std::size_t closed_since_trim_ = 0;
     boost::asio::steady_timer trim_timer_;  // a trim that was due too soon after the last
     bool trim_armed_ = false;
+    // Clients whose supplementary groups could not be read (SO_PEERGROUPS):
+    // judged by uid and primary gid; logged once, then at most once a minute.
+    daemon::RepeatLimiter peer_groups_log_{std::chrono::minutes(1)};
     // Refused clients are summarised in the log, not one line each.
     std::uint64_t refused_ = 0;
     std::chrono::steady_clock::time_point refused_logged_{};
