@@ -44,3 +44,33 @@ function(gport_add_test name)
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
                        PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT})
 endfunction()
+
+# gport_install_program(<target>): installs a program to ${CMAKE_INSTALL_BINDIR}
+# so that it starts from any prefix (cmake --install --prefix ~/gport, or a
+# tree moved elsewhere afterwards): its RUNPATH names the library directory
+# relative to the program ($ORIGIN/../lib/<multiarch>), where libgport-client
+# is installed beside it. Under prefix /usr (the .deb) the RUNPATH is removed
+# at install time: the dynamic loader searches /usr/lib/<multiarch> anyway,
+# and Debian policy (10.2) asks packages not to carry one. docs/operations.md,
+# "Installing from source", explains it.
+function(gport_install_program target)
+  if(IS_ABSOLUTE "${CMAKE_INSTALL_LIBDIR}")
+    set(libdir "${CMAKE_INSTALL_LIBDIR}")
+  else()
+    file(RELATIVE_PATH relative "/prefix/${CMAKE_INSTALL_BINDIR}"
+         "/prefix/${CMAKE_INSTALL_LIBDIR}")
+    set(libdir "$ORIGIN/${relative}")
+  endif()
+  set_target_properties(${target} PROPERTIES INSTALL_RPATH "${libdir}")
+  install(TARGETS ${target} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  set(name "$<TARGET_FILE_NAME:${target}>")
+  install(CODE "
+    if(CMAKE_INSTALL_PREFIX STREQUAL \"/usr\")
+      set(_program \"\$ENV{DESTDIR}/usr/${CMAKE_INSTALL_BINDIR}/${name}\")
+      if(IS_ABSOLUTE \"${CMAKE_INSTALL_BINDIR}\")
+        set(_program \"\$ENV{DESTDIR}${CMAKE_INSTALL_BINDIR}/${name}\")
+      endif()
+      file(RPATH_REMOVE FILE \"\${_program}\")
+    endif()
+  ")
+endfunction()

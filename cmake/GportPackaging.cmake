@@ -15,10 +15,10 @@
 # Setting GPORT_SYSTEMD_UNITDIR, GPORT_SYSUSERSDIR or GPORT_UDEV_RULESDIR
 # forces a directory whatever the prefix.
 #
-# The configuration directory is always /etc/gportd (GPORT_CONFDIR, absolute):
-# the daemon's built-in default path is /etc/gportd/gportd.json, whatever the
-# prefix. Install the config with DESTINATION ${GPORT_CONFDIR}, not the
-# relative ${CMAKE_INSTALL_SYSCONFDIR}, which is usr/etc under prefix /usr.
+# The configuration directory follows the prefix too, as GNUInstallDirs maps
+# SYSCONFDIR (/etc/gportd for /usr, <prefix>/etc/gportd otherwise;
+# cmake/GportConfDir.cmake), and gportd finds it from where it was installed.
+# GPORT_CONFIG_DIR forces one directory, for the files and for gportd.
 
 include_guard(GLOBAL)
 include(GNUInstallDirs)
@@ -27,7 +27,9 @@ find_package(PkgConfig QUIET)
 set(GPORT_SYSTEMD_UNITDIR "" CACHE PATH "systemd system unit directory (empty: automatic)")
 set(GPORT_SYSUSERSDIR "" CACHE PATH "sysusers.d directory (empty: automatic)")
 set(GPORT_UDEV_RULESDIR "" CACHE PATH "udev rules directory (empty: automatic)")
-set(GPORT_CONFDIR "/etc/gportd" CACHE PATH "Configuration directory (absolute)")
+set(GPORT_CONFIG_DIR "" CACHE PATH
+    "gportd's configuration directory, absolute (empty: automatic, from the install prefix)")
+unset(GPORT_CONFDIR CACHE)  # the old, always absolute /etc/gportd
 
 # _gport_pkg_var(<out> <module> <variable> <fallback>): a pkg-config variable
 # of an installed .pc file, or the fallback when pkg-config or the file is

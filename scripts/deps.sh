@@ -15,6 +15,10 @@ GPORT_PACKAGES=(
   file procps
   # The Python client's tests: pytest and mypy --strict (client/python).
   python3 python3-pytest mypy
+  # pip install ./client/python into a fresh venv, offline (tests/python/
+  # check_venv.sh): python3-venv (venv, with pip and setuptools), and
+  # python3-wheel, which Debian's setuptools needs to build a wheel.
+  python3-venv python3-setuptools python3-wheel
   # Node.js and npm for the MAVLink cross-check against node-mavlink
   # (tests/mavlink/peer; Debian 12: nodejs 18, npm 9).
   nodejs npm

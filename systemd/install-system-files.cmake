@@ -2,7 +2,8 @@
 # paths written into the units and the directories chosen follow the prefix
 # actually used: `cmake --install --prefix ...`, or /usr when CPack stages the
 # .deb. Inputs (set by the caller): GPORT_SRC_DIR, GPORT_STAGE_DIR,
-# GPORT_BINDIR_REL, GPORT_DOCDIR_REL, GPORT_CONFDIR, the forced and the
+# GPORT_BINDIR_REL, GPORT_DOCDIR_REL, GPORT_SYSCONFDIR_REL, GPORT_CONFIG_DIR,
+# GPORT_CMAKE_DIR, the forced and the
 # system directories (GPORT_SYSTEMD_UNITDIR / GPORT_SYSTEM_UNITDIR, ...).
 
 # The directory for one kind of file: the forced one if set; the system's own
@@ -22,6 +23,11 @@ gport_system_dir(unitdir "${GPORT_SYSTEMD_UNITDIR}" "${GPORT_SYSTEM_UNITDIR}" li
 gport_system_dir(sysusersdir "${GPORT_SYSUSERSDIR}" "${GPORT_SYSTEM_SYSUSERSDIR}" lib/sysusers.d)
 gport_system_dir(rulesdir "${GPORT_UDEV_RULESDIR}" "${GPORT_SYSTEM_UDEV_RULESDIR}"
                  lib/udev/rules.d)
+
+# The configuration directory the units name: where config/ installs
+# gportd.json for this prefix.
+include("${GPORT_CMAKE_DIR}/GportConfDir.cmake")
+gport_confdir(GPORT_CONFDIR "${CMAKE_INSTALL_PREFIX}" "${GPORT_SYSCONFDIR_REL}" "${GPORT_CONFIG_DIR}")
 
 # Units: substitute the installed paths and the shared sandbox.
 file(READ "${GPORT_SRC_DIR}/units/sandbox.conf" GPORT_UNIT_SANDBOX)

@@ -45,12 +45,20 @@ const char* signal_name(int sig) {
     }
 }
 
+// What to do when the socket's path is not ours (gportd(8), "EXIT STATUS";
+// README.md, "Without root").
+constexpr const char* kSocketAccessHint =
+    "as a user, serve a socket in a directory you may write, e.g. gportd --simulate "
+    "--socket \"$XDG_RUNTIME_DIR/gportd.sock\" (and gportctl --socket, or GPORT_SOCKET, "
+    "for the clients); or run the installed service (systemctl start gportd) and join "
+    "the gport group to use its socket";
+
 // What a reload reads, for its log lines.
 std::string config_source(const config::CommandLine& command_line) {
     if (command_line.config_path) {
         return *command_line.config_path;
     }
-    std::string path(config::kDefaultConfigPath);
+    std::string path = config::default_config_path();
     if (::access(path.c_str(), F_OK) != 0) {
         return "the built-in defaults (" + path + " does not exist)";
     }
@@ -118,6 +126,10 @@ class Daemon {
         } catch (const systemd::ActivationError& e) {
             log_->critical("socket activation: {}", e.what());
             exit_status_ = kExitConfig;
+            return false;
+        } catch (const ipc::SocketAccessError& e) {
+            log_->critical("{}", e.what());
+            log_->critical("{}", kSocketAccessHint);
             return false;
         } catch (const std::exception& e) {
             log_->critical("{}", e.what());

@@ -28,13 +28,16 @@ class Parser {
         args::configure(app_, fmt::format("Options with a value also take the form "
                                           "--option=VALUE. Command-line values\n"
                                           "override the config file.\n\n"
-                                          "Exit status: 0 after a clean shutdown, {} for a "
-                                          "command-line error, {} for a\nconfiguration error.",
-                                          kExitUsage, kExitConfig));
+                                          "Exit status: 0 after a clean shutdown, {} when it "
+                                          "cannot serve (e.g. cannot\ncreate its socket: as a "
+                                          "user, --socket \"$XDG_RUNTIME_DIR/gportd.sock\"), {} "
+                                          "for a\ncommand-line error, {} for a configuration "
+                                          "error.",
+                                          gport::kExitFailure, kExitUsage, kExitConfig));
         app_.allow_extras();  // named by args::leftover_problem
         option("--config", config_,
                fmt::format("read the settings from FILE (default {}, if it exists)",
-                           kDefaultConfigPath),
+                           default_config_path()),
                "FILE", check_config_path);
         option("--device", device_, "the gimbal's serial device (overrides serial.device)", "PATH",
                detail::check_device_path);

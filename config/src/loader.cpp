@@ -152,6 +152,10 @@ Result<Config> load_config_file(const std::string& path) {
     return load_config_text(file.text, path);
 }
 
+Result<Config> load_config(const CommandLine& command_line) {
+    return load_config(command_line, default_config_path());
+}
+
 Result<Config> load_config(const CommandLine& command_line, std::string_view default_path) {
     const bool given = command_line.config_path.has_value();
     const std::string path = given ? *command_line.config_path : std::string(default_path);

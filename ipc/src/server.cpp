@@ -125,8 +125,12 @@ void Server::start() {
             acceptor_.bind(stream_protocol::endpoint(config_.path), error);
         }
         if (error) {
-            throw std::runtime_error(
-                fmt::format("socket {}: cannot bind: {}", config_.path, error.message()));
+            auto message = fmt::format("socket {}: cannot bind: {}", config_.path, error.message());
+            if (error == boost::system::errc::permission_denied ||
+                error == boost::system::errc::operation_not_permitted) {
+                throw SocketAccessError(message);
+            }
+            throw std::runtime_error(message);
         }
         created_file_ = true;
         detail::apply_mode_and_group(config_.path, config_.mode, config_.group);

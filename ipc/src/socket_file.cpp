@@ -13,12 +13,18 @@
 #include <system_error>
 #include <vector>
 
+#include "gport/ipc/server.hpp"
+
 namespace gport::ipc::detail {
 namespace {
 
-std::runtime_error failure(const std::string& path, std::string_view what, int error) {
-    return std::runtime_error(
-        fmt::format("socket {}: {}: {}", path, what, std::generic_category().message(error)));
+[[noreturn]] void throw_socket_failure(const std::string& path, std::string_view what, int error) {
+    auto message =
+        fmt::format("socket {}: {}: {}", path, what, std::generic_category().message(error));
+    if (error == EACCES || error == EPERM) {
+        throw SocketAccessError(message);
+    }
+    throw std::runtime_error(message);
 }
 
 // True when something accepts connections on `path`.
@@ -32,7 +38,7 @@ bool someone_listens(const std::string& path) {
     std::memcpy(address.sun_path, path.c_str(), path.size() + 1);
     const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
     if (fd < 0) {
-        throw failure(path, "cannot create a probe socket", errno);
+        throw_socket_failure(path, "cannot create a probe socket", errno);
     }
     const int rc = ::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address));
     const int error = errno;
@@ -43,7 +49,7 @@ bool someone_listens(const std::string& path) {
     if (error == ECONNREFUSED || error == ENOENT) {
         return false;
     }
-    throw failure(path, "cannot tell whether another daemon uses it", error);
+    throw_socket_failure(path, "cannot tell whether another daemon uses it", error);
 }
 
 gid_t group_id(const std::string& group) {
@@ -74,7 +80,7 @@ void clear_stale_socket(const std::string& path) {
         if (errno == ENOENT) {
             return;
         }
-        throw failure(path, "cannot inspect it", errno);
+        throw_socket_failure(path, "cannot inspect it", errno);
     }
     if (!S_ISSOCK(info.st_mode)) {
         throw std::runtime_error(fmt::format(
@@ -85,16 +91,16 @@ void clear_stale_socket(const std::string& path) {
             "socket {}: another daemon is already listening there; stop it first", path));
     }
     if (::unlink(path.c_str()) != 0 && errno != ENOENT) {
-        throw failure(path, "cannot remove the stale socket file", errno);
+        throw_socket_failure(path, "cannot remove the stale socket file", errno);
     }
 }
 
 void apply_mode_and_group(const std::string& path, unsigned mode, const std::string& group) {
     if (!group.empty() && ::chown(path.c_str(), static_cast<uid_t>(-1), group_id(group)) != 0) {
-        throw failure(path, fmt::format("cannot give it to group \"{}\"", group), errno);
+        throw_socket_failure(path, fmt::format("cannot give it to group \"{}\"", group), errno);
     }
     if (::chmod(path.c_str(), static_cast<mode_t>(mode)) != 0) {
-        throw failure(path, fmt::format("cannot set mode {:04o}", mode), errno);
+        throw_socket_failure(path, fmt::format("cannot set mode {:04o}", mode), errno);
     }
 }
 

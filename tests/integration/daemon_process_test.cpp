@@ -4,12 +4,15 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstring>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "harness.hpp"
 
@@ -31,6 +34,32 @@ TEST(DaemonProcess, ConfigErrorExits78BeforeTouchingTheGimbal) {
     std::ofstream(path) << R"({"keepalive": {"rate_hz": 1000}, "bogus": 1})";
     Process p({GPORTD_PATH, "--config", path, "--device", dir.file("never-opened")});
     EXPECT_EQ(p.wait(), 78);
+}
+
+// The non-root quick start: a user cannot create the socket (as for
+// /run/gportd.sock); gportd exits 1 and says how to run without root.
+TEST(DaemonProcess, SocketAUserMayNotCreateExits1WithTheNonRootWay) {
+    TempDir dir;
+    const std::string locked = dir.file("locked");
+    ASSERT_EQ(::chmod(dir.path().c_str(), 0755), 0);
+    ASSERT_EQ(::mkdir(locked.c_str(), 0555), 0);
+    // stderr into the captured stdout; as uid 65534 when we are root (CI),
+    // for whom the directory's mode does not count.
+    std::vector<std::string> argv{"/bin/sh", "-c", "exec \"$0\" \"$@\" 2>&1"};
+    if (::geteuid() == 0) {
+        argv.insert(argv.end(),
+                    {"/usr/bin/setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", "--"});
+    }
+    argv.insert(argv.end(), {GPORTD_PATH, "--simulate", "--socket", locked + "/gportd.sock"});
+    Process p(argv);
+    std::string out;
+    while (auto line = p.next_line()) {  // until gportd exits
+        out += *line + "\n";
+    }
+    EXPECT_EQ(p.wait(), 1) << out;
+    EXPECT_NE(out.find("cannot bind: Permission denied"), std::string::npos) << out;
+    EXPECT_NE(out.find("--socket \"$XDG_RUNTIME_DIR/gportd.sock\""), std::string::npos) << out;
+    EXPECT_NE(out.find("gport group"), std::string::npos) << out;
 }
 
 TEST(DaemonProcess, HelpAndVersionExitZero) {

@@ -66,6 +66,17 @@ $text"
     echo "man pages: packaged and rendered by man"
 fi
 
+# No RPATH in the package's programs (Debian policy 10.2): the RUNPATH that
+# makes a prefix install start (cmake/GportHelpers.cmake) is removed for /usr.
+programs=$work/programs
+dpkg-deb -x "$deb" "$programs"
+for program in "$programs"/usr/bin/*; do
+    if readelf -d "$program" | grep -E 'RPATH|RUNPATH'; then
+        fail "/usr/bin/$(basename "$program") in the package carries an RPATH"
+    fi
+done
+echo "programs: no RPATH"
+
 control=$work/control
 dpkg-deb -e "$deb" "$control"
 for script in postinst prerm postrm; do

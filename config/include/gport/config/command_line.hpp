@@ -25,8 +25,25 @@ namespace gport::config {
 using gport::kExitConfig;
 using gport::kExitUsage;
 
-// Read when --config is not given; its absence means built-in defaults.
-inline constexpr std::string_view kDefaultConfigPath = "/etc/gportd/gportd.json";
+// The file read when --config is not given (its absence means built-in
+// defaults): gportd.json in the configuration directory of the prefix the
+// running gportd was installed to, as GNUInstallDirs maps it:
+//   /usr/bin/gportd (the .deb)        -> /etc/gportd/gportd.json;
+//   /opt/NAME/bin/gportd              -> /etc/opt/NAME/gportd/gportd.json;
+//   PREFIX/bin/gportd (anything else) -> PREFIX/etc/gportd/gportd.json;
+// the directory the build was configured with if it forced one
+// (GPORT_CONFIG_DIR). A gportd outside an installed bin/ (the build tree)
+// reads kFallbackConfigPath.
+std::string default_config_path();
+
+// `program` is where the running gportd is (/proc/self/exe); `bindir` and
+// `sysconfdir` are the install layout's (CMAKE_INSTALL_BINDIR and
+// CMAKE_INSTALL_SYSCONFDIR, relative or absolute); `forced` is the configured
+// directory, empty if none. default_config_path() is this on the real values.
+std::string default_config_path_for(const std::string& program, const std::string& bindir,
+                                    const std::string& sysconfdir, const std::string& forced);
+
+inline constexpr std::string_view kFallbackConfigPath = "/etc/gportd/gportd.json";
 
 struct CommandLine {
     std::optional<std::string> config_path;  // --config; unset: the default file, if any

@@ -29,10 +29,11 @@ Result<Config> load_config_text(std::string_view text, std::string_view origin);
 Result<Config> load_config_file(const std::string& path);
 
 // What the daemon does at start: reads --config FILE (an error if it is
-// missing) or else `default_path` (built-in defaults if it does not exist),
+// missing) or else `default_path`, by default default_config_path() (built-in
+// defaults if it does not exist),
 // then applies the command-line overrides (--device, --socket, --log-level,
 // --simulate). Errors here are configuration errors: exit with kExitConfig.
-Result<Config> load_config(const CommandLine& command_line,
-                           std::string_view default_path = kDefaultConfigPath);
+Result<Config> load_config(const CommandLine& command_line, std::string_view default_path);
+Result<Config> load_config(const CommandLine& command_line);
 
 }  // namespace gport::config

@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <variant>
@@ -46,6 +47,14 @@ struct Subscriptions;
 namespace detail {
 class AttitudeChannel;
 }
+
+// What start() throws when the socket's path is not this user's to create or
+// replace (EACCES, EPERM): e.g. /run/gportd.sock for a user that is not
+// root. The caller can suggest a socket the user may create.
+class SocketAccessError : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
 
 class Server final : public daemon::CoreObserver, private SessionHost, private ChannelHost {
   public:
