@@ -8,7 +8,9 @@
 #         unit suites under qemu-arm, and its .deb checked.
 #   scripts/test-arm.sh [arm64] [armhf]        # both by default
 # The target's libraries come from a sysroot (scripts/cross-sysroot.sh, in
-# build/sysroot-<arch>), never from this machine's dpkg. Needs root (the cross
+# $GPORT_SYSROOTS, default /var/cache/gport: readable by every user, as the
+# tests that run gportd as another uid need its loader), never from this
+# machine's dpkg. Needs root (the cross
 # compilers, qemu-user-static and its binfmt_misc entries).
 # The tests that start the target's programs by path (gportd, gport-sim,
 # gport-mavlink: integration, python, mavlink, systemd) need binfmt_misc; where
@@ -24,6 +26,9 @@ source scripts/deps.sh
 arches=("$@")
 [ ${#arches[@]} -gt 0 ] || arches=(arm64 armhf)
 jobs=$(nproc)
+sysroots=${GPORT_SYSROOTS:-/var/cache/gport}
+mkdir -p "$sysroots"
+chmod 755 "$sysroots"
 start=$(date +%s)
 stage() { echo; echo "== $* ($(($(date +%s) - start)) s)"; }
 
@@ -45,7 +50,7 @@ done
 
 for arch in "${arches[@]}"; do
   triple=$(gport_cross_triple "$arch")
-  sysroot=$PWD/build/sysroot-$arch
+  sysroot=$sysroots/sysroot-$arch
   build=build/$arch
 
   stage "$arch: sysroot"

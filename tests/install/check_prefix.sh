@@ -44,6 +44,12 @@ else
     as_user() { "$@"; }
 fi
 
+# A cross build's programs run under qemu-user (binfmt_misc), which finds the
+# target's loader and libc through QEMU_LD_PREFIX (scripts/test-arm.sh): the
+# one variable the "empty" environment keeps.
+keep=
+[ -z "${QEMU_LD_PREFIX:-}" ] || keep="QEMU_LD_PREFIX=$QEMU_LD_PREFIX"
+
 prefix=$work/prefix
 "$cmake" --install "$build" --prefix "$prefix" >"$work/install.log" 2>&1 \
     || { cat "$work/install.log" >&2; fail "cmake --install --prefix $prefix failed"; }
@@ -58,7 +64,7 @@ run_all() {
     found=
     for program in "$1"/bin/*; do
         name=$(basename "$program")
-        out=$(as_user env -i "$program" --version 2>&1) \
+        out=$(as_user env -i $keep "$program" --version 2>&1) \
             || fail "$program --version failed (exit $?): $out"
         case $out in
             "$name "[0-9]*) ;;
@@ -78,7 +84,7 @@ mv "$prefix" "$moved"
 run_all "$moved"
 
 # The default config is the prefix's own.
-help=$(as_user env -i "$moved/bin/gportd" --help)
+help=$(as_user env -i $keep "$moved/bin/gportd" --help)
 printf '%s\n' "$help" | grep -q "default $moved/etc/gportd/gportd.json" \
     || fail "gportd --help does not name $moved/etc/gportd/gportd.json as the default:
 $help"
@@ -87,7 +93,7 @@ echo "gportd's default config: $moved/etc/gportd/gportd.json"
 # The non-root quick start. As a user, /run is not writable.
 if [ "$(as_user id -u)" -ne 0 ]; then
     status=0
-    out=$(as_user env -i "$moved/bin/gportd" --simulate --socket /run/gportd-prefix-test.sock 2>&1) \
+    out=$(as_user env -i $keep "$moved/bin/gportd" --simulate --socket /run/gportd-prefix-test.sock 2>&1) \
         || status=$?
     [ "$status" -eq 1 ] || fail "gportd on an unwritable socket path: exit $status, not 1: $out"
     for piece in "cannot bind: Permission denied" '--socket "$XDG_RUNTIME_DIR/gportd.sock"' \
@@ -99,11 +105,11 @@ fi
 runtime=$work/runtime
 mkdir -m 700 "$runtime"
 chown 65534:65534 "$runtime" 2>/dev/null || true
-as_user env -i XDG_RUNTIME_DIR="$runtime" "$moved/bin/gportd" --simulate \
+as_user env -i $keep XDG_RUNTIME_DIR="$runtime" "$moved/bin/gportd" --simulate \
     --socket "$runtime/gportd.sock" >"$work/gportd.log" 2>&1 &
 daemon_pid=$!
 tries=0
-until as_user env -i "$moved/bin/gportctl" --socket "$runtime/gportd.sock" status \
+until as_user env -i $keep "$moved/bin/gportctl" --socket "$runtime/gportd.sock" status \
     >"$work/status.txt" 2>&1; do
     tries=$((tries + 1))
     kill -0 "$daemon_pid" 2>/dev/null || fail "gportd exited: $(cat "$work/gportd.log")"
