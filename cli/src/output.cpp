@@ -260,8 +260,8 @@ json cli_wording(const json& error) {
     auto message = error["message"].get<std::string>();
     std::smatch match;
     if (std::regex_search(message, match, kRecord)) {
-        message = match.prefix().str() + "run gportctl record " +
-                  (match[1] == "true" ? "on" : "off") + " --force" + match.suffix().str();
+        message = match.prefix().str() + "run 'gportctl record " +
+                  (match[1] == "true" ? "on" : "off") + " --force'" + match.suffix().str();
     }
     message = std::regex_replace(message, kClamp, "--clamp");
     auto worded = error;

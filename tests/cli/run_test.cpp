@@ -426,7 +426,7 @@ TEST_F(RunTest, RefusalsAreWordedForTheCommandLine) {
     EXPECT_EQ(record.status, kExitError);
     EXPECT_EQ(record.err,
               "gportctl: error -32602: the recording state is unknown (gportd cannot read it); "
-              "run gportctl record on --force to toggle anyway and take on as the new state\n");
+              "run 'gportctl record on --force' to toggle anyway and take on as the new state\n");
     h_.on_io([&] {
         h_.api.error = daemon::CommandError{
             daemon::ErrorCode::kInvalidParams,
