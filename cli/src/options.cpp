@@ -218,9 +218,9 @@ class Parser {
         footer(sub,
                "Sends one request and prints the result on one line of JSON, for the\n"
                "methods gportctl has no command for and for scripts. An error is printed\n"
-               "on stderr as by every command (exit 1); with --raw the whole response is\n"
-               "also printed on stdout. The connection closes on exit, so what a method\n"
-               "holds (acquire, subscribe) ends with it. Example:\n"
+               "on stderr as by every command (exit 1). --raw prints the whole response\n"
+               "instead of the result, a refusal's too. The connection closes on exit, so\n"
+               "what a method holds (acquire, subscribe) ends with it. Example:\n"
                "  gportctl call angle '{\"pitch\": -30, \"wait\": true}'\n");
     }
 

@@ -482,6 +482,26 @@ TEST_F(RunTest, OneErrorFormat) {
         "cannot connect to /x: gone");
 }
 
+// watch --timestamps: local time, milliseconds, the UTC offset.
+TEST(Timestamps, Iso8601LocalTimeWithMilliseconds) {
+    const char* saved = std::getenv("TZ");
+    const std::string before = saved != nullptr ? saved : "";
+    const auto restore = [&] {
+        saved != nullptr ? ::setenv("TZ", before.c_str(), 1) : ::unsetenv("TZ");
+        ::tzset();
+    };
+    const auto when =
+        std::chrono::system_clock::time_point(std::chrono::milliseconds(1'777'900'927'250));
+    ::setenv("TZ", "CEST-2", 1);  // POSIX: 2 hours east of UTC
+    ::tzset();
+    EXPECT_EQ(format_timestamp(when), "2026-05-04T15:22:07.250+02:00");
+    ::setenv("TZ", "NST+3:30", 1);
+    ::tzset();
+    EXPECT_EQ(format_timestamp(when + std::chrono::milliseconds(5)),
+              "2026-05-04T09:52:07.255-03:30");
+    restore();
+}
+
 // Usage errors point at the help of the command they concern.
 TEST_F(RunTest, UsageHintsNameTheCommand) {
     EXPECT_THAT(run({"angle", "--pitch", "400"}).err,
