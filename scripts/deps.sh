@@ -29,6 +29,9 @@ GPORT_PACKAGES=(
   # scdoc and their tests render them with man -l (man-db) and col
   # (bsdextrautils).
   tmux scdoc man-db bsdextrautils
+  # zsh: the test of gportctl's zsh completion loads it in `zsh -f`
+  # (tests/cli/zsh_completion_test.sh; skipped without it).
+  zsh
   # gpsd, for bench_vs_gpsd (the side-by-side benchmark, docs/performance.md).
   # The benchmark starts its own `gpsd -N -n -b -S PORT` on a pty; the
   # package's gpsd.socket (port 2947, only where systemd runs) starts nothing

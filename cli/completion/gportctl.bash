@@ -1,12 +1,12 @@
 # bash completion for gportctl: commands, their options and arguments (watch
-# topics, record on/off, settings --inverted yes/no, help COMMAND).
+# topics, record on/off, settings --inverted yes/no, call METHOD, help COMMAND).
 # Installed as /usr/share/bash-completion/completions/gportctl; keep in step
 # with cli/src/options.cpp (tests/cli/completion_test.sh compares them).
 
 _gportctl() {
     local cur=${COMP_WORDS[COMP_CWORD]}
     local prev=${COMP_WORDS[COMP_CWORD - 1]}
-    local commands="status attitude watch speed stop angle center lock photo record settings monitor help"
+    local commands="status attitude watch speed stop angle center lock photo record settings monitor limits call help"
     local global="--socket --json --help --version"
     COMPREPLY=()
 
@@ -29,14 +29,18 @@ _gportctl() {
     esac
 
     # The command is the first word that is neither an option nor --socket's value.
-    local command="" i
+    # After it, `positionals` counts the arguments before the current word.
+    local command="" positionals=0 i
     for ((i = 1; i < COMP_CWORD; i++)); do
         case ${COMP_WORDS[i]} in
             --socket) ((i++)) ;;
             -*) ;;
             *)
-                command=${COMP_WORDS[i]}
-                break
+                if [ -z "$command" ]; then
+                    command=${COMP_WORDS[i]}
+                else
+                    ((positionals++))
+                fi
                 ;;
         esac
     done
@@ -45,7 +49,7 @@ _gportctl() {
     case $command in
         "") arguments=$commands ;;
         watch)
-            options="--rate --shared-memory -n --count --for"
+            options="--rate --shared-memory -n --count --for --timestamps"
             arguments="attitude link motion"
             ;;
         speed) options="--roll --pitch --yaw --for --lease --clamp" ;;
@@ -57,6 +61,14 @@ _gportctl() {
             ;;
         settings) options="--dead-zone --follow-speed --inverted" ;;
         monitor) options="--control --for --color" ;;
+        call)
+            options="--raw"
+            # The methods of docs/api.md; the params (JSON) are not completed.
+            if ((positionals == 0)); then
+                arguments="status attitude subscribe unsubscribe attitude_channel speed stop angle
+                    center lock photo record acquire release get_settings set_settings limits"
+            fi
+            ;;
         help) arguments=$commands ;;
     esac
     if [[ $cur == -* ]]; then

@@ -11,6 +11,7 @@
 #include "gport/base/args.hpp"
 #include "gport/ipc/json_rpc.hpp"
 #include "gport/protocol/messages.hpp"
+#include "suggest.hpp"
 
 namespace gport::cli {
 namespace {
@@ -23,16 +24,30 @@ using namespace std::chrono_literals;
 // as a usage error naming the option).
 constexpr std::chrono::milliseconds kMaxDuration{ipc::kMaxDurationMs};
 
+// call: the longest method name, and the deepest params, gportctl sends.
+constexpr std::size_t kMaxMethodLength = 64;
+constexpr int kMaxParamsDepth = 32;
+
 constexpr const char* kDescription =
-    "Talks to gportd, the G-Port gimbal daemon, over its Unix socket.\n\n"
+    "Talks to gportd, the G-Port gimbal daemon, over its Unix socket.";
+
+// The overview's footer, after "Usage" and the commands.
+constexpr const char* kOverviewFooter =
     "acquire and release are not commands: control held by a one-shot process\n"
     "would be released the moment it exits. A program that needs exclusive\n"
-    "control keeps its own connection and calls \"acquire\" (see docs/api.md).";
-
-constexpr const char* kExitStatuses =
+    "control keeps its own connection and calls \"acquire\" (see docs/api.md).\n\n"
     "Exit status: 0 success, 1 the daemon refused (message and code on stderr),\n"
     "2 angle/center --wait ended without reaching the target, 64 usage error,\n"
     "69 daemon unreachable, 130 interrupted (Ctrl-C, SIGTERM).";
+
+// Every command's footer: the options that apply everywhere, and where the
+// exit statuses are.
+constexpr const char* kCommandFooter =
+    "Global options (before or after the command): --socket PATH, --json,\n"
+    "-h/--help, --version. Exit statuses: gportctl --help.\n";
+
+// The options that apply before the command.
+const std::vector<std::string> kGlobalOptions = {"--socket", "--json", "--help", "--version"};
 
 const std::vector<std::string> kTopics = {"attitude", "link", "motion"};
 
@@ -53,12 +68,34 @@ struct Values {
     std::string help_topic;
     bool control = false;  // monitor
     std::string color = "auto";
+    std::string call_method, call_params;  // call
+    bool raw = false;
+    bool timestamps = false;  // watch
 };
+
+// The command word in `args` (the first argument that is not an option or
+// the value of --socket), and its index; nullopt when there is none.
+std::optional<std::pair<std::size_t, std::string>> command_word(
+    const std::vector<std::string>& args) {
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        if (args[i] == "--socket") {
+            ++i;
+        } else if (!args[i].starts_with("-") || args[i] == "-") {
+            return std::pair{i, args[i]};
+        }
+    }
+    return std::nullopt;
+}
+
+// "--yaw=5" -> "--yaw".
+std::string option_name(const std::string& token) {
+    return token.substr(0, token.find('='));
+}
 
 class Parser {
   public:
     Parser() : app_(kDescription, "gportctl") {
-        args::configure(app_, kExitStatuses);
+        args::configure(app_, kOverviewFooter);
         app_.require_subcommand(0, 1);
         app_.allow_extras();  // checked after parsing, to name the command
         app_.add_option("--socket", v_.socket,
@@ -69,12 +106,13 @@ class Parser {
     }
 
     Invocation parse(const std::vector<std::string>& args, const char* env_socket) {
+        args_ = args;
         std::vector<std::string> reversed(args.rbegin(), args.rend());
         try {
             app_.parse(reversed);
         } catch (const CLI::ParseError& error) {
             if (!args::is_request(error)) {
-                throw UsageError{args::message_of(error)};
+                throw UsageError{args::message_of(error), known_command()};
             }
             Invocation inv;
             inv.help = true;
@@ -89,8 +127,38 @@ class Parser {
   private:
     CLI::App* command(const char* name, const char* method, const char* description) {
         auto* sub = app_.add_subcommand(name, description);
+        sub->footer(kCommandFooter);
         methods_[name] = method;
         return sub;
+    }
+
+    // A command's own notes, then the footer every command has.
+    static void footer(CLI::App* sub, const std::string& notes) {
+        sub->footer(notes + "\n" + kCommandFooter);
+    }
+
+    // The command typed, if it is one of ours (for the usage hint).
+    std::string known_command() const {
+        const auto word = command_word(args_);
+        return word && methods_.contains(word->second) ? word->second : std::string();
+    }
+
+    std::vector<std::string> command_names() const {
+        std::vector<std::string> names;
+        for (const auto* sub : app_.get_subcommands({})) {
+            names.push_back(sub->get_name());
+        }
+        return names;
+    }
+
+    static std::vector<std::string> option_names(const CLI::App* sub) {
+        std::vector<std::string> names;
+        for (const auto* option : sub->get_options()) {
+            if (option->get_name() != "--help" && !option->get_lnames().empty()) {
+                names.push_back(option->get_name());
+            }
+        }
+        return names;
     }
 
     void add_axes(CLI::App* sub, std::string_view unit) {
@@ -102,7 +170,10 @@ class Parser {
                 ->type_name(unit == std::string_view("degrees") ? "DEG" : "DEG/S")
                 ->check(range);
         }
-        sub->add_flag("--clamp", v_.clamp, "slow or clamp to gportd's limits instead of refusing");
+        sub->add_flag("--clamp", v_.clamp,
+                      unit == std::string_view("degrees")
+                          ? "clamp the target into gportd's soft limits instead of refusing"
+                          : "slow to gportd's limits.max_speed instead of refusing");
     }
 
     void add_commands() {
@@ -119,6 +190,8 @@ class Parser {
         add_record();
         add_settings();
         add_monitor();
+        add_call();
+        command("limits", "limits", "the soft limits gportd enforces (angles, max speed)");
         auto* help = command("help", "", "this text, or a command's");
         help->add_option("command", v_.help_topic, "the command to describe");
     }
@@ -133,6 +206,22 @@ class Parser {
         sub->add_option("--color", v_.color, "colour: auto (unless $NO_COLOR), always or never")
             ->type_name("WHEN")
             ->check(args::one_of({"auto", "always", "never"}));
+    }
+
+    void add_call() {
+        auto* sub = command("call", "", "call any API method; print its result as JSON");
+        sub->add_option("method", v_.call_method, "the method (docs/api.md), e.g. limits")
+            ->type_name("METHOD");
+        sub->add_option("params", v_.call_params, "its params: a JSON object or array")
+            ->type_name("PARAMS-JSON");
+        sub->add_flag("--raw", v_.raw, "print the whole response (id, result or error)");
+        footer(sub,
+               "Sends one request and prints the result on one line of JSON, for the\n"
+               "methods gportctl has no command for and for scripts. An error is printed\n"
+               "on stderr as by every command (exit 1). --raw prints the whole response\n"
+               "instead of the result, a refusal's too. The connection closes on exit, so\n"
+               "what a method holds (acquire, subscribe) ends with it. Example:\n"
+               "  gportctl call angle '{\"pitch\": -30, \"wait\": true}'\n");
     }
 
     void add_watch() {
@@ -150,11 +239,15 @@ class Parser {
         sub->add_option("--for", v_.for_text, "exit 0 after DURATION (2s, 500ms, 1m)")
             ->type_name("DURATION")
             ->check(args::duration_in(1ms, kMaxDuration));
-        sub->footer(
-            "Prints each event as it arrives until Ctrl-C (exit 0), COUNT events or\n"
-            "DURATION. --rate limits attitude, always delivering the newest sample.\n"
-            "--shared-memory reads attitude from the shared-memory channel instead of\n"
-            "the socket (every sample, the same output; not with --rate).\n");
+        sub->add_flag("--timestamps", v_.timestamps,
+                      "begin each line with the local time it was printed (ISO 8601)");
+        footer(sub,
+               "Prints each event as it arrives until Ctrl-C (exit 0), COUNT events or\n"
+               "DURATION. --rate limits attitude, always delivering the newest sample.\n"
+               "--shared-memory reads attitude from the shared-memory channel instead of\n"
+               "the socket (every sample, the same output; not with --rate). What is\n"
+               "watched is said on stderr when it is a terminal. --timestamps: such as\n"
+               "2026-05-04T13:02:07.250+02:00 (not with --json, whose attitude has t).\n");
     }
 
     void add_speed() {
@@ -167,26 +260,26 @@ class Parser {
                         "the daemon ends the motion when no speed arrives within it")
             ->type_name("MS")
             ->check(args::duration_in(1ms, kMaxDuration, true));
-        sub->footer(
-            "Axes not given are 0. A speed above gportd's limits.max_speed is refused,\n"
-            "or with --clamp slowed to it. Without --for the motion lasts until Ctrl-C or\n"
-            "SIGTERM: gportctl re-sends the speed every 200 ms for 500 ms at a time (if\n"
-            "gportctl dies, the gimbal stops within half a second), then sends stop.\n"
-            "With --for the daemon keeps the motion going and gportctl shows its progress\n"
-            "until it ends; Ctrl-C stops it early. A --for or --lease longer than gportd's\n"
-            "keepalive.max_duration_ms is a usage error (64) naming the daemon's limit.\n");
+        footer(sub,
+               "Axes not given are 0. A speed above gportd's limits.max_speed is refused,\n"
+               "or with --clamp slowed to it. Without --for the motion lasts until Ctrl-C or\n"
+               "SIGTERM: gportctl re-sends the speed every 200 ms for 500 ms at a time (if\n"
+               "gportctl dies, the gimbal stops within half a second), then sends stop.\n"
+               "With --for the daemon keeps the motion going and gportctl shows its progress\n"
+               "until it ends; Ctrl-C stops it early. A --for or --lease longer than gportd's\n"
+               "keepalive.max_duration_ms is a usage error (64) naming the daemon's limit.\n");
     }
 
     void add_angle() {
         auto* sub = command("angle", "angle", "go to an angle (--wait: until it is reached)");
         add_axes(sub, "degrees");
         sub->add_flag("--wait", v_.wait, "wait for the end; print it; exit 2 unless reached");
-        sub->footer(
-            "Angle control relative to the aircraft; axes not given are 0. A target\n"
-            "beyond gportd's soft limits is refused, or with --clamp clamped into them.\n"
-            "--wait prints how the motion ended (reached, timeout, replaced, stop, ...)\n"
-            "and the attitude reached. Ctrl-C while waiting exits 130 and the daemon\n"
-            "applies its failsafe. Without --wait the gimbal goes on after gportctl exits.\n");
+        footer(sub,
+               "Angle control relative to the aircraft; axes not given are 0. A target\n"
+               "beyond gportd's soft limits is refused, or with --clamp clamped into them.\n"
+               "--wait prints how the motion ended (reached, timeout, replaced, stop, ...)\n"
+               "and the attitude reached. Ctrl-C while waiting exits 130 and the daemon\n"
+               "applies its failsafe. Without --wait the gimbal goes on after gportctl exits.\n");
     }
 
     void add_record() {
@@ -194,11 +287,11 @@ class Parser {
         sub->add_option("state", v_.state, "on or off (default: toggle)")
             ->check(args::one_of({"on", "off"}));
         sub->add_flag("--force", v_.force, "toggle even when the state is unknown");
-        sub->footer(
-            "The gimbal never reports whether it records: gportd assumes a state from\n"
-            "the toggles it sent, unknown at start and whenever the device reopens.\n"
-            "on and off toggle only when the assumed state differs; while it is unknown\n"
-            "they are refused unless --force.\n");
+        footer(sub,
+               "The gimbal never reports whether it records: gportd assumes a state from\n"
+               "the toggles it sent, unknown at start and whenever the device reopens.\n"
+               "on and off toggle only when the assumed state differs; while it is unknown\n"
+               "they are refused unless --force.\n");
     }
 
     void add_settings() {
@@ -219,22 +312,55 @@ class Parser {
         }
         const auto& first = extras.front();
         if (sub == nullptr) {
-            throw UsageError{first.starts_with("-") ? fmt::format("unknown option {}", first)
-                                                    : fmt::format("unknown command \"{}\"", first)};
+            throw UsageError{first.starts_with("-")
+                                 ? global_problem(option_name(first), nullptr)
+                                 : fmt::format("unknown command \"{}\"{}", first,
+                                               did_you_mean(first, command_names(), true)),
+                             {}};
         }
+        const std::string name = sub->get_name();
         if (!first.starts_with("-")) {
-            throw UsageError{fmt::format("{}: unexpected argument \"{}\"", sub->get_name(), first)};
+            throw UsageError{fmt::format("{}: unexpected argument \"{}\"", name, first), name};
         }
-        std::vector<std::string> names;
-        for (const auto* option : sub->get_options()) {
-            if (option->get_name() != "--help" && !option->get_lnames().empty()) {
-                names.push_back(option->get_name());
+        const auto option = option_name(first);
+        if (before_command(option)) {
+            const bool its_own = sub->get_option_no_throw(option) != nullptr;
+            throw UsageError{global_problem(option, sub), its_own ? name : std::string()};
+        }
+        const auto names = option_names(sub);
+        auto candidates = names;
+        candidates.insert(candidates.end(), kGlobalOptions.begin(), kGlobalOptions.end());
+        throw UsageError{
+            fmt::format("{}: unknown option {}{}{}", name, option,
+                        names.empty() ? "; it takes none"
+                                      : "; options: " + fmt::format("{}", fmt::join(names, ", ")),
+                        did_you_mean(option, candidates, false)),
+            name};
+    }
+
+    // Whether `option` was typed before the command word.
+    bool before_command(const std::string& option) const {
+        const auto word = command_word(args_);
+        for (std::size_t i = 0; i < args_.size() && (!word || i < word->first); ++i) {
+            if (option_name(args_[i]) == option) {
+                return true;
             }
         }
-        throw UsageError{
-            fmt::format("{}: unknown option {}{}", sub->get_name(), first,
-                        names.empty() ? "; it takes none"
-                                      : "; options: " + fmt::format("{}", fmt::join(names, ", ")))};
+        return false;
+    }
+
+    // An unknown option before the command: one of the command's own (in the
+    // wrong place), or no option at all.
+    std::string global_problem(const std::string& option, const CLI::App* sub) const {
+        if (sub != nullptr && sub->get_option_no_throw(option) != nullptr) {
+            return fmt::format(
+                "{} is an option of {}, not a global one: put it after the command "
+                "(gportctl {} {} ...)",
+                option, sub->get_name(), sub->get_name(), option);
+        }
+        return fmt::format("unknown option {}; the global options are {}{}", option,
+                           fmt::join(kGlobalOptions, ", "),
+                           did_you_mean(option, kGlobalOptions, false));
     }
 
     Invocation build(const char* env_socket) {
@@ -242,12 +368,15 @@ class Parser {
         const CLI::App* sub = subs.empty() ? nullptr : subs.front();
         check_extras(sub);
         if (sub == nullptr) {
-            throw UsageError{"no command given"};
+            throw UsageError{"no command given", {}};
         }
         Invocation inv;
         inv.command = sub->get_name();
         inv.method = methods_.at(inv.command);
         inv.json = v_.json;
+        if (inv.command == "call") {
+            call(inv);
+        }
         inv.socket = app_.count("--socket") > 0                     ? v_.socket
                      : env_socket != nullptr && *env_socket != '\0' ? env_socket
                                                                     : std::string(kDefaultSocket);
@@ -255,7 +384,7 @@ class Parser {
             return help_of(v_.help_topic);
         }
         if (inv.command == "watch") {
-            watch(*sub, inv);
+            watch(inv.json, *sub, inv);
         } else if (inv.command == "speed" || inv.command == "angle" || inv.command == "center") {
             motion(*sub, inv);
         } else if (inv.command == "record") {
@@ -278,7 +407,9 @@ class Parser {
         try {
             inv.text = app_.get_subcommand(topic)->help("gportctl");
         } catch (const CLI::OptionNotFound&) {
-            throw UsageError{fmt::format("help: unknown command \"{}\"", topic)};
+            throw UsageError{fmt::format("help: unknown command \"{}\"{}", topic,
+                                         did_you_mean(topic, command_names(), true)),
+                             "help"};
         }
         return inv;
     }
@@ -294,7 +425,62 @@ class Parser {
                                                   : ColorMode::kAuto;
     }
 
-    void watch(const CLI::App& sub, Invocation& inv) const {
+    // call METHOD [PARAMS-JSON]: the method a name, the params an object or
+    // array (JSON-RPC's), nested no deeper than gportd reads.
+    void call(Invocation& inv) const {
+        const auto& method = v_.call_method;
+        if (method.empty()) {
+            throw UsageError{
+                "call: no METHOD given; expected METHOD [PARAMS-JSON], such as "
+                "gportctl call limits",
+                "call"};
+        }
+        if (method.empty() || method.size() > kMaxMethodLength ||
+            method.find_first_not_of("abcdefghijklmnopqrstuvwxyz"
+                                     "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.") !=
+                std::string::npos) {
+            throw UsageError{fmt::format("call: METHOD \"{}\": expected a method name (letters, "
+                                         "digits, _ and ., at most {}), such as limits",
+                                         method.substr(0, kMaxMethodLength), kMaxMethodLength),
+                             "call"};
+        }
+        inv.method = method;
+        inv.raw = v_.raw;
+        if (v_.call_params.empty()) {
+            return;
+        }
+        bool too_deep = false;
+        auto params = json::parse(
+            v_.call_params,
+            [&too_deep](int depth, json::parse_event_t, json&) {
+                too_deep = too_deep || depth > kMaxParamsDepth;
+                return !too_deep;
+            },
+            false);
+        if (too_deep) {
+            throw UsageError{
+                fmt::format("call: PARAMS-JSON nests deeper than {} levels", kMaxParamsDepth),
+                "call"};
+        }
+        if (!params.is_object() && !params.is_array()) {
+            throw UsageError{
+                fmt::format("call: PARAMS-JSON {}: expected a JSON object or array, such as "
+                            "'{{\"pitch\": -30}}'",
+                            params.is_discarded() ? "is not valid JSON"
+                                                  : "is a " + std::string(params.type_name())),
+                "call"};
+        }
+        inv.params = std::move(params);
+    }
+
+    void watch(bool json_output, const CLI::App& sub, Invocation& inv) const {
+        if (v_.timestamps && json_output) {
+            throw UsageError{
+                "watch: --timestamps and --json cannot be combined (--json prints gportd's "
+                "objects unchanged; attitude has t, the time gportd received it)",
+                "watch"};
+        }
+        inv.timestamps = v_.timestamps;
         for (const auto& topic : v_.topics) {
             if (std::find(inv.topics.begin(), inv.topics.end(), topic) == inv.topics.end()) {
                 inv.topics.push_back(topic);
@@ -308,7 +494,8 @@ class Parser {
             if (v_.shared_memory) {
                 throw UsageError{
                     "watch: --rate and --shared-memory cannot be combined (the shared-memory "
-                    "channel offers every sample)"};
+                    "channel offers every sample)",
+                    "watch"};
             }
             inv.rate_hz = v_.rate;
             inv.params["max_rate_hz"] = v_.rate;
@@ -354,7 +541,7 @@ class Parser {
         }
         if (v_.force) {
             if (sub.count("state") == 0) {
-                throw UsageError{"record: --force needs on or off"};
+                throw UsageError{"record: --force needs on or off", "record"};
             }
             inv.params["force"] = true;
         }
@@ -377,6 +564,7 @@ class Parser {
     }
 
     Values v_;
+    std::vector<std::string> args_;
     CLI::App app_;
     std::map<std::string, std::string> methods_;
 };

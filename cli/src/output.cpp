@@ -1,6 +1,9 @@
 #include "gport/cli/output.hpp"
 
 #include <fmt/format.h>
+#include <time.h>
+
+#include <regex>
 
 namespace gport::cli {
 namespace {
@@ -147,6 +150,24 @@ std::string settings(const json& s) {
                        get(s, "inverted", false) ? "yes" : "no");
 }
 
+// limits: one line per axis, then speed and margin; "no limit" for the
+// protocol's whole range.
+std::string limits(const json& l) {
+    std::string out;
+    for (const auto* axis : {"roll", "pitch", "yaw"}) {
+        const auto range = l.value(axis, json::object());
+        const double min = get(range, "min", -327.67);
+        const double max = get(range, "max", 327.67);
+        out += fmt::format("{:<16}{} to {} deg{}\n", std::string(axis) + ":", min, max,
+                           min <= -327.67 && max >= 327.67 ? " (no limit)" : "");
+    }
+    const double speed = get(l, "max_speed", 327.67);
+    out += fmt::format("{:<16}{} deg/s{}\n", "max speed:", speed,
+                       speed >= 327.67 ? " (no limit)" : "");
+    out += fmt::format("{:<16}{} deg\n", "braking margin:", get(l, "braking_margin_deg", 0.0));
+    return out;
+}
+
 }  // namespace
 
 std::string format_result(const std::string& command, const json& result) {
@@ -159,6 +180,9 @@ std::string format_result(const std::string& command, const json& result) {
     if (command == "settings") {
         return settings(result);
     }
+    if (command == "limits") {
+        return limits(result);
+    }
     if (command == "angle" || command == "center") {
         return position(command, result);
     }
@@ -170,7 +194,7 @@ std::string format_result(const std::string& command, const json& result) {
         for (const auto& t : result.value("topics", json::array())) {
             topics += (topics.empty() ? "" : ", ") + t.get<std::string>();
         }
-        return fmt::format("watching {} (Ctrl-C to stop)\n", topics);
+        return fmt::format("watching {} (Ctrl-C to stop)\n", topics.empty() ? "nothing" : topics);
     }
     if (command == "record" && result.contains("recording")) {
         return fmt::format("record: {}; recording {} (assumed)\n",
@@ -212,6 +236,52 @@ std::string format_notification(const json& message) {
 std::string format_error(const json& error) {
     return fmt::format("error {}: {}", get(error, "code", 0),
                        get(error, "message", std::string("(no message)")));
+}
+
+}  // namespace gport::cli
+
+namespace gport::cli {
+
+std::string format_error(const client::Error& error) {
+    if (error.code() == static_cast<int>(client::ErrorCode::kTransport) ||
+        error.code() == static_cast<int>(client::ErrorCode::kTimeout) ||
+        error.code() == static_cast<int>(client::ErrorCode::kBadReply)) {
+        return error.what();
+    }
+    return format_error(json{{"code", error.code()}, {"message", error.message()}});
+}
+
+json cli_wording(const json& error) {
+    if (!error.is_object() || !error.contains("message") || !error["message"].is_string()) {
+        return error;
+    }
+    static const std::regex kRecord(R"(send record \{"on": (true|false), "force": true\})");
+    static const std::regex kClamp(R"(\bclamp: true\b)");
+    auto message = error["message"].get<std::string>();
+    std::smatch match;
+    if (std::regex_search(message, match, kRecord)) {
+        message = match.prefix().str() + "run 'gportctl record " +
+                  (match[1] == "true" ? "on" : "off") + " --force'" + match.suffix().str();
+    }
+    message = std::regex_replace(message, kClamp, "--clamp");
+    auto worded = error;
+    worded["message"] = message;
+    return worded;
+}
+
+std::string format_timestamp(std::chrono::system_clock::time_point when) {
+    using namespace std::chrono;
+    const auto seconds = system_clock::to_time_t(when);
+    const auto ms = duration_cast<milliseconds>(when.time_since_epoch()).count() % 1000;
+    std::tm local{};
+    ::localtime_r(&seconds, &local);
+    char date[32];
+    char zone[8];
+    std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%S", &local);
+    std::strftime(zone, sizeof zone, "%z", &local);  // +0200
+    const std::string offset(zone);
+    return fmt::format("{}.{:03}{}:{}", date, ms < 0 ? ms + 1000 : ms, offset.substr(0, 3),
+                       offset.substr(3, 2));
 }
 
 }  // namespace gport::cli

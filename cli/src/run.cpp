@@ -33,8 +33,9 @@ constexpr auto kRingSlice = 20ms;
 
 class Runner {
   public:
-    Runner(const Invocation& inv, Connection& conn, std::ostream& out, std::ostream& err, bool tty)
-        : inv_(inv), conn_(conn), out_(out), err_(err), tty_(tty) {}
+    Runner(const Invocation& inv, Connection& conn, std::ostream& out, std::ostream& err,
+           Terminals terminals)
+        : inv_(inv), conn_(conn), out_(out), err_(err), terminals_(terminals) {}
 
     int dispatch() {
         if (inv_.command == "watch") {
@@ -42,6 +43,9 @@ class Runner {
         }
         if (inv_.command == "speed") {
             return inv_.duration ? speed_for() : speed_until_interrupted();
+        }
+        if (inv_.command == "call") {
+            return call_any();
         }
         json result;
         const int status = call(inv_.method, inv_.params, result);
@@ -53,8 +57,25 @@ class Runner {
     }
 
   private:
-    // Calls a method; prints the error for the user.
-    int call(const std::string& method, const json& params, json& result) {
+    // gportctl call: the result as one line of JSON, or with --raw the whole
+    // response (an error's too, besides the message on stderr).
+    int call_any() {
+        json result;
+        json response;
+        const int status = call(inv_.method, inv_.params, result, &response);
+        if (inv_.raw && !response.is_null()) {
+            out_ << response.dump() << "\n";
+        } else if (status == kExitOk) {
+            out_ << result.dump() << "\n";
+        }
+        out_.flush();
+        return status;
+    }
+
+    // Calls a method; prints the error for the user. `response`, if given,
+    // receives the whole response.
+    int call(const std::string& method, const json& params, json& result,
+             json* response = nullptr) {
         std::optional<json> reply;
         try {
             reply = conn_.call(method, params, [this](const json& n) { notification(n); });
@@ -69,6 +90,9 @@ class Runner {
             err_ << "gportctl: " << lost() << "\n";
             return kExitUnavailable;
         }
+        if (response != nullptr) {
+            *response = *reply;
+        }
         if (reply->contains("error")) {
             const auto& error = (*reply)["error"];
             if (auto usage = option_refusal(error, params)) {
@@ -76,7 +100,9 @@ class Runner {
                      << " --help'.\n";
                 return kExitUsage;
             }
-            err_ << "gportctl: " << format_error(error) << "\n";
+            // `call` speaks the API, the other commands the command line.
+            err_ << "gportctl: "
+                 << format_error(inv_.command == "call" ? error : cli_wording(error)) << "\n";
             return kExitError;
         }
         result = reply->value("result", json());
@@ -131,7 +157,14 @@ class Runner {
         if (inv_.command != "watch") {
             return;
         }
-        out_ << (inv_.json ? message.dump() + "\n" : format_notification(message));
+        if (inv_.json) {
+            out_ << message.dump() << "\n";
+        } else {
+            if (inv_.timestamps) {
+                out_ << format_timestamp(std::chrono::system_clock::now()) << " ";
+            }
+            out_ << format_notification(message);
+        }
         out_.flush();
     }
 
@@ -158,8 +191,11 @@ class Runner {
         if (ring) {
             result["topics"] = inv_.topics;  // as gportd would list them
         }
-        if (!inv_.json) {
-            print(result);
+        // What is watched, for the person at the terminal; never in the
+        // output a script reads.
+        if (terminals_.err) {
+            err_ << format_result("watch", result);
+            err_.flush();
         }
         const bool timed = inv_.duration.has_value();
         const auto deadline = timed ? std::chrono::steady_clock::now() + *inv_.duration
@@ -232,7 +268,7 @@ class Runner {
                 err_ << "gportctl: the daemon closed the connection\n";
                 return kExitUnavailable;
             }
-            err_ << "gportctl: " << e.message() << "\n";
+            err_ << "gportctl: " << format_error(e) << "\n";
             return kExitError;
         }
         return kExitOk;
@@ -270,7 +306,7 @@ class Runner {
             return status;
         }
         print(result);
-        Progress progress(out_, *inv_.duration, tty_ && !inv_.json);
+        Progress progress(out_, *inv_.duration, terminals_.out && !inv_.json);
         const auto deadline = std::chrono::steady_clock::now() + *inv_.duration + 2s;
         json message;
         while (std::chrono::steady_clock::now() < deadline) {
@@ -344,13 +380,13 @@ class Runner {
     Connection& conn_;
     std::ostream& out_;
     std::ostream& err_;
-    bool tty_;
+    Terminals terminals_;
 };
 
 }  // namespace
 
 int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
-        std::function<bool()> interrupted, bool tty) {
+        std::function<bool()> interrupted, Terminals terminals) {
     if (invocation.command == "monitor") {
         return run_monitor(invocation.monitor, out, err, interrupted);
     }
@@ -363,14 +399,16 @@ int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
     }
     auto& conn = *opened;
     conn.interrupted = std::move(interrupted);
-    return Runner(invocation, conn, out, err, tty).dispatch();
+    return Runner(invocation, conn, out, err, terminals).dispatch();
 }
 
 int main_with(const std::vector<std::string>& args, const char* env_socket, std::ostream& out,
-              std::ostream& err, std::function<bool()> interrupted, bool tty) {
+              std::ostream& err, std::function<bool()> interrupted, Terminals terminals) {
     auto parsed = parse_args(args, env_socket);
     if (!parsed) {
-        err << "gportctl: " << parsed.error().message << "\nTry 'gportctl --help'.\n";
+        const auto& command = parsed.error().command;
+        err << "gportctl: " << parsed.error().message << "\nTry 'gportctl "
+            << (command.empty() || command == "help" ? "" : command + " ") << "--help'.\n";
         return kExitUsage;
     }
     const auto& invocation = *parsed;
@@ -378,7 +416,7 @@ int main_with(const std::vector<std::string>& args, const char* env_socket, std:
         out << invocation.text;
         return kExitOk;
     }
-    return run(invocation, out, err, std::move(interrupted), tty);
+    return run(invocation, out, err, std::move(interrupted), terminals);
 }
 
 }  // namespace gport::cli

@@ -27,6 +27,10 @@ expect "--shared-memory" "$(complete_line gportctl watch --sh)"
 expect "on" "$(complete_line gportctl record o | tr ' ' '\n' | grep -x on)"
 expect "yes" "$(complete_line gportctl settings --inverted y)"
 expect "" "$(complete_line gportctl speed --yaw "")"
+expect "limits" "$(complete_line gportctl call lim)"
+expect "" "$(complete_line gportctl call limits "")"
+expect "--raw" "$(complete_line gportctl call --r)"
+expect "--timestamps" "$(complete_line gportctl watch --ti)"
 
 # Every command gportctl --help lists is completed.
 listed=$("$gportctl" --help | sed -n '/^Subcommands:/,/^$/p' | awk 'NR > 1 && NF { print $1 }')

@@ -26,8 +26,7 @@ HostileRun run(const HostileServer& server, std::vector<std::string> args) {
     args.insert(args.begin(), {"--socket", server.path()});
     std::ostringstream out;
     std::ostringstream err;
-    const int status = main_with(
-        args, nullptr, out, err, [] { return false; }, false);
+    const int status = main_with(args, nullptr, out, err, [] { return false; }, {});
     return {status, err.str()};
 }
 

@@ -42,6 +42,7 @@ TEST(Options, OneMethodPerCommand) {
         {"speed", "speed"},
         {"watch", "subscribe"},
         {"settings", "get_settings"},
+        {"limits", "limits"},
     };
     for (const auto& [command, method] : cases) {
         EXPECT_EQ(parse({command}).method, method) << command;
@@ -158,6 +159,94 @@ TEST(Options, HelpAndUsageErrors) {
     EXPECT_THAT(refusal({"fly"}), HasSubstr("unknown command \"fly\""));
     EXPECT_THAT(refusal({"stop", "now"}), HasSubstr("unexpected argument \"now\""));
     EXPECT_THAT(refusal({"status", "--roll", "1"}), HasSubstr("it takes none"));
+    EXPECT_EQ(parse({"call", "limits"}).method, "limits");
+}
+
+TEST(Options, TyposGetASuggestion) {
+    EXPECT_EQ(refusal({"stauts"}), "unknown command \"stauts\"; did you mean \"status\"?");
+    EXPECT_EQ(refusal({"atitude"}), "unknown command \"atitude\"; did you mean \"attitude\"?");
+    EXPECT_THAT(refusal({"recrod", "on"}), HasSubstr("did you mean \"record\"?"));
+    EXPECT_THAT(refusal({"help", "wacth"}), HasSubstr("did you mean \"watch\"?"));
+    EXPECT_THAT(refusal({"st"}), ::testing::Not(HasSubstr("did you mean")));  // too short to tell
+    EXPECT_THAT(refusal({"xyzzy"}), ::testing::Not(HasSubstr("did you mean")));
+    EXPECT_THAT(refusal({"speed", "--yw", "5"}), ::testing::EndsWith("; did you mean --yaw?"));
+    EXPECT_THAT(refusal({"angle", "--wiat"}), ::testing::EndsWith("; did you mean --wait?"));
+    EXPECT_THAT(refusal({"watch", "--timestamp"}),
+                ::testing::EndsWith("did you mean --timestamps?"));
+    EXPECT_THAT(refusal({"status", "--jsno"}), ::testing::EndsWith("did you mean --json?"));
+    EXPECT_THAT(refusal({"--sokcet", "/x", "status"}), HasSubstr("did you mean --socket?"));
+    // A pasted blob is not compared (bounded work), and suggests nothing.
+    EXPECT_THAT(refusal({std::string(100000, 's')}), ::testing::Not(HasSubstr("did you mean")));
+}
+
+TEST(Options, MisplacedGlobalOptionsAreReportedAsSuch) {
+    EXPECT_EQ(refusal({"--bogus", "status"}),
+              "unknown option --bogus; the global options are --socket, --json, --help, --version");
+    EXPECT_EQ(refusal({"--yaw", "5", "speed"}),
+              "--yaw is an option of speed, not a global one: put it after the command "
+              "(gportctl speed --yaw ...)");
+    EXPECT_THAT(refusal({"--wait", "angle", "--pitch", "1"}),
+                HasSubstr("--wait is an option of angle"));
+    // After the command, an unknown option is the command's.
+    EXPECT_THAT(refusal({"status", "--bogus"}), HasSubstr("status: unknown option --bogus"));
+    EXPECT_EQ(parse({"--json", "status"}).json, true);
+}
+
+TEST(Options, UsageErrorsNameTheirCommand) {
+    auto command_of = [](std::vector<std::string> args) {
+        auto result = parse_args(args, nullptr);
+        return result ? std::string("(accepted)") : result.error().command;
+    };
+    EXPECT_EQ(command_of({"speed", "--yaw", "400"}), "speed");
+    EXPECT_EQ(command_of({"--socket", "/x", "watch", "-n", "0"}), "watch");
+    EXPECT_EQ(command_of({"angle", "--bogus"}), "angle");
+    EXPECT_EQ(command_of({"stauts"}), "");
+    EXPECT_EQ(command_of({"--bogus", "status"}), "");
+}
+
+TEST(Options, CallTakesAMethodAndJsonParams) {
+    auto bare = parse({"call", "limits"});
+    EXPECT_EQ(bare.command, "call");
+    EXPECT_EQ(bare.method, "limits");
+    EXPECT_EQ(bare.params, json::object());
+    EXPECT_FALSE(bare.raw);
+    auto full = parse({"call", "--raw", "subscribe", R"({"topics": ["link"]})"});
+    EXPECT_EQ(full.method, "subscribe");
+    EXPECT_EQ(full.params, json({{"topics", {"link"}}}));
+    EXPECT_TRUE(full.raw);
+    EXPECT_EQ(parse({"call", "speed", "[1, 2]"}).params, json({1, 2}));
+    EXPECT_THAT(refusal({"call"}), HasSubstr("call: no METHOD given"));
+    EXPECT_THAT(refusal({"call", "a b"}),
+                HasSubstr("call: METHOD \"a b\": expected a method name"));
+    EXPECT_THAT(refusal({"call", "x", "{"}), HasSubstr("PARAMS-JSON is not valid JSON"));
+    EXPECT_THAT(refusal({"call", "x", "42"}),
+                HasSubstr("PARAMS-JSON is a number: expected a JSON object or array"));
+    EXPECT_THAT(refusal({"call", "x", "{}", "more"}), HasSubstr("unexpected argument \"more\""));
+    EXPECT_EQ(parse({"limits"}).method, "limits");
+}
+
+TEST(Options, WatchTimestamps) {
+    EXPECT_TRUE(parse({"watch", "--timestamps"}).timestamps);
+    EXPECT_FALSE(parse({"watch"}).timestamps);
+    EXPECT_THAT(refusal({"--json", "watch", "--timestamps"}),
+                HasSubstr("--timestamps and --json cannot be combined"));
+}
+
+TEST(Options, HelpOfACommand) {
+    const auto angle = usage("angle");
+    EXPECT_THAT(
+        angle, HasSubstr("--clamp                     clamp the target into gportd's soft limits"));
+    EXPECT_THAT(usage("speed"), HasSubstr("slow to gportd's limits.max_speed instead of refusing"));
+    EXPECT_THAT(angle, ::testing::Not(HasSubstr("slow or clamp")));
+    // The global options, not the whole exit-status list.
+    EXPECT_THAT(angle,
+                HasSubstr("Global options (before or after the command): --socket PATH, --json"));
+    EXPECT_THAT(angle, ::testing::Not(HasSubstr("130 interrupted")));
+    EXPECT_THAT(usage("status"), HasSubstr("Global options"));
+    // The overview: usage first, then the note on acquire and the exit statuses.
+    const auto overview = usage("");
+    EXPECT_LT(overview.find("Usage: gportctl"), overview.find("acquire and release"));
+    EXPECT_LT(overview.find("acquire and release"), overview.find("130 interrupted"));
 }
 
 TEST(Options, VersionEverywhere) {

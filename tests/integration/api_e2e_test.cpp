@@ -28,6 +28,19 @@ class ApiEndToEnd : public ::testing::Test {
         return process.wait(20s).value_or(-1);
     }
 
+    // gportctl's exit status and its stdout and stderr, merged, as lines.
+    std::pair<int, std::vector<std::string>> gportctl_says(std::vector<std::string> args) {
+        args.insert(args.begin(), {"/bin/sh", "-c", "exec \"$0\" \"$@\" 2>&1", GPORTCTL_PATH,
+                                   "--socket", daemon_->socket()});
+        Process process(args);
+        const int status = process.wait(20s).value_or(-1);
+        std::vector<std::string> lines;
+        while (auto line = process.next_line(5s)) {
+            lines.push_back(*line);
+        }
+        return {status, lines};
+    }
+
     TempDir dir_;
     std::unique_ptr<DaemonProcess> daemon_;
     std::unique_ptr<Client> client_;
@@ -128,6 +141,35 @@ TEST_F(ApiEndToEnd, GportctlTalksToTheDaemon) {
     EXPECT_EQ(gportctl({"angle", "--pitch", "400"}), 64);
     client_->call("acquire");
     EXPECT_EQ(gportctl({"photo"}), 1) << "another client holds control";
+}
+
+// Issue 26: call and limits reach the real daemon; its refusals are worded
+// for the command line (but for `call`, which speaks the API); watch's
+// header stays off a pipe.
+TEST_F(ApiEndToEnd, GportctlCallLimitsAndRefusalsInItsOwnWords) {
+    auto [called, result] = gportctl_says({"call", "limits"});
+    EXPECT_EQ(called, 0);
+    ASSERT_EQ(result.size(), 1U);
+    EXPECT_EQ(Json::parse(result[0])["max_speed"], 327.67);
+    auto [listed, limits] = gportctl_says({"limits"});
+    EXPECT_EQ(listed, 0);
+    EXPECT_THAT(limits, ::testing::Contains(HasSubstr("max speed:      327.67 deg/s")));
+    // The recording state is unknown at start: on is refused.
+    auto [refused, said] = gportctl_says({"record", "on"});
+    EXPECT_EQ(refused, 1);
+    ASSERT_EQ(said.size(), 1U);
+    EXPECT_THAT(said[0], HasSubstr("gportctl: error -32602: the recording state is unknown"));
+    EXPECT_THAT(said[0], HasSubstr("run 'gportctl record on --force' to toggle anyway"));
+    auto [api, api_said] = gportctl_says({"call", "record", R"({"on": false})"});
+    EXPECT_EQ(api, 1);
+    ASSERT_EQ(api_said.size(), 1U);
+    EXPECT_THAT(api_said[0], HasSubstr(R"(send record {"on": false, "force": true})"));
+    auto [unknown, typo] = gportctl_says({"call", "stauts"});
+    EXPECT_EQ(unknown, 1);
+    EXPECT_THAT(typo, ::testing::Contains(HasSubstr("error -32601: unknown method")));
+    auto [watched, events] = gportctl_says({"watch", "link", "--for", "300ms"});
+    EXPECT_EQ(watched, 0);
+    EXPECT_THAT(events, ::testing::Not(::testing::Contains(HasSubstr("watching"))));
 }
 
 }  // namespace

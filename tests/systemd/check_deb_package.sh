@@ -39,6 +39,7 @@ for pattern in '^\./usr/bin/gportd$' '^\./usr/bin/gportctl$' '^\./usr/bin/gport-
                '/systemd/system/gport-mavlink@\.service$' '/sysusers\.d/gport-mavlink\.conf$' \
                '^\./etc/gportd/gportd\.json$' '^\./usr/share/doc/gportd/operations\.md$' \
                '^\./usr/share/bash-completion/completions/gportctl$' \
+               '^\./usr/share/zsh/vendor-completions/_gportctl$' \
                '/libgport-client\.so\.1$' '/libgport-client\.so$' \
                '/pkgconfig/gport-client\.pc$' '/cmake/gport-client/gport-clientConfig\.cmake$' \
                '^\./usr/include/gport/client/client\.hpp$' \

@@ -8,6 +8,7 @@
 
 #include "feed.hpp"
 #include "gport/cli/options.hpp"
+#include "gport/cli/output.hpp"
 #include "keys.hpp"
 #include "render.hpp"
 #include "terminal.hpp"
@@ -122,7 +123,7 @@ int run_monitor(const MonitorOptions& options, std::ostream& out, std::ostream& 
     try {
         feed.open();
     } catch (const client::Error& error) {
-        err << "gportctl: " << error.what() << "\n";
+        err << "gportctl: " << format_error(error) << "\n";
         return error.transport() ? kExitUnavailable : kExitError;
     }
     int status = kExitOk;

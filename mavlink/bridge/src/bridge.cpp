@@ -95,8 +95,15 @@ void Bridge::connect() {
             on_connected();
             return;
         }
-        log_.warn("gportd: cannot connect", "gportd: cannot connect to " + options_.socket + ": " +
-                                                error->message() + "; retrying with backoff");
+        // The library's message names the socket already ("cannot connect
+        // to PATH: ..."); others get it added.
+        const auto& why = error->message();
+        log_.warn("gportd: cannot connect",
+                  "gportd: " +
+                      (why.find(options_.socket) != std::string::npos
+                           ? why
+                           : "cannot connect to " + options_.socket + ": " + why) +
+                      "; retrying with backoff");
         reconnect_timer_.expires_after(backoff_);
         reconnect_timer_.async_wait([this](boost::system::error_code ec) {
             if (!ec) {

@@ -31,6 +31,8 @@ struct Invocation {
     nlohmann::json params = nlohmann::json::object();
     std::string socket{kDefaultSocket};
     bool json = false;                // --json: raw result objects, one per line
+    bool raw = false;                 // call --raw: the whole response
+    bool timestamps = false;          // watch --timestamps
     bool help = false;                // --help or --version: print `text` and exit 0
     std::string text;                 // the help page or version asked for
     std::vector<std::string> topics;  // watch
@@ -44,6 +46,7 @@ struct Invocation {
 
 struct UsageError {
     std::string message;
+    std::string command;  // the subcommand it concerns, if any (for "Try 'gportctl X --help'")
 };
 
 using ParseResult = Result<Invocation, UsageError>;

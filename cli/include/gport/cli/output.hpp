@@ -2,9 +2,11 @@
 // raw objects instead).
 #pragma once
 
+#include <chrono>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "gport/client/error.hpp"
 #include "gport/client/types.hpp"
 
 namespace gport::cli {
@@ -18,7 +20,17 @@ std::string format_notification(const nlohmann::json& message);
 // whole numbers as integers, as gportd prints them; "dropped" when some
 // samples were missed).
 nlohmann::json attitude_notification(const client::AttitudeSample& sample);
-// "error -32003: another client holds control (pid 12)"
+// The one format of a daemon's error: "error -32003: another client holds
+// control (pid 12)".
 std::string format_error(const nlohmann::json& error);
+// A client library error: a refusal as above; the connection's own
+// problems (cannot connect, timeout, bad reply) as the library words them.
+std::string format_error(const client::Error& error);
+// A refusal worded for the command line: the API's params the message
+// suggests become gportctl's options (`record {"on": true, "force": true}`
+// -> `gportctl record on --force`, `clamp: true` -> `--clamp`).
+nlohmann::json cli_wording(const nlohmann::json& error);
+// "2026-05-04T13:02:07.250+02:00": local time, milliseconds, the offset.
+std::string format_timestamp(std::chrono::system_clock::time_point when);
 
 }  // namespace gport::cli
