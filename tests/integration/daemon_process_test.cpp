@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <string>
@@ -195,8 +196,15 @@ TEST(DaemonProcess, NoWatchdogPingsWithoutWatchdogUsec) {
 TEST(DaemonProcess, ServesClientsOnASocketPassedBySystemd) {
     TempDir dir;
     const auto path = dir.file("activated.sock");
-    Process activator({"/usr/bin/systemd-socket-activate", "-l", path, GPORTD_PATH, "--simulate",
-                       "--config", write_test_config(dir), "--socket", dir.file("unused.sock")});
+    // systemd-socket-activate passes on only the variables it is told to:
+    // under qemu-user (a cross build's tests) gportd needs QEMU_LD_PREFIX.
+    std::vector<std::string> argv{"/usr/bin/systemd-socket-activate", "-l", path};
+    if (std::getenv("QEMU_LD_PREFIX") != nullptr) {
+        argv.insert(argv.end(), {"-E", "QEMU_LD_PREFIX"});
+    }
+    argv.insert(argv.end(), {GPORTD_PATH, "--simulate", "--config", write_test_config(dir),
+                             "--socket", dir.file("unused.sock")});
+    Process activator(argv);
     Client client(path);
     ASSERT_TRUE(client.connected());
     auto reply = client.call("status");
