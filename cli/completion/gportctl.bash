@@ -56,7 +56,7 @@ _gportctl() {
             arguments="on off"
             ;;
         settings) options="--dead-zone --follow-speed --inverted" ;;
-        monitor) options="--control --for --color" ;;
+        monitor) options="--control --for --color --ascii" ;;
         help) arguments=$commands ;;
     esac
     if [[ $cur == -* ]]; then
