@@ -60,7 +60,7 @@ _gportctl() {
             arguments="on off"
             ;;
         settings) options="--dead-zone --follow-speed --inverted" ;;
-        monitor) options="--control --for --color" ;;
+        monitor) options="--control --for --color --ascii" ;;
         call)
             options="--raw"
             # The methods of docs/api.md; the params (JSON) are not completed.

@@ -67,6 +67,7 @@ struct Values {
     std::string inverted;
     std::string help_topic;
     bool control = false;  // monitor
+    bool ascii = false;    // monitor
     std::string color = "auto";
     std::string call_method, call_params;  // call
     bool raw = false;
@@ -206,6 +207,7 @@ class Parser {
         sub->add_option("--color", v_.color, "colour: auto (unless $NO_COLOR), always or never")
             ->type_name("WHEN")
             ->check(args::one_of({"auto", "always", "never"}));
+        sub->add_flag("--ascii", v_.ascii, "ASCII only (the default when the locale is not UTF-8)");
     }
 
     void add_call() {
@@ -417,6 +419,7 @@ class Parser {
     void monitor(const CLI::App& sub, Invocation& inv) const {
         inv.monitor.socket = inv.socket;
         inv.monitor.control = v_.control;
+        inv.monitor.ascii = v_.ascii;
         if (sub.count("--for") > 0) {
             inv.monitor.duration = args::parse_duration(v_.for_text);
         }

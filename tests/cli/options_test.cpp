@@ -301,6 +301,8 @@ TEST(Options, Monitor) {
     EXPECT_FALSE(plain.monitor.control);
     EXPECT_FALSE(plain.monitor.duration);
     EXPECT_EQ(plain.monitor.color, ColorMode::kAuto);
+    EXPECT_FALSE(plain.monitor.ascii);
+    EXPECT_TRUE(parse({"monitor", "--ascii"}).monitor.ascii);
     EXPECT_THAT(refusal({"monitor", "--for", "soon"}), HasSubstr("--for: soon"));
     EXPECT_THAT(refusal({"monitor", "--color", "pink"}), HasSubstr("--color: pink"));
     EXPECT_THAT(refusal({"monitor", "--yaw", "1"}), HasSubstr("unknown option --yaw"));

@@ -1,4 +1,6 @@
 // The C++ examples (examples/cpp/) run against gportd --simulate.
+#include <csignal>
+#include <regex>
 #include <sstream>
 
 #include "client_fixture.hpp"
@@ -77,6 +79,26 @@ TEST_F(Examples, SweepAndPhotoWaitsAtEachPosition) {
     EXPECT_EQ(photos.size(), 3U);
     ASSERT_FALSE(lines.empty());
     EXPECT_EQ(lines.back(), "centred");
+}
+
+// docs/client-cpp.md's notifications snippet, compiled as written: the time
+// with its milliseconds, not 1.79553e+09 (issue 26).
+TEST_F(Examples, DocSnippetPrintsTheTimeInFull) {
+    // stdbuf: the snippet prints "\n", not std::endl; a pipe would hold the lines.
+    Process snippet({"/usr/bin/stdbuf", "-oL", DOC_SNIPPET_PATH, socket()});
+    std::vector<std::string> lines;
+    while (lines.size() < 3) {
+        auto line = snippet.next_line(10s);
+        ASSERT_TRUE(line) << "no attitude line from the snippet";
+        lines.push_back(*line);
+    }
+    snippet.signal(SIGTERM);
+    snippet.wait();
+    const std::regex kLine(R"(^[0-9]{10}\.[0-9]{3} yaw [-0-9.]+$)");
+    for (const auto& line : lines) {
+        EXPECT_TRUE(std::regex_match(line, kLine)) << line;
+        EXPECT_EQ(line.find('e'), std::string::npos) << "no exponent: " << line;
+    }
 }
 
 }  // namespace

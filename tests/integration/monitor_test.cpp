@@ -3,9 +3,12 @@
 // assertions on what capture-pane shows. Plus the plain mode, when stdout is
 // not a terminal.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <regex>
+#include <sstream>
 
 #include "harness.hpp"
 #include "tmux_pane.hpp"
@@ -155,7 +158,8 @@ TEST_F(Monitor, WithControlTheArrowsNudgeAndControlIsReleasedOnExit) {
 
 TEST_F(Monitor, PlainStatusBlocksWhenStdoutIsNotATerminal) {
     start_simulated_daemon();
-    Process monitor({GPORTCTL_PATH, "--socket", daemon_->socket(), "monitor", "--for", "2500ms"});
+    Process monitor({GPORTCTL_PATH, "--socket", daemon_->socket(), "monitor", "--for", "2500ms"},
+                    {"LC_ALL=C.UTF-8"});
     std::vector<std::string> lines;
     while (auto line = monitor.next_line()) {
         lines.push_back(*line);
@@ -170,6 +174,135 @@ TEST_F(Monitor, PlainStatusBlocksWhenStdoutIsNotATerminal) {
     }
     EXPECT_GE(blocks, 2);
     EXPECT_TRUE(link_up_line);
+}
+
+// The first row of the screen that contains `text`, or "".
+std::string row_with(const std::string& screen, const std::string& text) {
+    std::istringstream rows(screen);
+    for (std::string row; std::getline(rows, row);) {
+        if (contains(row, text)) {
+            return row;
+        }
+    }
+    return "";
+}
+
+TEST_F(Monitor, At80ColumnsALongSocketNameKeepsItsFileNameUptimeAndClock) {
+    start_simulated_daemon();
+    // A multi-gimbal name in a deep directory: a link to the daemon's socket.
+    const std::string dir = dir_.file("run-gport-site-a-long-directory-name");
+    ASSERT_EQ(::mkdir(dir.c_str(), 0700), 0);
+    const std::string socket = dir + "/gportd-gimbal1.sock";
+    ASSERT_EQ(::symlink(daemon_->socket().c_str(), socket.c_str()), 0);
+    ASSERT_GT(socket.size() + 40, 80U) << "the path alone must not fit the title";
+    TmuxPane pane(dir_, monitor_command(socket, ""));
+    ASSERT_TRUE(pane.started());
+    std::string screen;
+    ASSERT_TRUE(pane.wait_screen([](const std::string& s) { return contains(s, "● UP"); }, screen))
+        << screen;
+    const std::string title = row_with(screen, "gportctl monitor");
+    EXPECT_TRUE(std::regex_search(
+        title, std::regex(R"(^ gportctl monitor · gportd \S+ · …/gportd-gimbal1\.sock +)"
+                          R"(up [0-9.]+ s  [0-9]{2}:[0-9]{2}:[0-9]{2}$)")))
+        << title;
+    pane.keys("q");
+    EXPECT_TRUE(pane.wait_screen([](const std::string& s) { return contains(s, "MONITOR-EXIT=0"); },
+                                 screen))
+        << screen;
+}
+
+TEST_F(Monitor, AfterTheDaemonDiesItsLastValuesAreMarkedStaleAndTheReasonIsWhole) {
+    start_simulated_daemon();
+    ASSERT_EQ(client_->call("record", {{"on", true}, {"force", true}})["result"].is_object(), true);
+    TmuxPane pane(dir_, monitor_command(daemon_->socket(), ""));
+    ASSERT_TRUE(pane.started());
+    std::string screen;
+    ASSERT_TRUE(pane.wait_screen(
+        [](const std::string& s) { return screen_imu_yaw(s) && contains(s, "rec on"); }, screen))
+        << screen;
+    client_.reset();
+    daemon_->process().signal(SIGKILL);
+    ASSERT_TRUE(daemon_->process().wait().has_value());
+    ::unlink(daemon_->socket().c_str());  // as the issue saw it: "No such fi"
+    ASSERT_TRUE(pane.wait_screen(
+        [](const std::string& s) {
+            return contains(s, "NOT CONNECTED") && contains(s, "reason") &&
+                   contains(s, "running?)");
+        },
+        screen))
+        << screen;
+    // The values are still there, under titles that say they are stale...
+    EXPECT_TRUE(screen_imu_yaw(screen)) << screen;
+    EXPECT_TRUE(contains(screen, "rec on")) << screen;
+    EXPECT_TRUE(contains(screen, "Angles · stale")) << screen;
+    EXPECT_TRUE(contains(screen, "Daemon · stale")) << screen;
+    EXPECT_TRUE(contains(screen, "Attitude (IMU) · stale")) << screen;
+    // ... and faint: the last attributes tmux sets before them (capture-pane
+    // carries attributes from row to row) include 2 (faint), not cleared
+    // since (0 or 22).
+    const std::string with_escapes = pane.screen(true);
+    for (const std::string text : {"IMU ", "clients"}) {
+        const std::string before = with_escapes.substr(0, with_escapes.find(text));
+        const auto faint = before.rfind("\x1b[2m");
+        ASSERT_NE(faint, std::string::npos) << text << ": " << with_escapes;
+        EXPECT_EQ(before.find("\x1b[0m", faint), std::string::npos) << text << ": " << before;
+        EXPECT_EQ(before.find("\x1b[22m", faint), std::string::npos) << text << ": " << before;
+    }
+    // The reason whole: the socket's path, then why, on rows of their own.
+    std::string reason;
+    for (std::istringstream rows(screen); std::getline(rows, reason);) {
+        if (contains(reason, "reason")) {
+            std::string next;
+            while (std::getline(rows, next) && next.rfind("         ", 0) == 0) {
+                reason += next;
+            }
+            break;
+        }
+    }
+    std::string reason_text = reason;
+    std::erase(reason_text, ' ');
+    EXPECT_TRUE(
+        contains(reason_text, daemon_->socket() + ":Nosuchfileordirectory(isgportdrunning?)"))
+        << screen;
+    pane.keys("q");
+    EXPECT_TRUE(pane.wait_screen([](const std::string& s) { return contains(s, "MONITOR-EXIT=0"); },
+                                 screen))
+        << screen;
+}
+
+TEST_F(Monitor, InTheCLocaleEverythingIsAscii) {
+    start_simulated_daemon();
+    TmuxPane pane(dir_, monitor_command(daemon_->socket(), ""), {"LANG=C", "LC_ALL=", "LC_CTYPE="});
+    ASSERT_TRUE(pane.started());
+    std::string screen;
+    ASSERT_TRUE(pane.wait_screen(
+        [](const std::string& s) { return contains(s, "link * UP") && contains(s, "q quit"); },
+        screen))
+        << screen;
+    EXPECT_TRUE(contains(screen, "gportctl monitor - gportd")) << screen;
+    EXPECT_TRUE(std::regex_search(screen, std::regex(R"(IMU +[-+][0-9.]+d)"))) << screen;
+    EXPECT_TRUE(contains(screen, "+- Attitude (IMU) ---")) << screen;
+    for (unsigned char c : screen) {
+        ASSERT_LT(c, 0x80) << screen;
+    }
+    pane.keys("q");
+    EXPECT_TRUE(pane.wait_screen([](const std::string& s) { return contains(s, "MONITOR-EXIT=0"); },
+                                 screen))
+        << screen;
+}
+
+TEST_F(Monitor, AsciiForcedInAUtf8Locale) {
+    start_simulated_daemon();
+    TmuxPane pane(dir_, monitor_command(daemon_->socket(), "--ascii --for 5s"));
+    ASSERT_TRUE(pane.started());
+    std::string screen;
+    ASSERT_TRUE(pane.wait_screen(
+        [](const std::string& s) { return contains(s, "link * UP") && contains(s, "q quit"); },
+        screen))
+        << screen;
+    for (unsigned char c : screen) {
+        ASSERT_LT(c, 0x80) << screen;
+    }
 }
 
 TEST_F(Monitor, NoDaemonIsExit69) {

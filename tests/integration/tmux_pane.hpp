@@ -41,11 +41,15 @@ inline std::optional<std::string> shell_output(const std::string& command) {
 
 class TmuxPane {
   public:
-    // `env`: "NAME=value" entries for the pane.
+    // `env`: "NAME=value" entries for the pane. The pane's locale is UTF-8
+    // (C.UTF-8, whatever ours is) unless `env` names LANG, LC_ALL or LC_CTYPE.
     TmuxPane(const TempDir& dir, const std::string& command, std::vector<std::string> env = {},
              int width = 80, int height = 24)
         : tmux_(fmt::format("tmux -u -f /dev/null -S {}", shell_quote(dir.file("tmux.sock")))) {
         std::string env_args;
+        if (!names_locale(env)) {
+            env.insert(env.begin(), {"LC_ALL=", "LC_CTYPE=", "LANG=C.UTF-8"});
+        }
         for (const auto& e : env) {
             env_args += " -e " + shell_quote(e);
         }
@@ -90,6 +94,17 @@ class TmuxPane {
     }
 
   private:
+    static bool names_locale(const std::vector<std::string>& env) {
+        for (const auto& e : env) {
+            for (const char* name : {"LANG=", "LC_ALL=", "LC_CTYPE="}) {
+                if (e.rfind(name, 0) == 0) {
+                    return true;
+                }
+            }
+        }
+        return false;
+    }
+
     std::string tmux_;
     bool started_ = false;
 };

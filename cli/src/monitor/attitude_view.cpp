@@ -59,6 +59,24 @@ CellDots dots_of_cell(int cell_x, int cell_y, double cx, double cy, double roll,
     return dots;
 }
 
+// The ASCII character for a cell of the horizon line tilted by `roll_deg`
+// (rolled right: its right side rises, '/').
+std::string ascii_line(double roll_deg) {
+    double tilt = std::fmod(roll_deg, 180.0);  // the line looks the same turned by 180°
+    if (tilt > 90.0) {
+        tilt -= 180.0;
+    } else if (tilt <= -90.0) {
+        tilt += 180.0;
+    }
+    if (std::fabs(tilt) <= 22.5) {
+        return "-";
+    }
+    if (std::fabs(tilt) >= 67.5) {
+        return "|";
+    }
+    return tilt > 0 ? "/" : "\\";
+}
+
 }  // namespace
 
 double wrap_degrees(double degrees) {
@@ -71,7 +89,7 @@ double wrap_degrees(double degrees) {
     return wrapped;
 }
 
-void draw_horizon(Screen& screen, const Box& box, double roll_deg, double pitch_deg) {
+void draw_horizon(Screen& screen, const Box& box, double roll_deg, double pitch_deg, bool ascii) {
     if (box.width < 3 || box.height < 1) {
         return;
     }
@@ -86,6 +104,9 @@ void draw_horizon(Screen& screen, const Box& box, double roll_deg, double pitch_
             const unsigned bits = dots.line | dots.ground;
             if (bits == 0) {
                 screen.set(box.row + y, box.col + x, " ");
+            } else if (ascii) {
+                screen.set(box.row + y, box.col + x, dots.line != 0 ? ascii_line(roll_deg) : ".",
+                           dots.line != 0 ? kLineStyle : kGroundStyle);
             } else {
                 screen.set(box.row + y, box.col + x, braille(bits),
                            dots.line != 0 ? kLineStyle : kGroundStyle);

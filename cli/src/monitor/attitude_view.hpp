@@ -21,8 +21,10 @@ inline constexpr double kTapeDegPerColumn = 2.0;
 
 // The horizon in `box`: the line through the centre tilted by `roll` and
 // shifted by `pitch` (nose up moves it down), the ground below it dotted,
-// the aircraft's mark fixed at the centre.
-void draw_horizon(Screen& screen, const Box& box, double roll_deg, double pitch_deg);
+// the aircraft's mark fixed at the centre. `ascii`: the line drawn with
+// - / \ | by its slope and the ground with dots, one character a cell.
+void draw_horizon(Screen& screen, const Box& box, double roll_deg, double pitch_deg,
+                  bool ascii = false);
 
 // Two rows from box.row: ticks every 10° (┼ every 30°) with a ▲ at the
 // centre, then the heading under it and labels every 30° (-180..180) around.

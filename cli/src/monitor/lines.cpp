@@ -167,7 +167,9 @@ Line link_line(const MonitorModel& model) {
     if (!model.connected) {
         return {{"daemon ", kLabel},
                 {"✖ NOT CONNECTED", Style{.fg = Color::kRed, .bold = true}},
-                {"  " + model.connection_error + " · retrying", kValue}};
+                {(model.stale_since.empty() ? "" : "  since " + model.stale_since) +
+                     " · retrying every second",
+                 kValue}};
     }
     std::string state = model.link_state;
     for (auto& c : state) {
@@ -182,6 +184,20 @@ Line link_line(const MonitorModel& model) {
         line.push_back({" · " + model.device + (model.device_open ? "" : " (not open)"), kLabel});
     }
     return line;
+}
+
+std::vector<Line> reason_lines(const MonitorModel& model, int width, int max_rows) {
+    constexpr int kIndent = 8;  // under the value column of "reason  "
+    auto rows = wrap(model.connection_error, std::max(width - kIndent, 1));
+    if (static_cast<int>(rows.size()) > max_rows && max_rows > 0) {
+        rows.resize(static_cast<std::size_t>(max_rows));
+        rows.back() = fit(rows.back(), std::max(width - kIndent - 1, 0)) + "…";
+    }
+    std::vector<Line> lines;
+    for (std::size_t i = 0; i < rows.size() && static_cast<int>(i) < max_rows; ++i) {
+        lines.push_back(labelled(i == 0 ? "reason" : "", rows[i]));
+    }
+    return lines;
 }
 
 Line key_line(const MonitorModel& model) {

@@ -20,6 +20,9 @@ using Line = std::vector<Span>;
 inline constexpr Style kLabel{.fg = Color::kGrey};
 inline constexpr Style kTitle{.fg = Color::kCyan, .bold = true};
 inline constexpr Style kValue{};
+// Values from before the connection was lost, and the mark saying so.
+inline constexpr Style kStale{.fg = Color::kGrey, .dim = true};
+inline constexpr Style kStaleMark{.fg = Color::kYellow, .bold = true};
 
 Style severity_style(Severity severity);
 Style link_style(const std::string& state);
@@ -35,6 +38,9 @@ std::vector<Line> motion_lines(const MonitorModel& model);
 std::vector<Line> daemon_lines(const MonitorModel& model);
 // "● UP  attitude arriving · last sample 12 ms ago · /dev/pts/1".
 Line link_line(const MonitorModel& model);
+// Why gportd cannot be reached, "reason  " and the whole message wrapped to
+// `width` columns in at most `max_rows` lines (cut with "…" only beyond).
+std::vector<Line> reason_lines(const MonitorModel& model, int width, int max_rows);
 // The key help for the bottom row.
 Line key_line(const MonitorModel& model);
 // "12:03:04  link down: ..." for one event.

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "charset.hpp"
 #include "feed.hpp"
 #include "gport/cli/options.hpp"
 #include "gport/cli/output.hpp"
@@ -30,6 +31,10 @@ bool use_color(ColorMode mode) {
     }
     const char* no_color = std::getenv("NO_COLOR");  // https://no-color.org
     return no_color == nullptr || *no_color == '\0';
+}
+
+monitor::Charset charset_of(const MonitorOptions& options) {
+    return options.ascii ? monitor::Charset::kAscii : monitor::charset_from_locale();
 }
 
 steady_clock::time_point deadline_of(const MonitorOptions& options) {
@@ -68,6 +73,7 @@ bool handle_key(monitor::Key key, Feed& feed, bool control) {
 int full_screen(const MonitorOptions& options, Feed& feed,
                 const std::function<bool()>& interrupted) {
     const bool color = use_color(options.color);
+    const auto charset = charset_of(options);
     const auto deadline = deadline_of(options);
     monitor::Terminal terminal;
     std::optional<monitor::Screen> shown;
@@ -88,7 +94,7 @@ int full_screen(const MonitorOptions& options, Feed& feed,
         }
         if (steady_clock::now() >= next_frame) {
             const auto size = terminal.size();
-            auto screen = monitor::render(feed.model(), size.width, size.height);
+            auto screen = monitor::render(feed.model(), size.width, size.height, charset);
             terminal.write(monitor::ansi_update(shown ? &*shown : nullptr, screen, color));
             shown = std::move(screen);
             next_frame = std::max(next_frame + kFrameEvery, steady_clock::now());
@@ -100,13 +106,14 @@ int full_screen(const MonitorOptions& options, Feed& feed,
 int plain(const MonitorOptions& options, Feed& feed, std::ostream& out,
           const std::function<bool()>& interrupted) {
     const auto deadline = deadline_of(options);
+    const auto charset = charset_of(options);
     auto next_block = steady_clock::now() + 300ms;  // let the first samples arrive
     std::uint64_t events_printed = 0;
     while (!interrupted() && steady_clock::now() < deadline) {
         feed.pump(kSlice);
         if (steady_clock::now() >= next_block) {
             const auto model = feed.model();
-            out << monitor::render_plain(model, model.events_total - events_printed);
+            out << monitor::render_plain(model, model.events_total - events_printed, charset);
             out.flush();
             events_printed = model.events_total;
             next_block = std::max(next_block + kBlockEvery, steady_clock::now());

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <string>
 
+#include "charset.hpp"
 #include "screen.hpp"
 #include "state.hpp"
 
@@ -20,12 +21,15 @@ inline constexpr int kMinHeight = 6;
 // The nudge speed of the arrow keys (°/s), shown in the key help.
 inline constexpr double kNudgeSpeedDegPerS = 20.0;
 
-// The whole screen for a terminal of width × height.
-Screen render(const MonitorModel& model, int width, int height);
+// The whole screen for a terminal of width × height; with kAscii, no
+// character outside ASCII. Once gportd is gone, the last values it gave stay
+// but faint, under titles marked "stale", and the reason shows whole.
+Screen render(const MonitorModel& model, int width, int height, Charset charset = Charset::kUtf8);
 
 // The plain status block printed once a second when stdout is not a
 // terminal: a few "name: value" lines, then the `new_events` latest events,
 // then an empty line. No escape sequences.
-std::string render_plain(const MonitorModel& model, std::size_t new_events);
+std::string render_plain(const MonitorModel& model, std::size_t new_events,
+                         Charset charset = Charset::kUtf8);
 
 }  // namespace gport::cli::monitor

@@ -44,8 +44,8 @@ int sgr_colour(Color color) {
 }
 
 std::string sgr(const Style& style) {
-    return fmt::format("\x1b[0;{}{}{}m", sgr_colour(style.fg), style.bold ? ";1" : "",
-                       style.reverse ? ";7" : "");
+    return fmt::format("\x1b[0;{}{}{}{}m", sgr_colour(style.fg), style.bold ? ";1" : "",
+                       style.dim ? ";2" : "", style.reverse ? ";7" : "");
 }
 
 void append_row(std::string& out, const Screen& screen, int row, bool color) {

@@ -17,6 +17,7 @@ struct Style {
     Color fg = Color::kDefault;
     bool bold = false;
     bool reverse = false;
+    bool dim = false;  // faint: values that are no longer live
     friend bool operator==(const Style&, const Style&) = default;
 };
 

@@ -54,10 +54,14 @@ MonitorState::MonitorState(std::string socket, bool control_requested) {
 void MonitorState::on_connected(const Now& now) {
     base_.connected = true;
     base_.connection_error.clear();
+    base_.stale_since.clear();
     note(fmt::format("connected to gportd at {}", base_.socket), Severity::kGood, now);
 }
 
 void MonitorState::on_disconnected(const std::string& why, const Now& now) {
+    if (base_.connected || base_.stale_since.empty()) {
+        base_.stale_since = now.clock;
+    }
     if (base_.connected) {
         note("lost the connection to gportd: " + why, Severity::kBad, now);
     }

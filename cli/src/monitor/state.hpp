@@ -52,6 +52,7 @@ struct MonitorModel {
     std::string clock{};
     bool connected = false;
     std::string connection_error{};  // why not connected
+    std::string stale_since{};       // "HH:MM:SS" the connection was lost; values from before
     std::string daemon_version{};
     std::optional<std::int64_t> uptime_ms{};
     std::string link_state{"unknown"};  // up, stale, down, unknown

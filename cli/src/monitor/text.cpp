@@ -55,6 +55,39 @@ std::string duration_text(std::int64_t ms) {
     return fmt::format("{:.1f} s", static_cast<double>(ms) / 1000.0);
 }
 
+std::vector<std::string> wrap(const std::string& text, int width) {
+    std::vector<std::string> rows;
+    if (width <= 0) {
+        return rows;
+    }
+    std::string row;
+    int used = 0;
+    for (const auto& glyph : split_glyphs(text)) {
+        if (used == width) {  // break at the last space, else right here
+            const auto space = row.find_last_of(' ');
+            std::string rest;
+            if (glyph != " " && space != std::string::npos && space > 0) {
+                rest = row.substr(space + 1);
+                row.resize(space);
+            }
+            rows.push_back(row);
+            row = rest;
+            used = columns(row);
+            if (glyph == " ") {
+                continue;
+            }
+        }
+        if (!(used == 0 && glyph == " " && !rows.empty())) {
+            row += glyph;
+            ++used;
+        }
+    }
+    if (!row.empty() || rows.empty()) {
+        rows.push_back(row);
+    }
+    return rows;
+}
+
 std::string fit(const std::string& text, int width) {
     std::string out;
     int used = 0;

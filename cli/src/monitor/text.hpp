@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "gport/client/types.hpp"
 
@@ -17,6 +18,9 @@ std::string axes_text(const client::Axes& axes, const char* unit);
 std::string peer_text(const std::optional<client::Peer>& peer, std::int64_t self_id);
 // "0.4 s", "12 s", "3m 05s", "2h 03m".
 std::string duration_text(std::int64_t ms);
+// `text` in rows of at most `width` columns, broken at spaces; a word longer
+// than a row (a path) is broken where it reaches the end of the row.
+std::vector<std::string> wrap(const std::string& text, int width);
 // Pads with spaces or cuts to exactly `width` columns (UTF-8 aware).
 std::string fit(const std::string& text, int width);
 

@@ -110,8 +110,12 @@ TEST(MonitorRender, DisconnectedAndLinkDown) {
     EXPECT_THAT(render(model, 80, 24).row_text(1), HasSubstr("link ● DOWN  device vanished"));
     model.connected = false;
     model.connection_error = "cannot connect to /run/gportd.sock: No such file or directory";
-    EXPECT_THAT(render(model, 80, 24).row_text(1),
-                HasSubstr("daemon ✖ NOT CONNECTED  cannot connect to /run/gportd.sock"));
+    model.stale_since = "12:03:01";
+    const Screen screen = render(model, 80, 24);
+    EXPECT_THAT(screen.row_text(1),
+                HasSubstr("daemon ✖ NOT CONNECTED  since 12:03:01 · retrying every second"));
+    EXPECT_THAT(screen.row_text(2),
+                HasSubstr("reason  cannot connect to /run/gportd.sock: No such file or directory"));
 }
 
 TEST(MonitorRender, ControlKeysShowWhoHoldsControl) {

@@ -133,8 +133,15 @@ TEST(MonitorState, DisconnectForgetsTheLinkAndSaysWhy) {
     EXPECT_EQ(model.connection_error, "the daemon closed the connection");
     EXPECT_EQ(model.events.back().text,
               "lost the connection to gportd: the daemon closed the connection");
-    state.on_connected(at(1000ms));
-    EXPECT_TRUE(state.model(at(1000ms)).connected);
+    // The values kept are marked as from before the loss; retries that fail
+    // keep that time.
+    EXPECT_EQ(model.stale_since, "12:00:00");
+    state.on_disconnected("cannot connect", Now{kStart + 2s, "12:00:02"});
+    EXPECT_EQ(state.model(at(2s)).stale_since, "12:00:00");
+    EXPECT_EQ(state.model(at(2s)).connection_error, "cannot connect");
+    state.on_connected(at(3s));
+    EXPECT_TRUE(state.model(at(3s)).connected);
+    EXPECT_EQ(state.model(at(3s)).stale_since, "");
 }
 
 TEST(MonitorState, KeepsTheLatestEvents) {

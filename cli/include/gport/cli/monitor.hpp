@@ -17,6 +17,7 @@ struct MonitorOptions {
     bool control = false;                               // --control: acquire; arrows nudge
     std::optional<std::chrono::milliseconds> duration;  // --for: end after it
     ColorMode color = ColorMode::kAuto;                 // auto: colour unless $NO_COLOR
+    bool ascii = false;  // --ascii: ASCII only, as in a locale that is not UTF-8
 };
 
 // Runs until q, Ctrl-C/SIGTERM (`interrupted` turns true) or the duration.
