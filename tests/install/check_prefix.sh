@@ -38,10 +38,12 @@ chmod 755 "$work"
 
 # As uid/gid 65534 with no supplementary groups when we are root (CI);
 # as ourselves otherwise.
+# (A command word, not a function: `as_user ... &` must give the daemon's own
+# pid in $!, which a function run in a background subshell would not.)
 if [ "$(id -u)" -eq 0 ]; then
-    as_user() { setpriv --reuid=65534 --regid=65534 --clear-groups -- "$@"; }
+    as_user="setpriv --reuid=65534 --regid=65534 --clear-groups --"
 else
-    as_user() { "$@"; }
+    as_user=
 fi
 
 # A cross build's programs run under qemu-user (binfmt_misc), which finds the
@@ -64,7 +66,7 @@ run_all() {
     found=
     for program in "$1"/bin/*; do
         name=$(basename "$program")
-        out=$(as_user env -i $keep "$program" --version 2>&1) \
+        out=$($as_user env -i $keep "$program" --version 2>&1) \
             || fail "$program --version failed (exit $?): $out"
         case $out in
             "$name "[0-9]*) ;;
@@ -75,7 +77,7 @@ run_all() {
     for name in gportd gportctl gport-sim gport-mavlink; do
         case " $found " in *" $name "*) ;; *) fail "no $name in $1/bin (has:$found)" ;; esac
     done
-    echo "$1/bin:$found: --version runs (uid $(as_user id -u), env -i)"
+    echo "$1/bin:$found: --version runs (uid $($as_user id -u), env -i)"
 }
 chown -R 65534:65534 "$prefix" 2>/dev/null || true
 run_all "$prefix"
@@ -84,16 +86,16 @@ mv "$prefix" "$moved"
 run_all "$moved"
 
 # The default config is the prefix's own.
-help=$(as_user env -i $keep "$moved/bin/gportd" --help)
+help=$($as_user env -i $keep "$moved/bin/gportd" --help)
 printf '%s\n' "$help" | grep -q "default $moved/etc/gportd/gportd.json" \
     || fail "gportd --help does not name $moved/etc/gportd/gportd.json as the default:
 $help"
 echo "gportd's default config: $moved/etc/gportd/gportd.json"
 
 # The non-root quick start. As a user, /run is not writable.
-if [ "$(as_user id -u)" -ne 0 ]; then
+if [ "$($as_user id -u)" -ne 0 ]; then
     status=0
-    out=$(as_user env -i $keep "$moved/bin/gportd" --simulate --socket /run/gportd-prefix-test.sock 2>&1) \
+    out=$($as_user env -i $keep "$moved/bin/gportd" --simulate --socket /run/gportd-prefix-test.sock 2>&1) \
         || status=$?
     [ "$status" -eq 1 ] || fail "gportd on an unwritable socket path: exit $status, not 1: $out"
     for piece in "cannot bind: Permission denied" '--socket "$XDG_RUNTIME_DIR/gportd.sock"' \
@@ -105,11 +107,11 @@ fi
 runtime=$work/runtime
 mkdir -m 700 "$runtime"
 chown 65534:65534 "$runtime" 2>/dev/null || true
-as_user env -i $keep XDG_RUNTIME_DIR="$runtime" "$moved/bin/gportd" --simulate \
+$as_user env -i $keep XDG_RUNTIME_DIR="$runtime" "$moved/bin/gportd" --simulate \
     --socket "$runtime/gportd.sock" >"$work/gportd.log" 2>&1 &
 daemon_pid=$!
 tries=0
-until as_user env -i $keep "$moved/bin/gportctl" --socket "$runtime/gportd.sock" status \
+until $as_user env -i $keep "$moved/bin/gportctl" --socket "$runtime/gportd.sock" status \
     >"$work/status.txt" 2>&1; do
     tries=$((tries + 1))
     kill -0 "$daemon_pid" 2>/dev/null || fail "gportd exited: $(cat "$work/gportd.log")"
