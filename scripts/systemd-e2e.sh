@@ -203,10 +203,16 @@ set +e
 timeout --kill-after=20 "$boot_timeout" "${nspawn[@]}" --console=passive \
     --bind-ro="$stage:/mnt" --bind="$archives:/var/cache/apt/archives" --resolv-conf=copy-host \
     --boot -- systemd.show_status=false systemd.log_target=journal systemd.log_color=false \
-    </dev/null | tr -d '\r'
+    </dev/null | tr -d '\r' | tee "$work/console.log"
 rc=${PIPESTATUS[0]}
 set -e
 took=$(($(date +%s) - start))
+# A container that powers off for another reason also exits 0: only the
+# steps' own summary line says they ran to the end.
+if [ "$rc" -eq 0 ] && ! grep -qE '^== [0-9]+ checks passed, 0 failed' "$work/console.log"; then
+    say "FAIL: the container stopped (status 0) before the steps reported their result"
+    rc=3
+fi
 case $rc in
     0) say "all steps passed in $took s" ;;
     124) say "FAIL: the container did not finish within $boot_timeout s; root kept in $run"
