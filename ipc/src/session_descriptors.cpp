@@ -10,6 +10,7 @@
 #include <string>
 
 #include "attitude_channel.hpp"
+#include "gport/base/descriptors.hpp"
 #include "gport/ipc/json_rpc.hpp"
 #include "session.hpp"
 
@@ -61,23 +62,8 @@ bool Session::send_with_descriptors() {
         host_.channel_delivered(state_.info, EBADF);
         return true;
     }
-    const std::size_t count = fds.size();
-    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * 2)]{};
-    iovec iov{const_cast<char*>(line->data()), line->size()};
-    msghdr message{};
-    message.msg_iov = &iov;
-    message.msg_iovlen = 1;
-    message.msg_control = control;
-    message.msg_controllen = sizeof(control);
-    cmsghdr* header = CMSG_FIRSTHDR(&message);
-    header->cmsg_level = SOL_SOCKET;
-    header->cmsg_type = SCM_RIGHTS;
-    header->cmsg_len = CMSG_LEN(sizeof(int) * count);
-    std::memcpy(CMSG_DATA(header), fds.data(), sizeof(int) * count);
-    ssize_t sent = -1;
-    do {
-        sent = ::sendmsg(socket_.native_handle(), &message, MSG_DONTWAIT | MSG_NOSIGNAL);
-    } while (sent < 0 && errno == EINTR);
+    const ssize_t sent = base::send_with_descriptors(
+        socket_.native_handle(), line->data(), line->size(), fds, MSG_DONTWAIT | MSG_NOSIGNAL);
     if (sent < 0) {
         const int error = errno;
         if (error == EAGAIN || error == EWOULDBLOCK) {

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "gport/base/attitude_ring.hpp"
+#include "gport/base/descriptors.hpp"
 #include "gport/base/futex.hpp"
 #include "gport/base/wake_block.hpp"
 
@@ -329,22 +330,9 @@ class FakeServer {
 
     // Caller holds mutex_. The descriptors go with the line's first byte.
     void send_line(const std::string& line, const std::vector<int>& fds) {
-        iovec io{const_cast<char*>(line.data()), line.size()};
-        msghdr message{};
-        message.msg_iov = &io;
-        message.msg_iovlen = 1;
-        std::vector<char> control(CMSG_SPACE(sizeof(int) * fds.size()));
-        if (!fds.empty()) {
-            message.msg_control = control.data();
-            message.msg_controllen = control.size();
-            cmsghdr* c = CMSG_FIRSTHDR(&message);
-            c->cmsg_level = SOL_SOCKET;
-            c->cmsg_type = SCM_RIGHTS;
-            c->cmsg_len = CMSG_LEN(sizeof(int) * fds.size());
-            std::memcpy(CMSG_DATA(c), fds.data(), sizeof(int) * fds.size());
-        }
         if (client_ >= 0) {
-            [[maybe_unused]] const auto n = ::sendmsg(client_, &message, MSG_NOSIGNAL);
+            [[maybe_unused]] const auto n =
+                base::send_with_descriptors(client_, line.data(), line.size(), fds);
         }
     }
 

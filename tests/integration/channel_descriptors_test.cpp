@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "channel_client.hpp"
+#include "gport/base/descriptors.hpp"
 #include "harness.hpp"
 
 namespace gport::testing {
@@ -54,21 +55,9 @@ constexpr unsigned kLifetime = 100;  // seconds, the hoarder's at most (SIGALRM)
     for (int& fd : fds) {
         fd = null;
     }
-    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(fds))];
     for (int sent = 0; sent < kInFlight; sent += kPerMessage) {
-        char byte = 'x';
-        iovec iov{&byte, 1};
-        msghdr message{};
-        message.msg_iov = &iov;
-        message.msg_iovlen = 1;
-        message.msg_control = control;
-        message.msg_controllen = sizeof(control);
-        cmsghdr* header = CMSG_FIRSTHDR(&message);
-        header->cmsg_level = SOL_SOCKET;
-        header->cmsg_type = SCM_RIGHTS;
-        header->cmsg_len = CMSG_LEN(sizeof(fds));
-        std::memcpy(CMSG_DATA(header), fds, sizeof(fds));
-        if (::sendmsg(pair[0], &message, 0) != 1) {
+        const char byte = 'x';
+        if (base::send_with_descriptors(pair[0], &byte, 1, fds, 0) != 1) {
             ::_exit(2);
         }
     }

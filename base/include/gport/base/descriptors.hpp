@@ -1,4 +1,4 @@
-// recvmsg with SCM_RIGHTS: gportd attaches the attitude channel's two
+// sendmsg and recvmsg with SCM_RIGHTS: gportd attaches the attitude channel's two
 // descriptors (the ring and the connection's wake block) to the first
 // `attitude_channel` reply of a connection (docs/api.md). The client
 // library's transports, the benchmarks and the tests read the socket with it
@@ -11,9 +11,11 @@
 #include <sys/uio.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstddef>
 #include <cstring>
 #include <deque>
+#include <span>
 
 namespace gport::base {
 
@@ -50,6 +52,40 @@ inline ssize_t receive_with_descriptors(int socket, char* data, std::size_t size
         }
     }
     return n;
+}
+
+// Descriptors one sendmsg may carry (Linux's SCM_MAX_FD).
+inline constexpr std::size_t kMaxSendDescriptors = 253;
+
+// One sendmsg of `size` bytes of `data` with `fds` attached (SCM_RIGHTS; no
+// control message when `fds` is empty), retried on EINTR. Returns sendmsg's
+// result; more than kMaxSendDescriptors is -1 with EINVAL. No allocation:
+// safe in a child after fork.
+inline ssize_t send_with_descriptors(int socket, const char* data, std::size_t size,
+                                     std::span<const int> fds, int flags = MSG_NOSIGNAL) {
+    if (fds.size() > kMaxSendDescriptors) {
+        errno = EINVAL;
+        return -1;
+    }
+    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * kMaxSendDescriptors)]{};
+    iovec io{const_cast<char*>(data), size};
+    msghdr message{};
+    message.msg_iov = &io;
+    message.msg_iovlen = 1;
+    if (!fds.empty()) {
+        message.msg_control = control;
+        message.msg_controllen = CMSG_SPACE(sizeof(int) * fds.size());
+        cmsghdr* header = CMSG_FIRSTHDR(&message);
+        header->cmsg_level = SOL_SOCKET;
+        header->cmsg_type = SCM_RIGHTS;
+        header->cmsg_len = CMSG_LEN(sizeof(int) * fds.size());
+        std::memcpy(CMSG_DATA(header), fds.data(), sizeof(int) * fds.size());
+    }
+    ssize_t sent = -1;
+    do {
+        sent = ::sendmsg(socket, &message, flags);
+    } while (sent < 0 && errno == EINTR);
+    return sent;
 }
 
 // The first descriptor received and not claimed yet, or -1; the caller
