@@ -84,12 +84,19 @@ TEST_F(Examples, SweepAndPhotoWaitsAtEachPosition) {
 // docs/client-cpp.md's notifications snippet, compiled as written: the time
 // with its milliseconds, not 1.79553e+09 (issue 26).
 TEST_F(Examples, DocSnippetPrintsTheTimeInFull) {
-    // stdbuf: the snippet prints "\n", not std::endl; a pipe would hold the lines.
-    Process snippet({"/usr/bin/stdbuf", "-oL", DOC_SNIPPET_PATH, socket()});
+    // The snippet prints "\n", not std::endl: a pipe would hold its lines, a
+    // terminal has them line-buffered. `script` (util-linux) gives it one.
+    // (Not stdbuf: its LD_PRELOAD library is this machine's, of no use to a
+    // cross build's program under qemu-user.) The terminal ends lines in CR LF.
+    Process snippet({"/usr/bin/script", "-qfec",
+                     std::string(DOC_SNIPPET_PATH) + " '" + socket() + "'", "/dev/null"});
     std::vector<std::string> lines;
     while (lines.size() < 3) {
         auto line = snippet.next_line(10s);
         ASSERT_TRUE(line) << "no attitude line from the snippet";
+        if (!line->empty() && line->back() == '\r') {
+            line->pop_back();
+        }
         lines.push_back(*line);
     }
     snippet.signal(SIGTERM);
