@@ -174,7 +174,12 @@ TEST(HostileServer, AnEndlessFloodDoesNotHoldACallPastItsTimeout) {
     });
     auto client = gc::Client::connect(server.path());
     client.set_call_timeout(300ms);
-    EXPECT_TRUE(error_of([&] { client.status(); }).is(gc::ErrorCode::kTimeout));
+    // Every call times out while the flood goes on; on a slow machine (or
+    // under qemu-user) it takes more than one call's 300 ms before the flood
+    // has overrun the client's queue and notifications are dropped.
+    for (int call = 0; call < 50 && client.dropped_notifications() == 0; ++call) {
+        ASSERT_TRUE(error_of([&] { client.status(); }).is(gc::ErrorCode::kTimeout));
+    }
     EXPECT_GT(client.dropped_notifications(), 0U);
 }
 
