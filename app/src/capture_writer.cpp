@@ -130,7 +130,7 @@ void CaptureWriter::run() {
 bool CaptureWriter::open_file() {
     const auto path = files_.file(0);
     ::mkdir(files_.dir.c_str(), 0750);  // one level, when --state-dir names a new one
-    fd_ = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0640);
+    fd_ = ::open(path.c_str(), O_RDWR | O_APPEND | O_CREAT | O_CLOEXEC, 0640);  // RDWR: pread
     if (fd_ < 0) {
         failed("cannot open " + path, errno);
         return false;
