@@ -440,7 +440,8 @@ const std::vector<Section>& sections() {
            }},
           {"keep_files",
            [](Reader& r, const Json& v, const std::string& p, Config& c) {
-               if (auto n = r.integer(v, p, 1, 100)) {
+               // 2: the current file and one rotated, so the newest index always survives.
+               if (auto n = r.integer(v, p, 2, 100)) {
                    c.captures.keep_files = static_cast<int>(*n);
                }
            }}}},

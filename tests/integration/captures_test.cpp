@@ -1,6 +1,7 @@
 // The capture log end to end (issue 25): the real gportd --simulate over its
 // socket, its files in a state directory of the test's, restarted, on a full
 // disk and a tiny one, and read back by gportctl captures --csv.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/mount.h>
 #include <unistd.h>
@@ -17,6 +18,16 @@
 
 namespace gport::testing {
 namespace {
+
+// The n-th comma-separated cell of a CSV line.
+std::string split_cell(const std::string& line, std::size_t n) {
+    std::stringstream row(line + ",");
+    std::string cell;
+    for (std::size_t i = 0; i <= n; ++i) {
+        std::getline(row, cell, ',');
+    }
+    return cell;
+}
 
 class CapturesEndToEnd : public ::testing::Test {
   protected:
@@ -36,6 +47,17 @@ class CapturesEndToEnd : public ::testing::Test {
     }
     Json captures(const Json& params = nullptr) {
         return client_->call("captures", params)["result"];
+    }
+    // gportctl's exit status and its stdout, as lines.
+    std::pair<int, std::vector<std::string>> gportctl(std::vector<std::string> args) {
+        args.insert(args.begin(), {GPORTCTL_PATH, "--socket", daemon_->socket()});
+        Process process(args);
+        const int status = process.wait(20s).value_or(-1);
+        std::vector<std::string> lines;
+        while (auto line = process.next_line(5s)) {
+            lines.push_back(*line);
+        }
+        return {status, lines};
     }
     Json status_captures() { return client_->call("status")["result"]["captures"]; }
     // Waits until the writer has dealt with every capture taken.
@@ -90,6 +112,76 @@ TEST_F(CapturesEndToEnd, RotationKeepsNFilesAndTheIndexesAcrossARestart) {
     EXPECT_EQ(kept.back()["index"], 30);
     EXPECT_GT(kept.front()["index"], 1) << "the oldest went with the oldest file";
     EXPECT_EQ(client_->call("photo")["result"]["capture"]["index"], 31);
+}
+
+// The CSV a geotagger reads, checked field by field against the captures
+// the API lists for the same run.
+TEST_F(CapturesEndToEnd, GportctlCapturesCsvMatchesTheRun) {
+    start();
+    const auto moved = client_->call("angle", {{"pitch", -30}, {"wait", true}}, 20s);
+    ASSERT_EQ(moved["result"]["ended"]["reason"], "reached") << moved;
+    client_->call("photo", {{"meta", {{"lat", 47.397742}, {"lon", 8.545594}, {"alt_m", 488.5}}}});
+    client_->call("record", {{"on", true}, {"force", true}, {"meta", {{"wp", 2}}}});
+    client_->call("record", {{"on", false}});
+    const auto listed = captures()["captures"];
+    ASSERT_EQ(listed.size(), 3u);
+
+    const auto [status, lines] = gportctl({"captures", "--csv"});
+    ASSERT_EQ(status, 0);
+    ASSERT_EQ(lines.size(), 4u);
+    EXPECT_EQ(
+        lines[0],
+        "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,hall_yaw,lat,lon,alt_m");
+    for (std::size_t i = 0; i < 3; ++i) {
+        std::vector<std::string> cells;
+        std::stringstream row(lines[i + 1] + ",");
+        for (std::string cell; std::getline(row, cell, ',');) {
+            cells.push_back(cell);
+        }
+        ASSERT_EQ(cells.size(), 12u) << lines[i + 1];
+        const auto& c = listed[i];
+        EXPECT_EQ(cells[0], c["index"].dump());
+        EXPECT_EQ(cells[2], c["kind"]);
+        EXPECT_EQ(cells[1].size(), 27u) << "2026-11-24T23:33:03.085470Z: " << cells[1];
+        EXPECT_EQ(cells[1].back(), 'Z');
+        const auto us = c["utc_us"].get<std::int64_t>() % 1000000;
+        EXPECT_EQ(cells[1].substr(20, 6), fmt::format("{:06}", us));
+        EXPECT_EQ(std::stod(cells[4]), c["attitude"]["imu"]["pitch"].get<double>());
+        EXPECT_EQ(std::stod(cells[8]), c["attitude"]["hall"]["yaw"].get<double>());
+    }
+    EXPECT_NEAR(std::stod(split_cell(lines[1], 4)), -30, 1.0) << "the camera pointed down";
+    EXPECT_EQ(split_cell(lines[1], 9), "47.397742");
+    EXPECT_EQ(split_cell(lines[1], 10), "8.545594");
+    EXPECT_EQ(split_cell(lines[1], 11), "488.5");
+    EXPECT_EQ(split_cell(lines[2], 9), "") << "no position in its meta";
+
+    const auto [since_status, since_lines] = gportctl({"captures", "--csv", "--since", "3"});
+    EXPECT_EQ(since_status, 0);
+    ASSERT_EQ(since_lines.size(), 2u);
+    EXPECT_TRUE(since_lines[1].starts_with("3,"));
+    const auto [table_status, table] = gportctl({"captures", "--limit", "1"});
+    EXPECT_EQ(table_status, 0);
+    ASSERT_EQ(table.size(), 2u) << "a header and one capture";
+    EXPECT_TRUE(contains(table[1], "photo"));
+    const auto [both, refusal] = gportctl({"captures", "--csv", "--json"});
+    EXPECT_EQ(both, 64);
+}
+
+TEST_F(CapturesEndToEnd, GportctlCapturesFollowListsThenTails) {
+    start();
+    client_->call("photo");
+    Process follow(
+        {GPORTCTL_PATH, "--socket", daemon_->socket(), "--json", "captures", "--follow"});
+    const auto first = follow.next_line();
+    ASSERT_TRUE(first);
+    EXPECT_EQ(Json::parse(*first)["index"], 1);
+    client_->call("photo", {{"meta", {{"wp", 9}}}});
+    const auto tailed = follow.next_line();
+    ASSERT_TRUE(tailed) << "the new capture was not tailed";
+    EXPECT_EQ(Json::parse(*tailed)["index"], 2);
+    EXPECT_EQ(Json::parse(*tailed)["meta"]["wp"], 9);
+    follow.signal(SIGINT);
+    EXPECT_EQ(follow.wait(), 0);
 }
 
 // Every write fails (the file is /dev/full): the daemon keeps serving, the
