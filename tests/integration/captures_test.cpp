@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/mount.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -209,6 +210,37 @@ TEST_F(CapturesEndToEnd, AFullDiskLosesNoStopKeepsServingAndShowsTheError) {
     EXPECT_TRUE(contains(s["error"], "No space left on device")) << s;
     EXPECT_EQ(captures()["captures"].size(), 5u) << "kept in memory";
     EXPECT_EQ(client_->call("attitude")["result"].contains("imu"), true) << "still serving";
+}
+
+// A state directory gportd may not write (as root, gportd runs as nobody
+// under setpriv: root would write anyway).
+TEST_F(CapturesEndToEnd, AReadOnlyStateDirectoryKeepsServingAndShowsTheError) {
+    std::filesystem::create_directory(state_);
+    ASSERT_EQ(::chmod(state_.c_str(), 0555), 0);
+    std::vector<std::string> wrapper;
+    if (::geteuid() == 0) {
+        ASSERT_EQ(::chmod(dir_.path().c_str(), 0777), 0);  // for nobody's socket
+        wrapper = {"/usr/bin/setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", "--"};
+    }
+    daemon_ = std::make_unique<DaemonProcess>(
+        dir_, std::vector<std::string>{"--simulate", "--state-dir", state_},
+        std::vector<std::string>{}, "", wrapper);
+    client_ = std::make_unique<Client>(daemon_->socket());
+    ASSERT_TRUE(client_->connected());
+    ASSERT_TRUE(link_up(*client_));
+    ASSERT_EQ(client_->call("photo")["result"]["capture"]["index"], 1);
+    ASSERT_EQ(client_->call("record", {{"on", true}, {"force", true}})["result"]["sent"], true);
+    ASSERT_EQ(client_->call("record", {{"on", false}})["result"]["capture"]["kind"], "record_stop");
+    ASSERT_TRUE(settled(3));
+    const auto s = status_captures();
+    EXPECT_EQ(s["dropped"], 3);
+    ASSERT_TRUE(s["error"].is_string()) << s;
+    EXPECT_TRUE(contains(s["error"], "Permission denied")) << s;
+    EXPECT_EQ(captures()["captures"].size(), 3u);
+    const auto stops = client_->call("status")["result"]["counters"]["stops_sent"];
+    ASSERT_EQ(client_->call("stop")["result"]["sent"], true);
+    EXPECT_TRUE(eventually(
+        [&] { return client_->call("status")["result"]["counters"]["stops_sent"] > stops; }));
 }
 
 // A real filesystem that fills up: a 64 KiB tmpfs (root only).
