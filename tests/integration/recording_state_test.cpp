@@ -63,7 +63,8 @@ TEST_F(RecordingStateEndToEnd, OnOffSendOnlyTheTogglesNeeded) {
         << "nothing sent: no capture";
     EXPECT_EQ(toggles_before_marker(), 0);
 
-    EXPECT_EQ(sent_and_state(record({{"on", false}})), Json({{"sent", true}, {"recording", "off"}}));
+    EXPECT_EQ(sent_and_state(record({{"on", false}})),
+              Json({{"sent", true}, {"recording", "off"}}));
     EXPECT_EQ(toggles_before_marker(), 1);
     EXPECT_EQ(status_recording(), "off");
 

@@ -363,8 +363,9 @@ TEST_F(DispatcherTest, SubscriptionsChangeTheClientState) {
     EXPECT_FALSE(client_.subscriptions.max_rate_hz);
     call("subscribe", {{"topics", {"motion"}}});
     EXPECT_EQ(call("unsubscribe")["result"]["topics"], json::array());
-    EXPECT_THAT(message(call("subscribe", {{"topics", {"weather"}}})),
-                HasSubstr("topics must be a non-empty array of attitude, link, motion and capture"));
+    EXPECT_THAT(
+        message(call("subscribe", {{"topics", {"weather"}}})),
+        HasSubstr("topics must be a non-empty array of attitude, link, motion and capture"));
     EXPECT_THAT(message(call("subscribe", {{"topics", {"attitude"}}, {"max_rate_hz", 0}})),
                 HasSubstr("max_rate_hz = 0 is out of range; allowed 0.01 to 1000"));
     EXPECT_THAT(message(call("subscribe")), HasSubstr("topics is required"));
