@@ -213,6 +213,22 @@ async function main() {
     bridge.lines.some((l) => /interval \(param2\) = 0.1 s/.test(l)),
   `an interval of 0.1 s is DENIED (${tooFast && tooFast.data.result}) and logged with what is allowed`);
 
+  // 6b. Positions from a ground station (trusted for commands, not for
+  //     vehicle state) and a rogue are not used; the vehicle's, once over
+  //     1 s old, is not either: zeros.
+  clearInterval(streams);
+  await sleep(1300);
+  const spoof = position();
+  spoof.lat = 100000000; spoof.lon = 200000000;
+  gcs.send(spoof); rogue.send(spoof);
+  await sleep(100);
+  t0 = Date.now();
+  gcs.send(cam(IMAGE_START, [0, 0, 1]));
+  const stale = await until(() => fromCamera(gcs, t0, 'CAMERA_IMAGE_CAPTURED')[0], 5000, 'CAMERA_IMAGE_CAPTURED').catch(() => null);
+  check(stale && stale.data.captureResult === 1 && stale.data.lat === 0 && stale.data.lon === 0 &&
+    stale.data.alt === 0, `spoofed positions (ground station, rogue) ignored, the vehicle's 1.4 s old not used: ` +
+    `lat/lon/alt ${stale && [stale.data.lat, stale.data.lon, stale.data.alt].join('/')}`);
+
   // 7. Video: start and stop, two record frames, the status says so.
   t0 = Date.now();
   gcs.send(cam(VIDEO_START));
@@ -259,7 +275,6 @@ async function main() {
   `--no-camera: gimbal heartbeats, nothing from component 100, no photo (${fromCamera(vehicle2, t0).length} frames)`);
   quiet.kill('SIGTERM');
 
-  clearInterval(streams);
   clearInterval(beats);
   for (const p of [rogue, vehicle, gcs, vehicle2]) p.close();
 }
