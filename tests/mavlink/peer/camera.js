@@ -128,6 +128,7 @@ async function main() {
   await sleep(300);
   gimbal = (await h.rpc(sock, 'attitude')).result;
   t0 = Date.now();
+  const sentHr = performance.now();
   gcs.send(cam(IMAGE_START, [0, 0, 1, 0]));
   const photoAck = await ackOf(gcs, t0, IMAGE_START).catch(() => null);
   const shot = await until(() => photos(t0)[0], 5000, 'a photo frame').catch(() => null);
@@ -148,9 +149,9 @@ async function main() {
     check(c.imageIndex >= 0, `image_index ${c.imageIndex}`);
     const utcSkew = Math.abs(Number(c.timeUtc) / 1000 - Date.now());
     check(utcSkew < 10000, `time_utc within 10 s of the clock (${utcSkew.toFixed(0)} ms)`);
-    figures.push(`photo: IMAGE_START_CAPTURE -> 0x86 on the trace ${shot ? shot.t - t0 : '?'} ms, ` +
-      `-> CAMERA_IMAGE_CAPTURED ${captured.t - t0} ms; 0x86 -> CAMERA_IMAGE_CAPTURED ${shot ? captured.t - shot.t : '?'} ms ` +
-      '(receive times in this process, Date.now(); trace lines stamped on arrival)');
+    figures.push(`photo: IMAGE_START_CAPTURE sent -> CAMERA_IMAGE_CAPTURED received ${(captured.hr - sentHr).toFixed(2)} ms; ` +
+      `0x86 line on gport-sim's trace -> CAMERA_IMAGE_CAPTURED ${shot ? (captured.hr - shot.hr).toFixed(2) : '?'} ms ` +
+      '(performance.now() in this process at send and on arrival; trace lines stamped when read from gport-sim\'s stdout)');
   }
   // The capture's meta: in gportd's capture log when it has one, else the
   // bridge repeated the call without it.
@@ -194,7 +195,8 @@ async function main() {
   check(images.length === 3 && indexes.every((v, i) => i === 0 || v === indexes[i - 1] + 1) &&
     images.every((i) => i.data.captureResult === 1 && i.data.lat === POSITION.lat),
   `3 CAMERA_IMAGE_CAPTURED, indexes ${indexes.join(', ')}, each with the position`);
-  figures.push(`interval capture: photo frames ${gaps.join(', ')} ms apart (asked 1000)`);
+  figures.push(`interval capture: photo frames ${gaps.join(', ')} ms apart (asked 1000); 0x86 -> CAMERA_IMAGE_CAPTURED ` +
+    `${frames.map((f, i) => (images[i] ? (images[i].hr - f.hr).toFixed(2) : '?')).join(', ')} ms`);
   // An unlimited one, stopped.
   t0 = Date.now();
   gcs.send(cam(IMAGE_START, [0, 1, 0, 0]));
