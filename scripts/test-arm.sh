@@ -59,7 +59,7 @@ for arch in "${arches[@]}"; do
   stage "$arch: Release build ($triple)"
   cmake -S . -B "$build" -G Ninja -DCMAKE_TOOLCHAIN_FILE="cmake/toolchains/$triple.cmake" \
     -DGPORT_SYSROOT="$sysroot" -DCMAKE_BUILD_TYPE=Release -DGPORT_WERROR=ON \
-    -DGPORT_BUILD_BENCH=OFF -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16
+    -DGPORT_BUILD_BENCH=OFF -DGPORT_SITL_TESTS=OFF -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16
   cmake --build "$build" -j "$jobs"
 
   # The target's loader and glibc for everything qemu runs, the programs the

@@ -10,8 +10,9 @@
 #      qemu-user; armhf cross build and the unit suites (GPORT_ARM=skip
 #      leaves them out);
 #   3. ASan+UBSan build, all tests;
-#   4. clang libFuzzer build, each fuzzer for $GPORT_FUZZ_SECONDS (60) on its
+#   4. clang libFuzzer build, each fuzzer for $GPORT_FUZZ_SECONDS (40) on its
 #      corpus, one per core at a time.
+# The ArduCopter SITL tests run in the Release stage only (GPORT_SITL_TESTS).
 # Used word for word by .ci/run. The builds are unity builds (each target's
 # sources compiled as one unit), which halves the compile time on a 2-core
 # machine; every file also compiles on its own in a normal build.
@@ -27,7 +28,7 @@ source scripts/deps.sh
 gport_install_deps
 
 jobs=$(nproc)
-fuzz_seconds=${GPORT_FUZZ_SECONDS:-60}
+fuzz_seconds=${GPORT_FUZZ_SECONDS:-40}
 
 stage "Release build"
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DGPORT_WERROR=ON \
@@ -56,7 +57,7 @@ fi
 stage "ASan+UBSan build"
 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGPORT_SANITIZE=ON \
   -DGPORT_BUILD_BENCH=OFF -DGPORT_WERROR=ON -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 \
-  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1"
+  -DGPORT_SITL_TESTS=OFF "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1"
 cmake --build build/asan -j "$jobs"
 stage "ASan+UBSan tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \

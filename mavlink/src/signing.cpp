@@ -7,22 +7,11 @@
 #include <stdexcept>
 #include <string>
 
+#include "gport/base/hex.hpp"
+
 namespace gport::mavlink {
 
 namespace {
-
-int hex_value(char c) {
-    if (c >= '0' && c <= '9') {
-        return c - '0';
-    }
-    if (c >= 'a' && c <= 'f') {
-        return c - 'a' + 10;
-    }
-    if (c >= 'A' && c <= 'F') {
-        return c - 'A' + 10;
-    }
-    return -1;
-}
 
 // The frame's expected size from its header: 0 when it is too short to say.
 std::size_t signed_size_of(std::span<const std::uint8_t> frame) {
@@ -50,7 +39,7 @@ Result<SecretKey> parse_key_hex(std::string_view text) {
     }
     std::array<std::uint8_t, kSecretKeySize> bytes{};
     for (std::size_t i = 0; i < text.size(); ++i) {
-        const int v = hex_value(text[i]);
+        const int v = base::hex_digit(text[i]);
         if (v < 0) {
             // Appended, not `"..." + std::to_string(...)`: 32-bit ARM's g++ 12
             // sees a false overlap in that (-Wrestrict, GCC bug 105329).

@@ -5,23 +5,12 @@
 #include <charconv>
 #include <stdexcept>
 
+#include "gport/base/hex.hpp"
+
 namespace gport::sim {
 namespace {
 
 constexpr std::string_view kHeader = "# gport-sim recording v1";
-
-int hex_digit(char c) {
-    if (c >= '0' && c <= '9') {
-        return c - '0';
-    }
-    if (c >= 'a' && c <= 'f') {
-        return c - 'a' + 10;
-    }
-    if (c >= 'A' && c <= 'F') {
-        return c - 'A' + 10;
-    }
-    return -1;
-}
 
 protocol::Result<std::vector<std::uint8_t>> parse_hex(std::string_view hex) {
     if (hex.empty() || hex.size() % 2 != 0) {
@@ -30,8 +19,8 @@ protocol::Result<std::vector<std::uint8_t>> parse_hex(std::string_view hex) {
     std::vector<std::uint8_t> bytes;
     bytes.reserve(hex.size() / 2);
     for (std::size_t i = 0; i < hex.size(); i += 2) {
-        const int hi = hex_digit(hex[i]);
-        const int lo = hex_digit(hex[i + 1]);
+        const int hi = base::hex_digit(hex[i]);
+        const int lo = base::hex_digit(hex[i + 1]);
         if (hi < 0 || lo < 0) {
             return protocol::Error{fmt::format("'{}' is not a hex byte", hex.substr(i, 2))};
         }

@@ -240,7 +240,11 @@ TEST(ChannelAttacks, AsyncClientClosesDescriptorsOnNotificationsToo) {
     io.run_for(30s);
     flood.join();
     EXPECT_EQ(notes, 3000);
-    EXPECT_EQ(most, first);  // flat: each recvmsg's pair is closed before its line is handled
+    // Flat: each recvmsg's pair is closed before its line is handled (3,000
+    // kept pairs would be 6,000 more). The count is the whole process's, the
+    // fake server's thread included, which may hold one more for an instant
+    // (seen once under ASan): a margin of 2, as the Python test has 4.
+    EXPECT_LE(most, first + 2);
     ::close(pipe_fds[0]);
     ::close(pipe_fds[1]);
 }

@@ -275,12 +275,17 @@ TEST_F(Monitor, InTheCLocaleEverythingIsAscii) {
     TmuxPane pane(dir_, monitor_command(daemon_->socket(), ""), {"LANG=C", "LC_ALL=", "LC_CTYPE="});
     ASSERT_TRUE(pane.started());
     std::string screen;
+    // "link UP" comes with the first frame, the angles with the first
+    // attitude sample a little later: wait for both.
+    const std::regex imu_value(R"(IMU +[-+][0-9.]+d)");
     ASSERT_TRUE(pane.wait_screen(
-        [](const std::string& s) { return contains(s, "link * UP") && contains(s, "q quit"); },
+        [&](const std::string& s) {
+            return contains(s, "link * UP") && contains(s, "q quit") &&
+                   std::regex_search(s, imu_value);
+        },
         screen))
         << screen;
     EXPECT_TRUE(contains(screen, "gportctl monitor - gportd")) << screen;
-    EXPECT_TRUE(std::regex_search(screen, std::regex(R"(IMU +[-+][0-9.]+d)"))) << screen;
     EXPECT_TRUE(contains(screen, "+- Attitude (IMU) ---")) << screen;
     for (unsigned char c : screen) {
         ASSERT_LT(c, 0x80) << screen;
