@@ -7,10 +7,12 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <csignal>
+#include <cstdlib>
 #include <exception>
 #include <memory>
 #include <optional>
 
+#include "gport/app/capture_writer.hpp"
 #include "gport/app/realtime.hpp"
 #include "gport/app/reload.hpp"
 #include "gport/base/log_context.hpp"
@@ -98,6 +100,7 @@ class Daemon {
         if (!start_server()) {
             return kExitFailure;
         }
+        start_captures();
         core_->start();
         notifier_.ready();
         if (auto interval = watchdog_.start()) {
@@ -139,6 +142,39 @@ class Daemon {
             log_->info("serving clients on the socket passed by systemd");
         }
         return true;
+    }
+
+    // The capture log's directory: --state-dir or captures.dir, else the
+    // unit's StateDirectory= ($STATE_DIRECTORY, its first entry).
+    std::string state_dir() const {
+        if (!config_.captures.dir.empty()) {
+            return config_.captures.dir;
+        }
+        const char* systemd_dir = std::getenv("STATE_DIRECTORY");
+        const std::string dirs = systemd_dir != nullptr ? systemd_dir : "";
+        return dirs.substr(0, dirs.find(':'));
+    }
+
+    // Restores the indexes and the newest captures from the files, then
+    // hands the log its writer; before io_.run(), so before any capture.
+    void start_captures() {
+        const auto dir = state_dir();
+        if (dir.empty() || dir.front() != '/') {
+            const auto level = config_.simulate ? spdlog::level::info : spdlog::level::warn;
+            log_->log(level,
+                      "capture log kept in memory only (its indexes restart at 1): no state "
+                      "directory (--state-dir, captures.dir or the unit's StateDirectory=)");
+            return;
+        }
+        CaptureFiles files{dir, config_.captures.max_file_bytes, config_.captures.keep_files};
+        const auto restored = read_captures(files, ipc::CaptureLog::kKept);
+        for (const auto& problem : restored.problems) {
+            log_->warn("capture log: {}", problem);
+        }
+        server_->captures().restore(restored.lines, restored.next_index);
+        capture_writer_.emplace(files, log_);
+        server_->captures().set_sink(&*capture_writer_);
+        log_->info("capture log: {} (next index {})", files.file(0), restored.next_index);
     }
 
     void on_link(const LinkEvent& event) {
@@ -231,6 +267,7 @@ class Daemon {
     asio::signal_set signals_;
     std::optional<sim::PtySimulator> simulator_;
     std::optional<Core> core_;
+    std::optional<CaptureWriter> capture_writer_;  // outlives the server, its user
     std::optional<ipc::Server> server_;
     int exit_status_ = kExitFailure;
     bool stopping_ = false;

@@ -6,7 +6,7 @@
 _gportctl() {
     local cur=${COMP_WORDS[COMP_CWORD]}
     local prev=${COMP_WORDS[COMP_CWORD - 1]}
-    local commands="status attitude watch speed stop angle center lock photo record settings monitor limits call help"
+    local commands="status attitude watch speed stop angle center lock photo record settings monitor call captures limits help"
     local global="--socket --json --help --version"
     COMPREPLY=()
 
@@ -23,7 +23,7 @@ _gportctl() {
             COMPREPLY=($(compgen -W "auto always never" -- "$cur"))
             return
             ;;
-        --roll | --pitch | --yaw | --for | --lease | --rate | -n | --count | --dead-zone | --follow-speed)
+        --roll | --pitch | --yaw | --for | --lease | --rate | -n | --count | --dead-zone | --follow-speed | --since | --limit)
             return # a number or a duration
             ;;
     esac
@@ -61,12 +61,13 @@ _gportctl() {
             ;;
         settings) options="--dead-zone --follow-speed --inverted" ;;
         monitor) options="--control --for --color --ascii" ;;
+        captures) options="--since --limit --follow --csv" ;;
         call)
             options="--raw"
             # The methods of docs/api.md; the params (JSON) are not completed.
             if ((positionals == 0)); then
                 arguments="status attitude subscribe unsubscribe attitude_channel speed stop angle
-                    center lock photo record acquire release get_settings set_settings limits"
+                    center lock photo record captures acquire release get_settings set_settings limits"
             fi
             ;;
         help) arguments=$commands ;;

@@ -71,7 +71,9 @@ struct Values {
     std::string color = "auto";
     std::string call_method, call_params;  // call
     bool raw = false;
-    bool timestamps = false;  // watch
+    bool timestamps = false;    // watch
+    long since = 0, limit = 0;  // captures
+    bool follow = false, csv = false;
 };
 
 // The command word in `args` (the first argument that is not an option or
@@ -192,6 +194,7 @@ class Parser {
         add_settings();
         add_monitor();
         add_call();
+        add_captures();
         command("limits", "limits", "the soft limits gportd enforces (angles, max speed)");
         auto* help = command("help", "", "this text, or a command's");
         help->add_option("command", v_.help_topic, "the command to describe");
@@ -224,6 +227,26 @@ class Parser {
                "instead of the result, a refusal's too. The connection closes on exit, so\n"
                "what a method holds (acquire, subscribe) ends with it. Example:\n"
                "  gportctl call angle '{\"pitch\": -30, \"wait\": true}'\n");
+    }
+
+    void add_captures() {
+        auto* sub = command("captures", "captures",
+                            "the capture log: photos and record toggles with their attitude");
+        sub->add_option("--since", v_.since, "from capture INDEX on (default: the oldest kept)")
+            ->type_name("INDEX")
+            ->check(args::integer_in(0, std::numeric_limits<long>::max()));
+        sub->add_option("--limit", v_.limit, "at most COUNT captures (default: all kept)")
+            ->type_name("COUNT")
+            ->check(args::integer_in(1, std::numeric_limits<long>::max()));
+        sub->add_flag("--follow", v_.follow, "then print each new capture until Ctrl-C");
+        sub->add_flag("--csv", v_.csv,
+                      "CSV with a header: index,utc,kind,imu_*,hall_*,lat,lon,alt_m");
+        footer(sub,
+               "Prints the captures gportd keeps (the newest 4096), oldest first: a\n"
+               "table, CSV for geotagging (utc in ISO 8601 UTC; lat, lon and alt_m from\n"
+               "the capture's meta, empty when it has none), or with --json one capture\n"
+               "object per line. --follow goes on with each new capture (the capture\n"
+               "topic) until Ctrl-C; --limit then counts only the captures listed first.\n");
     }
 
     void add_watch() {
@@ -395,6 +418,8 @@ class Parser {
             settings(*sub, inv);
         } else if (inv.command == "monitor") {
             monitor(*sub, inv);
+        } else if (inv.command == "captures") {
+            captures(inv);
         }
         return inv;
     }
@@ -536,6 +561,21 @@ class Parser {
             inv.params["wait"] = true;
             inv.wait = true;
         }
+    }
+
+    void captures(Invocation& inv) const {
+        if (v_.csv && inv.json) {
+            throw UsageError{
+                "captures: --csv and --json cannot be combined (--json prints gportd's capture "
+                "objects, --csv a table of them)",
+                "captures"};
+        }
+        inv.since = static_cast<std::uint64_t>(v_.since);
+        if (v_.limit > 0) {
+            inv.limit = v_.limit;
+        }
+        inv.follow = v_.follow;
+        inv.csv = v_.csv;
     }
 
     void record(const CLI::App& sub, Invocation& inv) const {

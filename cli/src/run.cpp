@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <thread>
 
+#include "gport/cli/captures.hpp"
 #include "gport/cli/monitor.hpp"
 #include "gport/cli/output.hpp"
 #include "gport/cli/progress.hpp"
@@ -30,6 +31,8 @@ constexpr double kProgressHz = 2.0;
 // watch --shared-memory waits on the ring at most this long before looking
 // at the socket again.
 constexpr auto kRingSlice = 20ms;
+// captures: the most gportd lists in one reply.
+constexpr long kCapturesPage = 1000;
 
 class Runner {
   public:
@@ -46,6 +49,9 @@ class Runner {
         }
         if (inv_.command == "call") {
             return call_any();
+        }
+        if (inv_.command == "captures") {
+            return captures();
         }
         json result;
         const int status = call(inv_.method, inv_.params, result);
@@ -154,6 +160,12 @@ class Runner {
     }
 
     void notification(const json& message) {
+        if (inv_.command == "captures") {
+            if (message.value("method", "") == "capture") {
+                followed_.push_back(message.value("params", json()));
+            }
+            return;
+        }
         if (inv_.command != "watch") {
             return;
         }
@@ -166,6 +178,69 @@ class Runner {
             out_ << format_notification(message);
         }
         out_.flush();
+    }
+
+    void print_capture(const json& capture) {
+        out_ << (inv_.json  ? capture.dump() + "\n"
+                 : inv_.csv ? capture_csv_row(capture)
+                            : capture_table_row(capture));
+        out_.flush();
+    }
+
+    // Pages through the captures from --since (at most --limit); with
+    // --follow, subscribed first so nothing falls between the list and the
+    // tail, then each capture notification not listed yet.
+    int captures() {
+        json ignored;
+        if (inv_.follow) {
+            if (const int s = call("subscribe", {{"topics", {"capture"}}}, ignored); s != kExitOk) {
+                return s;
+            }
+        }
+        if (!inv_.json) {
+            out_ << (inv_.csv ? captures_csv_header() : captures_table_header());
+        }
+        std::uint64_t since = inv_.since;
+        long left = inv_.limit.value_or(std::numeric_limits<long>::max());
+        while (left > 0) {
+            json page;
+            const long ask = std::min(left, kCapturesPage);
+            if (const int s = call("captures", {{"since", since}, {"limit", ask}}, page);
+                s != kExitOk) {
+                return s;
+            }
+            const auto& list = page.value("captures", json::array());
+            for (const auto& capture : list) {
+                print_capture(capture);
+            }
+            left -= static_cast<long>(list.size());
+            since = page.value("next", since);
+            if (list.size() < static_cast<std::size_t>(ask)) {
+                break;
+            }
+        }
+        if (!inv_.follow) {
+            return kExitOk;
+        }
+        for (;;) {
+            for (const auto& capture : followed_) {
+                if (capture.value("index", std::uint64_t{0}) >= since) {
+                    print_capture(capture);
+                    since = capture.value("index", since) + 1;
+                }
+            }
+            followed_.clear();
+            json message;
+            const auto status = conn_.read(message);
+            if (status == Connection::ReadStatus::kMessage) {
+                notification(message);
+            } else if (status == Connection::ReadStatus::kInterrupted) {
+                return kExitOk;
+            } else if (status == Connection::ReadStatus::kClosed) {
+                err_ << "gportctl: " << lost() << "\n";
+                return kExitUnavailable;
+            }
+        }
     }
 
     // Until Ctrl-C, or -n COUNT events, or --for DURATION (exit 0 for all three).
@@ -381,6 +456,7 @@ class Runner {
     std::ostream& out_;
     std::ostream& err_;
     Terminals terminals_;
+    std::vector<json> followed_;  // captures --follow: notifications not yet printed
 };
 
 }  // namespace

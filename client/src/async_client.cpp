@@ -438,6 +438,25 @@ void AsyncClient::async_record(std::optional<bool> on, bool force, Handler<Recor
                 typed(std::move(handler), codec::record_result));
 }
 
+void AsyncClient::async_photo(const CaptureOptions& options, Handler<PhotoResult> handler) {
+    json params = json::object();
+    if (auto error = codec::add_meta(params, options)) {
+        asio::post(impl_->io, [handler = std::move(handler), e = *error] { handler(e, {}); });
+        return;
+    }
+    impl_->call("photo", params, typed(std::move(handler), codec::photo_result));
+}
+
+void AsyncClient::async_record(std::optional<bool> on, bool force, const CaptureOptions& options,
+                               Handler<RecordResult> handler) {
+    json params = codec::record_params(on, force);
+    if (auto error = codec::add_meta(params, options)) {
+        asio::post(impl_->io, [handler = std::move(handler), e = *error] { handler(e, {}); });
+        return;
+    }
+    impl_->call("record", params, typed(std::move(handler), codec::record_result));
+}
+
 void AsyncClient::async_acquire(Handler<Control> handler) {
     impl_->call("acquire", json::object(), typed(std::move(handler), codec::control));
 }

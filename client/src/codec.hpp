@@ -22,6 +22,9 @@ json speed_params(const Axes& speed, const SpeedOptions& options);
 json angle_params(const Axes& target, const AngleOptions& options);
 json center_params(const CenterOptions& options);
 json record_params(std::optional<bool> on, bool force);
+// Adds options.meta to params as `meta`; the Error (kInvalidParams) when it
+// is not the text of a JSON object.
+std::optional<Error> add_meta(json& params, const CaptureOptions& options);
 json settings_params(const SettingsChange& change);
 json subscribe_params(const std::vector<std::string>& topics, std::optional<double> max_rate_hz);
 json unsubscribe_params(const std::vector<std::string>& topics);
@@ -44,6 +47,7 @@ SpeedResult speed_result(const json& result);
 AngleResult angle_result(const json& result);
 CenterResult center_result(const json& result);
 RecordResult record_result(const json& result);
+PhotoResult photo_result(const json& result);
 Control control(const json& result);
 Settings settings(const json& result);
 Limits limits(const json& result);

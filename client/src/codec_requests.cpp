@@ -56,6 +56,20 @@ json record_params(std::optional<bool> on, bool force) {
     return params;
 }
 
+std::optional<Error> add_meta(json& params, const CaptureOptions& options) {
+    if (options.meta.empty()) {
+        return std::nullopt;
+    }
+    json meta = json::parse(options.meta, nullptr, false);
+    if (!meta.is_object()) {
+        return Error(ErrorCode::kInvalidParams,
+                     "meta: \"" + options.meta.substr(0, 40) +
+                         "\" is not the text of a JSON object; meta must be one");
+    }
+    params["meta"] = std::move(meta);
+    return std::nullopt;
+}
+
 json settings_params(const SettingsChange& change) {
     json params = json::object();
     if (change.dead_zone) {

@@ -181,11 +181,33 @@ CenterResult center_result(const json& result) {
     });
 }
 
+namespace {
+
+std::optional<Capture> capture_of(const json& result) {
+    if (!result.is_object() || !result.contains("capture") || result.at("capture").is_null()) {
+        return std::nullopt;
+    }
+    const json& c = result.at("capture");
+    Capture capture;
+    capture.index = c.at("index").get<std::uint64_t>();
+    if (c.contains("utc_us") && !c.at("utc_us").is_null()) {
+        capture.utc_us = c.at("utc_us").get<std::uint64_t>();
+    }
+    capture.kind = c.value("kind", std::string());
+    return capture;
+}
+
+}  // namespace
+
 RecordResult record_result(const json& result) {
     return guarded("record result", result, [&] {
         return RecordResult{result.at("sent").get<bool>(),
-                            result.value("recording", std::string("unknown"))};
+                            result.value("recording", std::string("unknown")), capture_of(result)};
     });
+}
+
+PhotoResult photo_result(const json& result) {
+    return guarded("photo result", result, [&] { return PhotoResult{capture_of(result)}; });
 }
 
 Control control(const json& result) {

@@ -46,6 +46,10 @@ std::optional<std::string> check_log_level(std::string_view level) {
     return fmt::format("must be one of {}, got {}", log_levels_text(), json_quoted(level));
 }
 
+std::optional<std::string> check_state_dir(std::string_view path) {
+    return check_absolute_path(path, "/var/lib/gportd");
+}
+
 std::optional<std::string> check_device_path(std::string_view path) {
     return check_absolute_path(path, "/dev/ttyUSB0");
 }

@@ -15,6 +15,8 @@ std::string_view log_levels_text();
 std::optional<std::string> check_log_level(std::string_view level);
 std::optional<std::string> check_device_path(std::string_view path);
 std::optional<std::string> check_socket_path(std::string_view path);
+// The capture log's directory: --state-dir, captures.dir.
+std::optional<std::string> check_state_dir(std::string_view path);
 
 // `text` as a JSON string literal, cut short if long: safe to print whatever
 // bytes it holds.

@@ -46,6 +46,9 @@ class Parser {
         option("--log-level", log_level_,
                fmt::format("{} (overrides log.level)", detail::log_levels_text()), "LEVEL",
                detail::check_log_level);
+        option("--state-dir", state_dir_,
+               "keep the capture log in DIR (overrides captures.dir and $STATE_DIRECTORY)", "DIR",
+               detail::check_state_dir);
         app_.add_flag("--simulate", simulate_,
                       "drive the built-in simulated gimbal instead of a device");
     }
@@ -74,6 +77,7 @@ class Parser {
         set(line.device, "--device", device_);
         set(line.socket_path, "--socket", socket_);
         set(line.log_level, "--log-level", log_level_);
+        set(line.state_dir, "--state-dir", state_dir_);
         line.simulate = simulate_;
         return line;
     }
@@ -95,7 +99,7 @@ class Parser {
         }
     }
 
-    std::string config_, device_, socket_, log_level_;
+    std::string config_, device_, socket_, log_level_, state_dir_;
     bool simulate_ = false;
     CLI::App app_;
 };

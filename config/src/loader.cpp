@@ -123,6 +123,7 @@ Result<Config> apply_command_line(Config config, const CommandLine& command_line
     apply(command_line.device, "--device", detail::check_device_path, config.serial.device);
     apply(command_line.socket_path, "--socket", detail::check_socket_path, config.socket.path);
     apply(command_line.log_level, "--log-level", detail::check_log_level, config.log.level);
+    apply(command_line.state_dir, "--state-dir", detail::check_state_dir, config.captures.dir);
     config.simulate = command_line.simulate;
     if (!errors.empty()) {
         return Errors{std::move(errors)};

@@ -421,6 +421,30 @@ const std::vector<Section>& sections() {
            [](Reader& r, const Json& v, const std::string& p, Config& c) {
                c.motion.timeout = r.millis(v, p, 100, 600000).value_or(c.motion.timeout);
            }}}},
+        {"captures",
+         {{"dir",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               auto path = r.string(v, p);
+               if (auto problem = path ? check_state_dir(*path) : std::nullopt) {
+                   r.error(p, *problem);
+               } else if (path) {
+                   c.captures.dir = std::move(*path);
+               }
+           }},
+          {"max_file_bytes",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               // 4 KiB: a few captures with their meta; 1 GiB: more than a card should hold.
+               if (auto n = r.integer(v, p, 4096, 1073741824)) {
+                   c.captures.max_file_bytes = static_cast<std::uint64_t>(*n);
+               }
+           }},
+          {"keep_files",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               // 2: the current file and one rotated, so the newest index always survives.
+               if (auto n = r.integer(v, p, 2, 100)) {
+                   c.captures.keep_files = static_cast<int>(*n);
+               }
+           }}}},
     };
     return kSections;
 }

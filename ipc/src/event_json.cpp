@@ -144,4 +144,8 @@ json attitude_json(const daemon::AttitudeSample& sample) {
     return payload;
 }
 
+Line capture_line(const json& capture) {
+    return notification("capture", capture);
+}
+
 }  // namespace gport::ipc

@@ -311,7 +311,7 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const L
         sink(ReplyLine{error_line(rpc_error::kParse, fmt::format("parse error: {}", e.what()))});
         return;
     }
-    detail::MethodContext context{api_, client, stats_, status_cache_, channel_host_};
+    detail::MethodContext context{api_, client, stats_, status_cache_, channel_host_, captures_};
     // A reply may come after this returns (settings): it keeps a copy of the
     // sink, and of who asked, so its delivery is logged with the client's
     // fields too (the groups are not needed for that).

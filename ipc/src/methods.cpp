@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "attitude_channel.hpp"
+#include "capture_methods.hpp"
 #include "gport/ipc/event_json.hpp"
 #include "json_common.hpp"
 #include "params.hpp"
@@ -89,7 +90,8 @@ void status(MethodContext& c, const json& params, Respond respond) {
         const auto text = json_text(shared_status_json(c.api.status(), c.stats()));
         return text.substr(1, text.size() - 2);  // the members, without the braces
     });
-    respond(RawJson{"{\"client\":" + json_text(client_status_json(c.client)) + "," + shared + "}"});
+    respond(RawJson{"{\"client\":" + json_text(client_status_json(c.client)) + "," + shared +
+                    ",\"captures\":" + json_text(c.captures.status()) + "}"});
 }
 
 json range_json(const config::AxisRange& range) {
@@ -116,11 +118,21 @@ void attitude(MethodContext& c, const json& params, Respond respond) {
     respond(attitude_result(*sample));
 }
 
-const std::initializer_list<std::string_view> kTopics = {"attitude", "link", "motion"};
+const std::initializer_list<std::string_view> kTopics = {"attitude", "link", "motion", "capture"};
+
+bool& topic_flag(Subscriptions& subs, std::string_view topic) {
+    if (topic == "attitude") {
+        return subs.attitude;
+    }
+    if (topic == "link") {
+        return subs.link;
+    }
+    return topic == "motion" ? subs.motion : subs.capture;
+}
 
 void set_topics(Subscriptions& subs, const std::vector<std::string>& topics, bool on) {
     for (const auto& topic : topics) {
-        (topic == "attitude" ? subs.attitude : topic == "link" ? subs.link : subs.motion) = on;
+        topic_flag(subs, topic) = on;
     }
 }
 
@@ -129,7 +141,8 @@ void subscribe(MethodContext& c, const json& params, Respond respond) {
     p.only({"topics", "max_rate_hz"});
     auto topics = p.names("topics", kTopics);
     if (!topics) {
-        throw InvalidParams("topics is required: a non-empty array of attitude, link and motion");
+        throw InvalidParams(
+            "topics is required: a non-empty array of attitude, link, motion and capture");
     }
     auto rate = p.number("max_rate_hz");
     if (rate && !(*rate >= kMinRateHz && *rate <= kMaxRateHz)) {
@@ -149,7 +162,8 @@ void unsubscribe(MethodContext& c, const json& params, Respond respond) {
     p.only({"topics"});
     auto topics = p.names("topics", kTopics);
     auto& subs = c.client.subscriptions;
-    set_topics(subs, topics.value_or(std::vector<std::string>{"attitude", "link", "motion"}),
+    set_topics(subs,
+               topics.value_or(std::vector<std::string>{"attitude", "link", "motion", "capture"}),
                false);
     if (!subs.attitude) {
         subs.max_rate_hz.reset();
@@ -261,28 +275,6 @@ void lock(MethodContext& c, const json& params, Respond respond) {
     answer_sent(c.api.lock(c.client.info), respond);
 }
 
-void photo(MethodContext& c, const json& params, Respond respond) {
-    Params(params).only({});
-    answer_sent(c.api.photo(c.client.info), respond);
-}
-
-void record(MethodContext& c, const json& params, Respond respond) {
-    const Params p(params);
-    p.only({"on", "force"});
-    daemon::RecordRequest request;
-    request.on = p.boolean("on");
-    request.force = p.boolean("force").value_or(false);
-    if (request.force && !request.on) {
-        throw InvalidParams("force needs on: record {\"on\": true|false, \"force\": true}");
-    }
-    auto outcome = c.api.record(c.client.info, request);
-    if (!outcome) {
-        respond(error_of(outcome.error()));
-        return;
-    }
-    respond(json{{"sent", outcome->sent}, {"recording", daemon::to_string(outcome->recording)}});
-}
-
 // ---- control and settings -------------------------------------------------------
 
 void acquire(MethodContext& c, const json& params, Respond respond) {
@@ -336,6 +328,7 @@ constexpr std::array kMethods{
     Entry{"lock", lock},
     Entry{"photo", photo},
     Entry{"record", record},
+    Entry{"captures", captures},
     Entry{"acquire", acquire},
     Entry{"release", release},
     Entry{"get_settings", get_settings},

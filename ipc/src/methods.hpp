@@ -39,6 +39,7 @@ struct MethodContext {
     const std::function<ServerStats()>& stats;
     StatusCache& status_cache;
     ChannelHost* channel;  // nullptr: the attitude channel is not served
+    CaptureLog& captures;
     // The request running is a notification: its reply is never sent.
     bool notification = false;
 };

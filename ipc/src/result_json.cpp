@@ -106,6 +106,9 @@ json subscriptions_json(const Subscriptions& subscriptions) {
     if (subscriptions.motion) {
         topics.push_back("motion");
     }
+    if (subscriptions.capture) {
+        topics.push_back("capture");
+    }
     json result = {{"topics", std::move(topics)}};
     result["max_rate_hz"] =
         subscriptions.max_rate_hz ? json(*subscriptions.max_rate_hz) : json(nullptr);

@@ -87,6 +87,9 @@ Server::Server(asio::io_context& io, daemon::Api& api, config::SocketConfig conf
       accept_pause_(io) {
     ChannelHost& channel_host = *this;
     dispatcher_->set_channel_host(&channel_host);
+    dispatcher_->captures().on_added([this](const nlohmann::json& capture) {
+        publish_event(&Subscriptions::capture, [&] { return capture_line(capture); });
+    });
 }
 
 Server::~Server() {
@@ -172,6 +175,10 @@ void Server::close() {
 
 std::size_t Server::clients() const {
     return sessions_.size() - closed_ids_.size();
+}
+
+CaptureLog& Server::captures() {
+    return dispatcher_->captures();
 }
 
 // ---- accepting ----------------------------------------------------------------------

@@ -141,8 +141,9 @@ Result<Message> decode(const FrameView& frame) {
     if (info == nullptr) {
         return Error{
             fmt::format("MAVLink message id {} is not one this codec decodes "
-                        "(HEARTBEAT, COMMAND_LONG, COMMAND_ACK, GIMBAL_DEVICE_* "
-                        "283-285, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE)",
+                        "(HEARTBEAT, ATTITUDE, GLOBAL_POSITION_INT, COMMAND_LONG, "
+                        "COMMAND_ACK, CAMERA_* 259-263, GIMBAL_DEVICE_* 283-285, "
+                        "AUTOPILOT_STATE_FOR_GIMBAL_DEVICE)",
                         frame.msgid)};
     }
     if (frame.payload.size() > info->full_length) {

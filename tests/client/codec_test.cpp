@@ -28,6 +28,39 @@ TEST(ClientCodec, OptionsAreSentOnlyWhenSet) {
     EXPECT_EQ(subscribe_params({"link"}, std::nullopt), json::parse(R"({"topics":["link"]})"));
 }
 
+TEST(ClientCodec, CaptureMetaMustBeAJsonObject) {
+    json params = record_params(true, false);
+    EXPECT_FALSE(add_meta(params, {}));
+    EXPECT_FALSE(params.contains("meta")) << "no meta: none sent";
+    EXPECT_FALSE(add_meta(params, {.meta = R"({"lat":47.1,"lon":8.5})"}));
+    EXPECT_EQ(params, json::parse(R"({"on":true,"meta":{"lat":47.1,"lon":8.5}})"));
+    for (const char* bad : {"[1,2]", "42", "{\"lat\":", "not json"}) {
+        json p = json::object();
+        const auto error = add_meta(p, {.meta = bad});
+        ASSERT_TRUE(error) << bad;
+        EXPECT_TRUE(error->is(ErrorCode::kInvalidParams));
+        EXPECT_NE(error->message().find("JSON object"), std::string::npos);
+        EXPECT_FALSE(p.contains("meta"));
+    }
+}
+
+TEST(ClientCodec, PhotoAndRecordCarryTheCaptureWhenGportdLogsIt) {
+    EXPECT_FALSE(photo_result(json::object()).capture) << "a gportd without the log";
+    const auto photo = photo_result(
+        json::parse(R"({"capture":{"index":41,"utc_us":1764000000123456,"kind":"photo"}})"));
+    ASSERT_TRUE(photo.capture);
+    EXPECT_EQ(photo.capture->index, 41U);
+    EXPECT_EQ(photo.capture->utc_us, 1764000000123456U);
+    EXPECT_EQ(photo.capture->kind, "photo");
+    const auto record = record_result(json::parse(
+        R"({"sent":true,"recording":"on","capture":{"index":42,"kind":"record_start"}})"));
+    ASSERT_TRUE(record.capture);
+    EXPECT_EQ(record.capture->index, 42U);
+    EXPECT_FALSE(record.capture->utc_us);
+    EXPECT_FALSE(record_result(json::parse(R"({"sent":false,"recording":"on"})")).capture);
+    EXPECT_THROW(photo_result(json::parse(R"({"capture":{"index":"x"}})")), Error);
+}
+
 TEST(ClientCodec, ErrorsBecomeErrorWithTheirCode) {
     try {
         result_of(json::parse(R"({"id":1,"error":{"code":-32003,"message":"held by pid 7"}})"));

@@ -76,7 +76,7 @@ TEST(CommandLine, EmptyValuesAreRefused) {
 TEST(CommandLine, UnknownOptionListsTheOptions) {
     EXPECT_THAT(parse({"--verbose"}).error().messages,
                 ElementsAre("unknown option --verbose; the options are --help, --version, "
-                            "--config, --device, --socket, --log-level, --simulate"));
+                            "--config, --device, --socket, --log-level, --state-dir, --simulate"));
     EXPECT_THAT(parse({"--devices=/dev/x"}).error().messages,
                 ElementsAre(HasSubstr("unknown option --devices;")));
 }

@@ -283,7 +283,9 @@ TEST_F(DispatcherTest, RecordPassesOnAndForceAndSaysTheAssumedState) {
     EXPECT_EQ(api_.calls.back(), "record on - by 7");
     api_.record_result = {true, daemon::RecordingState::kOff};
     r = call("record", {{"on", false}, {"force", true}})["result"];
-    EXPECT_EQ(r, (json{{"sent", true}, {"recording", "off"}}));
+    EXPECT_EQ(r["sent"], true);
+    EXPECT_EQ(r["recording"], "off");
+    EXPECT_EQ(r["capture"]["kind"], "record_stop") << "a toggle sent is a capture";
     EXPECT_EQ(api_.calls.back(), "record off force by 7");
     api_.record_result = {true, daemon::RecordingState::kUnknown};
     EXPECT_EQ(call("record", json::object())["result"]["recording"], "unknown");
@@ -361,8 +363,9 @@ TEST_F(DispatcherTest, SubscriptionsChangeTheClientState) {
     EXPECT_FALSE(client_.subscriptions.max_rate_hz);
     call("subscribe", {{"topics", {"motion"}}});
     EXPECT_EQ(call("unsubscribe")["result"]["topics"], json::array());
-    EXPECT_THAT(message(call("subscribe", {{"topics", {"weather"}}})),
-                HasSubstr("topics must be a non-empty array of attitude, link and motion"));
+    EXPECT_THAT(
+        message(call("subscribe", {{"topics", {"weather"}}})),
+        HasSubstr("topics must be a non-empty array of attitude, link, motion and capture"));
     EXPECT_THAT(message(call("subscribe", {{"topics", {"attitude"}}, {"max_rate_hz", 0}})),
                 HasSubstr("max_rate_hz = 0 is out of range; allowed 0.01 to 1000"));
     EXPECT_THAT(message(call("subscribe")), HasSubstr("topics is required"));

@@ -221,5 +221,30 @@ TEST(Options, BadConfigExits78) {
     EXPECT_EQ(parse({"--config", "/nonexistent/gport.json"}).exit_code, 78);
 }
 
+TEST(Options, CameraOnByDefaultOffWithNoCameraOrConfig) {
+    EXPECT_TRUE(parse({}).options->camera);
+    const auto off = parse({"--no-camera"});
+    ASSERT_TRUE(off.options) << off.text;
+    EXPECT_FALSE(off.options->camera);
+    const auto path = write_config(R"({"mavlink": {"camera": false}})");
+    const auto config = parse({"--config", path});
+    ASSERT_TRUE(config.options) << config.text;
+    EXPECT_FALSE(config.options->camera);
+    std::filesystem::remove(path);
+}
+
+TEST(Options, TheGimbalCannotTakeTheCameraComponentId) {
+    const auto clash = parse({"--compid", "100"});
+    EXPECT_EQ(clash.exit_code, 64);
+    EXPECT_NE(clash.text.find("camera component"), std::string::npos) << clash.text;
+    EXPECT_NE(clash.text.find("--no-camera"), std::string::npos) << clash.text;
+    const auto fine = parse({"--compid", "100", "--no-camera"});
+    ASSERT_TRUE(fine.options) << fine.text;
+    EXPECT_EQ(fine.options->compid, 100);
+    const auto path = write_config(R"({"mavlink": {"camera": "yes"}})");
+    EXPECT_EQ(parse({"--config", path}).exit_code, 78);
+    std::filesystem::remove(path);
+}
+
 }  // namespace
 }  // namespace gport::mavlink::bridge

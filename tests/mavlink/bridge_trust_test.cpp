@@ -55,6 +55,11 @@ TEST(Trust, AGroundStationCannotPoseAsTheVehiclesState) {
     EXPECT_EQ(trust.judge({0, 255, 190}, Heartbeat::kId), TrustVerdict::kNotVehicle);
     EXPECT_EQ(trust.judge({0, 255, 190}, AutopilotStateForGimbalDevice::kId),
               TrustVerdict::kNotVehicle);
+    // Nor its position or attitude (photo geotags, the camera's yaw).
+    EXPECT_EQ(trust.judge({0, 255, 190}, GlobalPositionInt::kId), TrustVerdict::kNotVehicle);
+    EXPECT_EQ(trust.judge({0, 255, 190}, Attitude::kId), TrustVerdict::kNotVehicle);
+    EXPECT_EQ(trust.judge({0, 99, 1}, GlobalPositionInt::kId), TrustVerdict::kStranger);
+    EXPECT_EQ(trust.judge({0, 1, 1}, GlobalPositionInt::kId), TrustVerdict::kTrusted);
 }
 
 TEST(Trust, ARogueHeartbeatFirstIsNotAdoptedWithAFixedSysid) {

@@ -176,7 +176,7 @@ TEST(MavlinkDecoder, FalseStartWhoseLengthSwallowsARealFrameOnlyDelaysIt) {
 
 TEST(MavlinkDecoder, UnknownIdsAndIncompatFlagsAreCounted) {
     Bytes unknown = frame_of(gt::sample_heartbeat());
-    unknown[7] = 30;  // ATTITUDE: not decoded by this codec
+    unknown[7] = 31;  // ATTITUDE_QUATERNION: not decoded by this codec
     Bytes flagged = frame_of(gt::sample_heartbeat());
     flagged[2] = 0x02;  // an incompat flag nobody defined
     gm::Decoder dec;

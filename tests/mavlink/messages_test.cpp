@@ -95,9 +95,9 @@ TEST(MavlinkMessages, ABasePayloadWithoutExtensionsDecodesWithZeroExtensions) {
 
 TEST(MavlinkMessages, DecodeRefusesUnknownIdsAndOverlongPayloadsByName) {
     const std::vector<std::uint8_t> payload(10, 1);
-    const auto unknown = gm::decode({kHeader, 30, payload, false});
+    const auto unknown = gm::decode({kHeader, 31, payload, false});
     ASSERT_FALSE(unknown.ok());
-    EXPECT_NE(unknown.error().message.find("id 30"), std::string::npos);
+    EXPECT_NE(unknown.error().message.find("id 31"), std::string::npos);
     const std::vector<std::uint8_t> long_payload(10, 1);
     const auto overlong = gm::decode({kHeader, 0, long_payload, false});
     ASSERT_FALSE(overlong.ok());

@@ -4,8 +4,10 @@
 // the node-mavlink cross-check tool.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string_view>
 #include <vector>
 
 #include "gport/mavlink/enums.hpp"
@@ -125,10 +127,116 @@ inline CommandAck sample_truncated_ack() {
     return m;
 }
 
+// The camera component's messages and the vehicle state it reads.
+inline Attitude sample_vehicle_attitude() {
+    Attitude m;
+    m.time_boot_ms = 123456;
+    m.roll = 0.125F;
+    m.pitch = -0.25F;
+    m.yaw = 1.5F;
+    m.rollspeed = 0.01F;
+    m.pitchspeed = -0.02F;
+    m.yawspeed = kNaN;
+    return m;
+}
+
+inline GlobalPositionInt sample_position() {
+    GlobalPositionInt m;
+    m.time_boot_ms = 654321;
+    m.lat = -353632621;
+    m.lon = 1491652374;
+    m.alt = 584070;
+    m.relative_alt = -1250;
+    m.vx = -120;
+    m.vy = 35;
+    m.vz = -7;
+    m.hdg = 35999;
+    return m;
+}
+
+inline CameraInformation sample_camera_information() {
+    CameraInformation m;
+    m.time_boot_ms = 1000;
+    m.firmware_version = 0x01020304;
+    m.focal_length = kNaN;
+    m.sensor_size_h = 6.17F;
+    m.sensor_size_v = 4.55F;
+    m.flags = 3;
+    m.resolution_h = 4000;
+    m.resolution_v = 3000;
+    m.cam_definition_version = 7;
+    const std::string_view vendor = "HEQUAV", model = "G-Port";
+    std::copy(vendor.begin(), vendor.end(), m.vendor_name.begin());
+    std::copy(model.begin(), model.end(), m.model_name.begin());
+    m.lens_id = 2;
+    m.cam_definition_uri = *chars_of<140>("http://example.invalid/camera.xml", "uri");
+    m.gimbal_device_id = 154;
+    m.camera_device_id = 5;
+    return m;
+}
+
+inline CameraSettings sample_camera_settings() {
+    CameraSettings m;
+    m.time_boot_ms = 77;
+    m.mode_id = 1;
+    m.zoom_level = kNaN;
+    m.focus_level = 50.0F;
+    m.camera_device_id = 1;
+    return m;
+}
+
+inline StorageInformation sample_storage() {
+    StorageInformation m;
+    m.time_boot_ms = 9;
+    m.total_capacity = 32000.0F;
+    m.used_capacity = 1.5F;
+    m.available_capacity = 31998.5F;
+    m.read_speed = 90.0F;
+    m.write_speed = 45.0F;
+    m.storage_id = 1;
+    m.storage_count = 1;
+    m.status = 2;
+    m.type = 3;
+    m.name = *chars_of<32>("card", "name");
+    m.storage_usage = 1;
+    return m;
+}
+
+inline CameraCaptureStatus sample_capture_status() {
+    CameraCaptureStatus m;
+    m.time_boot_ms = 4242;
+    m.image_interval = 1.5F;
+    m.recording_time_ms = 60000;
+    m.available_capacity = kNaN;
+    m.image_status = 3;
+    m.video_status = 1;
+    m.image_count = 17;
+    m.camera_device_id = 0;
+    return m;
+}
+
+inline CameraImageCaptured sample_image_captured() {
+    CameraImageCaptured m;
+    m.time_utc = 1764000000123456ULL;
+    m.time_boot_ms = 31337;
+    m.lat = 473977420;
+    m.lon = 85455940;
+    m.alt = 488000;
+    m.relative_alt = 30000;
+    m.q = {0.9659258F, 0.0F, -0.2588190F, 0.0F};
+    m.image_index = 41;
+    m.camera_id = 0;
+    m.capture_result = 1;
+    m.file_url = *chars_of<205>("", "file_url");
+    return m;
+}
+
 inline std::vector<Message> sample_messages() {
-    return {sample_heartbeat(),       sample_command_long(), sample_command_ack(),
-            sample_information(),     sample_set_attitude(), sample_attitude_status(),
-            sample_autopilot_state(), sample_truncated_ack()};
+    return {sample_heartbeat(),       sample_command_long(),       sample_command_ack(),
+            sample_information(),     sample_set_attitude(),       sample_attitude_status(),
+            sample_autopilot_state(), sample_truncated_ack(),      sample_vehicle_attitude(),
+            sample_position(),        sample_camera_information(), sample_camera_settings(),
+            sample_storage(),         sample_capture_status(),     sample_image_captured()};
 }
 
 }  // namespace gport::mavlink::testing

@@ -17,7 +17,7 @@ from .results import Notification, parse_notification
 
 DEFAULT_SOCKET = "/run/gportd.sock"
 SOCKET_ENV = "GPORT_SOCKET"
-TOPICS = ("attitude", "link", "motion")
+TOPICS = ("attitude", "link", "motion", "capture")
 # Notifications kept per topic while nobody reads them; the oldest go first.
 INBOX_LIMIT = 1024
 # Bytes of notification lines kept in all (as the C++ client's kQueueBytes):
@@ -318,6 +318,21 @@ def record_params(on: bool | None, force: bool) -> dict[str, Any]:
     if force and on is None:
         raise ValueError("record(force=True) needs on=True or on=False")
     return drop_none(on=on, force=True if force else None)
+
+
+def with_meta(params: dict[str, Any], meta: Mapping[str, Any] | None) -> dict[str, Any]:
+    """``params`` with ``meta`` for photo and record (docs/api.md, "Captures"):
+    a mapping, sent as a JSON object; gportd refuses one over 1024 bytes as
+    compact JSON with InvalidParams. Anything else raises ValueError here."""
+    if meta is None:
+        return params
+    if not isinstance(meta, Mapping):
+        raise ValueError(f"meta must be a mapping (a JSON object), not {type(meta).__name__}")
+    return {**params, "meta": dict(meta)}
+
+
+def captures_params(since: int | None, limit: int | None) -> dict[str, Any]:
+    return drop_none(since=since, limit=limit)
 
 
 def settings_params(

@@ -20,6 +20,8 @@ from .results import (
     CenterResult,
     Control,
     Notification,
+    Captures,
+    PhotoResult,
     RecordResult,
     Settings,
     Limits,
@@ -30,6 +32,8 @@ from .results import (
     parse_attitude,
     parse_center,
     parse_control,
+    parse_captures,
+    parse_photo,
     parse_record,
     parse_settings,
     parse_limits,
@@ -324,11 +328,19 @@ class AsyncClient:
     async def lock(self) -> None:
         await self.call("lock")
 
-    async def photo(self) -> None:
-        await self.call("photo")
+    async def photo(self, *, meta: Mapping[str, Any] | None = None) -> PhotoResult:
+        """Takes a photo; ``meta`` (a mapping) is stored with the capture."""
+        return parse_photo(await self.call("photo", p.with_meta({}, meta) or None))
 
-    async def record(self, on: bool | None = None, force: bool = False) -> RecordResult:
-        return parse_record(await self.call("record", p.record_params(on, force)))
+    async def record(
+        self, on: bool | None = None, force: bool = False, *, meta: Mapping[str, Any] | None = None
+    ) -> RecordResult:
+        params = p.with_meta(p.record_params(on, force), meta)
+        return parse_record(await self.call("record", params))
+
+    async def captures(self, since: int | None = None, limit: int | None = None) -> Captures:
+        """The captures gportd kept from index ``since`` on, oldest first."""
+        return parse_captures(await self.call("captures", p.captures_params(since, limit)))
 
     async def acquire(self) -> Control:
         return parse_control(await self.call("acquire"))

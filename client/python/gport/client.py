@@ -20,6 +20,8 @@ from .results import (
     CenterResult,
     Control,
     Notification,
+    Captures,
+    PhotoResult,
     RecordResult,
     Settings,
     Limits,
@@ -30,6 +32,8 @@ from .results import (
     parse_attitude,
     parse_center,
     parse_control,
+    parse_captures,
+    parse_photo,
     parse_record,
     parse_settings,
     parse_limits,
@@ -331,11 +335,18 @@ class Client:
     def lock(self) -> None:
         self.call("lock")
 
-    def photo(self) -> None:
-        self.call("photo")
+    def photo(self, *, meta: Mapping[str, Any] | None = None) -> PhotoResult:
+        """Takes a photo; ``meta`` (a mapping) is stored with the capture."""
+        return parse_photo(self.call("photo", p.with_meta({}, meta) or None))
 
-    def record(self, on: bool | None = None, force: bool = False) -> RecordResult:
-        return parse_record(self.call("record", p.record_params(on, force)))
+    def record(
+        self, on: bool | None = None, force: bool = False, *, meta: Mapping[str, Any] | None = None
+    ) -> RecordResult:
+        return parse_record(self.call("record", p.with_meta(p.record_params(on, force), meta)))
+
+    def captures(self, since: int | None = None, limit: int | None = None) -> Captures:
+        """The captures gportd kept from index ``since`` on, oldest first."""
+        return parse_captures(self.call("captures", p.captures_params(since, limit)))
 
     def acquire(self) -> Control:
         return parse_control(self.call("acquire"))

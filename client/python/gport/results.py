@@ -181,11 +181,65 @@ class CenterResult:
 
 
 @dataclass(frozen=True)
+class CaptureAttitude:
+    """The newest attitude when a capture was taken, and its age."""
+
+    imu: Axes
+    hall: Axes
+    age_ms: int
+
+
+@dataclass(frozen=True)
+class CaptureClient:
+    """Who asked for a capture: pid, uid and the process's name when known."""
+
+    pid: int
+    uid: int
+    name: str | None = None
+
+
+@dataclass(frozen=True)
+class Capture:
+    """A photo or record toggle that reached the wire, as gportd's capture log
+    keeps it (docs/api.md, "Captures"). The ``photo`` and ``record`` replies
+    carry ``index``, ``kind`` and ``utc_us`` only; ``captures()`` and the
+    ``capture`` notification carry everything."""
+
+    index: int
+    kind: str  # photo, record_start, record_stop or record_toggle
+    utc_us: int | None = None  # wall clock, microseconds since the epoch
+    mono_us: int | None = None  # CLOCK_MONOTONIC, microseconds
+    attitude: CaptureAttitude | None = None  # None before the first sample
+    client: CaptureClient | None = None
+    meta: Json | None = None  # the ``meta`` object sent with the command
+    raw: Json = field(default_factory=dict, compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class Captures:
+    """The ``captures`` result: the kept captures asked for, oldest first, and
+    ``next``, the ``since`` that asks for the following ones."""
+
+    captures: tuple[Capture, ...]
+    next: int
+
+
+@dataclass(frozen=True)
+class PhotoResult:
+    """The ``photo`` result; ``capture`` is None from a gportd without the log."""
+
+    sent: bool
+    capture: Capture | None = None
+
+
+@dataclass(frozen=True)
 class RecordResult:
-    """The ``record`` result: whether a toggle was sent, the assumed state after."""
+    """The ``record`` result: whether a toggle was sent, the assumed state
+    after, and the capture it made (when sent; not compared)."""
 
     sent: bool
     recording: str
+    capture: Capture | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True)
@@ -248,7 +302,7 @@ class MotionEvent:
     raw: Json = field(default_factory=dict, compare=False, repr=False)
 
 
-Notification = Union[Attitude, Link, MotionEvent]
+Notification = Union[Attitude, Link, MotionEvent, Capture]
 
 
 def _axes(raw: Json | None) -> Axes | None:
@@ -394,7 +448,48 @@ def parse_center(raw: Json) -> CenterResult:
 
 
 def parse_record(raw: Json) -> RecordResult:
-    return RecordResult(sent=bool(raw["sent"]), recording=str(raw["recording"]))
+    return RecordResult(
+        sent=bool(raw["sent"]),
+        recording=str(raw["recording"]),
+        capture=_capture(raw.get("capture")),
+    )
+
+
+def parse_photo(raw: Json | None) -> PhotoResult:
+    # A gportd without the capture log answers an empty result.
+    if not isinstance(raw, Mapping):
+        return PhotoResult(sent=True)
+    return PhotoResult(sent=bool(raw.get("sent", True)), capture=_capture(raw.get("capture")))
+
+
+def parse_capture(raw: Json) -> Capture:
+    attitude, client, meta = raw.get("attitude"), raw.get("client"), raw.get("meta")
+    return Capture(
+        index=int(raw["index"]),
+        kind=str(raw["kind"]),
+        utc_us=_optional_int(raw.get("utc_us")),
+        mono_us=_optional_int(raw.get("mono_us")),
+        attitude=None
+        if attitude is None
+        else CaptureAttitude(
+            _axes_required(attitude["imu"]),
+            _axes_required(attitude["hall"]),
+            int(attitude.get("age_ms", 0)),
+        ),
+        client=None
+        if client is None
+        else CaptureClient(int(client["pid"]), int(client["uid"]), _optional_str(client.get("name"))),
+        meta=None if meta is None else dict(meta),
+        raw=raw,
+    )
+
+
+def _capture(raw: Json | None) -> Capture | None:
+    return None if raw is None else parse_capture(raw)
+
+
+def parse_captures(raw: Json) -> Captures:
+    return Captures(tuple(parse_capture(c) for c in raw["captures"]), int(raw["next"]))
 
 
 def parse_control(raw: Json) -> Control:
@@ -446,4 +541,6 @@ def parse_notification(method: str, params: Json) -> Notification | None:
         return parse_link(params)
     if method == "motion":
         return parse_motion_event(params)
+    if method == "capture":
+        return parse_capture(params)
     return None

@@ -43,7 +43,8 @@ Bridge::Bridge(asio::io_context& io, Options options, std::unique_ptr<SigningSes
       trust_(policy_of(options_)),
       reconnect_timer_(io),
       heartbeat_timer_(io),
-      attitude_timer_(io) {}
+      attitude_timer_(io),
+      image_timer_(io) {}
 
 void Bridge::start() {
     transport_ = open_transport(io_, options_.mavlink);
@@ -53,9 +54,10 @@ void Bridge::start() {
     gportd_.on_notification([this](const client::Notification& n) { on_notification(n); });
     gportd_.on_disconnect([this](const client::Error& e) { on_disconnected(e.message()); });
     spdlog::info(
-        "gport-mavlink: MAVLink on {}, gportd at {}, compid {}; vehicle system {}, ground "
+        "gport-mavlink: MAVLink on {}, gportd at {}, compid {}{}; vehicle system {}, ground "
         "stations {}; signing {}",
         to_string(options_.mavlink), options_.socket, options_.compid,
+        options_.camera ? fmt::format(" (camera: compid {})", kCameraCompid) : std::string(),
         options_.sysid ? std::to_string(*options_.sysid)
                        : "auto (adopted from the first autopilot heartbeat: spoofable)",
         to_string(options_.gcs_sysids), signing_ ? "on" : "off");
@@ -117,6 +119,7 @@ void Bridge::connect() {
 void Bridge::on_connected() {
     backoff_ = 100ms;
     connected_ = true;
+    meta_supported_ = true;  // perhaps another gportd now
     filter_.reset();
     spdlog::info("gportd: connected to {}", options_.socket);
     gportd_.async_status([this](std::optional<client::Error> error, client::Status status) {
@@ -261,6 +264,9 @@ void Bridge::send_heartbeat(const Origin& to) {
 
 void Bridge::heartbeat_tick() {
     send_heartbeat();
+    if (options_.camera) {
+        send_camera_heartbeat();
+    }
     log_.tick();
     heartbeat_timer_.expires_after(1s);
     heartbeat_timer_.async_wait([this](boost::system::error_code ec) {

@@ -21,6 +21,7 @@
 #include <utility>
 
 #include "gport/client/async_client.hpp"
+#include "gport/mavlink/bridge/camera.hpp"
 #include "gport/mavlink/bridge/log_limit.hpp"
 #include "gport/mavlink/bridge/mapping.hpp"
 #include "gport/mavlink/bridge/options.hpp"
@@ -83,9 +84,34 @@ class Bridge {
     void request_message(const Requester& from, const CommandLong& command);
     void camera(const Requester& from, const CommandLong& command);
     void record(const Requester& from, std::uint16_t command, bool on, bool force);
-    // MAVLink out: to the peer, or (replies) to a requester's origin
-    void ack(const Requester& to, std::uint16_t command, std::uint8_t result);
-    void send(const Message& message, const Origin& to = std::nullopt);
+    void on_attitude(const Attitude& message);
+    void on_position(const GlobalPositionInt& message);
+
+    // The camera component, compid 100 (bridge_camera.cpp)
+    bool for_camera(const CommandLong& command) const;
+    void on_camera_command(const Requester& from, const CommandLong& command);
+    void camera_request(const Requester& from, const CommandLong& command);
+    void start_images(const Requester& from, const CommandLong& command);
+    bool camera_busy(const Requester& from, const CommandLong& command);
+    void take_photo(const std::optional<Requester>& from, std::uint16_t command, bool with_meta);
+    void photo_done(const std::optional<Requester>& from, std::uint16_t command,
+                    const std::optional<client::Error>& error,
+                    const std::optional<client::Capture>& capture);
+    void camera_record(const Requester& from, std::uint16_t command, bool on, bool force,
+                       bool with_meta);
+    void image_tick();
+    void stop_images();
+    bool meta_refused(const client::Error& error, const client::CaptureOptions& sent);
+    client::CaptureOptions capture_options(bool with_meta) const;
+    std::optional<GlobalPositionInt> fresh_position() const;
+    CameraCaptureStatus capture_status() const;
+    void send_camera_heartbeat(const Origin& to = std::nullopt);
+
+    // MAVLink out: to the peer, or (replies) to a requester's origin; from
+    // the gimbal's component (compid 0) or the given one.
+    void ack(const Requester& to, std::uint16_t command, std::uint8_t result,
+             std::uint8_t compid = 0);
+    void send(const Message& message, const Origin& to = std::nullopt, std::uint8_t compid = 0);
 
     // timers (bridge.cpp)
     void send_heartbeat(const Origin& to = std::nullopt);
@@ -106,6 +132,7 @@ class Bridge {
     boost::asio::steady_timer reconnect_timer_;
     boost::asio::steady_timer heartbeat_timer_;
     boost::asio::steady_timer attitude_timer_;
+    boost::asio::steady_timer image_timer_;
     std::chrono::milliseconds backoff_{100};
     Clock::time_point started_ = Clock::now();
 
@@ -116,8 +143,20 @@ class Bridge {
     std::optional<double> vehicle_yaw_deg_;
     std::optional<double> vehicle_yaw_rate_dps_;
     std::optional<Clock::time_point> manager_seen_;
+    std::optional<double> attitude_yaw_deg_;  // ATTITUDE's, when no AUTOPILOT_STATE came
     std::uint16_t mode_flags_ = gimbal_flags_default();
-    std::uint8_t seq_ = 0;
+
+    // The camera component: the vehicle's newest position, the interval
+    // capture, the assumed recording, what gportd accepts.
+    std::optional<std::pair<GlobalPositionInt, Clock::time_point>> position_;
+    std::optional<ImagePlan> images_;
+    std::uint32_t images_taken_ = 0;  // of the running interval capture
+    std::int32_t image_count_ = 0;    // photos taken this run (the fallback image_index)
+    std::optional<Clock::time_point> recording_since_;
+    bool photo_in_flight_ = false;
+    bool meta_supported_ = true;   // false once this gportd refused `meta` as unknown
+    std::uint8_t seq_ = 0;         // the gimbal's frames
+    std::uint8_t camera_seq_ = 0;  // the camera's: a sequence per component
 
     // One motion request to gportd at a time; the newest waiting one replaces
     // an older one (a 50 Hz stream never queues up).

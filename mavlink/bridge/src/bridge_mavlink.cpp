@@ -121,7 +121,9 @@ void Bridge::handle(const Header& from, const Message& message) {
     if (const auto* hb = std::get_if<Heartbeat>(&message)) {
         on_heartbeat(from, *hb);
     } else if (const auto* cmd = std::get_if<CommandLong>(&message)) {
-        if (addressed_to(cmd->target_system, cmd->target_component, us, options_.compid)) {
+        if (for_camera(*cmd)) {
+            on_camera_command({from, transport_->origin()}, *cmd);
+        } else if (addressed_to(cmd->target_system, cmd->target_component, us, options_.compid)) {
             on_command({from, transport_->origin()}, *cmd);
         }
     } else if (const auto* set = std::get_if<GimbalDeviceSetAttitude>(&message)) {
@@ -132,6 +134,10 @@ void Bridge::handle(const Header& from, const Message& message) {
         if (addressed_to(state->target_system, state->target_component, us, options_.compid)) {
             on_autopilot_state(*state);
         }
+    } else if (const auto* attitude = std::get_if<Attitude>(&message)) {
+        on_attitude(*attitude);
+    } else if (const auto* position = std::get_if<GlobalPositionInt>(&message)) {
+        on_position(*position);
     }
 }
 
@@ -239,16 +245,27 @@ void Bridge::on_autopilot_state(const AutopilotStateForGimbalDevice& message) {
     }
 }
 
-void Bridge::ack(const Requester& to, std::uint16_t command, std::uint8_t result) {
+void Bridge::on_attitude(const Attitude& message) {
+    if (std::isfinite(message.yaw)) {
+        attitude_yaw_deg_ = to_degrees(message.yaw);
+    }
+}
+
+void Bridge::on_position(const GlobalPositionInt& message) {
+    position_.emplace(message, Clock::now());
+}
+
+void Bridge::ack(const Requester& to, std::uint16_t command, std::uint8_t result,
+                 std::uint8_t compid) {
     CommandAck a;
     a.command = command;
     a.result = result;
     a.target_system = to.header.sysid;
     a.target_component = to.header.compid;
-    send(a, to.origin);
+    send(a, to.origin, compid);
 }
 
-void Bridge::send(const Message& message, const Origin& to) {
+void Bridge::send(const Message& message, const Origin& to, std::uint8_t compid) {
     // With --sysid auto, before the vehicle is adopted only the heartbeat
     // goes out, under the provisional id 1 (the autopilots' default), so that
     // a udpout or serial peer (mavlink-router) learns of us and starts
@@ -261,7 +278,9 @@ void Bridge::send(const Message& message, const Origin& to) {
         transport_->count_unsent();  // before signing: no timestamp spent on it
         return;
     }
-    const Header header{seq_++, trust_.vehicle().value_or(kProvisionalSysid), options_.compid};
+    const std::uint8_t from = compid != 0 ? compid : options_.compid;
+    std::uint8_t& seq = from == options_.compid ? seq_ : camera_seq_;
+    const Header header{seq++, trust_.vehicle().value_or(kProvisionalSysid), from};
     Frame frame = encode(message, header, signing_ != nullptr);
     if (signing_) {
         signing_->sign(frame);

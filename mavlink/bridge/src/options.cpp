@@ -189,6 +189,7 @@ struct Given {
     std::optional<double> rate;
     std::optional<unsigned> lease;
     bool inv_roll = false, inv_pitch = false, inv_yaw = false;
+    bool no_camera = false;
 };
 
 void add_trust_options(CLI::App& app, Given& g) {
@@ -243,6 +244,9 @@ void add_options(CLI::App& app, Given& g) {
     app.add_flag("--invert-roll", g.inv_roll, "flip the roll axis's sign");
     app.add_flag("--invert-pitch", g.inv_pitch, "flip the pitch axis's sign");
     app.add_flag("--invert-yaw", g.inv_yaw, "flip the yaw axis's sign");
+    app.add_flag("--no-camera", g.no_camera,
+                 "no MAVLink camera component (compid 100): no camera heartbeat, its commands "
+                 "unanswered");
 }
 
 ParseOutcome usage_error(const std::string& problem) {
@@ -283,6 +287,7 @@ void apply_given(const Given& given, Options& o) {
     o.invert.roll = o.invert.roll || given.inv_roll;
     o.invert.pitch = o.invert.pitch || given.inv_pitch;
     o.invert.yaw = o.invert.yaw || given.inv_yaw;
+    o.camera = o.camera && !given.no_camera;
 }
 
 ParseOutcome finish(const Given& given, const Environment& env) {

@@ -12,13 +12,13 @@ namespace {
 
 using Json = nlohmann::json;
 
-constexpr std::array<std::string_view, 11> kKeys = {
-    "socket",   "url",       "sysid",  "gcs_sysid",   "compid",   "attitude_rate_hz",
-    "lease_ms", "log_level", "invert", "signing_key", "state_dir"};
+constexpr std::array<std::string_view, 12> kKeys = {
+    "socket",   "url",       "sysid",  "gcs_sysid",   "compid",    "attitude_rate_hz",
+    "lease_ms", "log_level", "invert", "signing_key", "state_dir", "camera"};
 
 constexpr const char* kKeyList =
     "socket, url, sysid, gcs_sysid, compid, attitude_rate_hz, lease_ms, log_level, invert, "
-    "signing_key, state_dir";
+    "signing_key, state_dir, camera";
 
 template <typename T>
 void take(const Json& section, const char* key, T& out) {
@@ -122,6 +122,7 @@ std::string apply_section(const Json& m, Options& o) {
     take(m, "attitude_rate_hz", o.attitude_rate_hz);
     take(m, "lease_ms", o.lease_ms);
     take(m, "log_level", o.log_level);
+    take(m, "camera", o.camera);
     if (m.contains("invert")) {
         const Json& inv = m.at("invert");
         take(inv, "roll", o.invert.roll);
@@ -147,6 +148,11 @@ std::string check(const Options& o) {
     }
     if (o.socket.empty()) {
         return "the socket path is empty";
+    }
+    if (o.camera && o.compid == kCameraCompid) {
+        return "component id " + std::to_string(o.compid) +
+               " is the camera component's (MAV_COMP_ID_CAMERA); give the gimbal another "
+               "(default 154) or turn the camera off (--no-camera, camera: false)";
     }
     return {};
 }

@@ -11,6 +11,8 @@ Concern concern_of(std::uint32_t msgid) {
             return Concern::kCommand;
         case Heartbeat::kId:
         case AutopilotStateForGimbalDevice::kId:
+        case Attitude::kId:
+        case GlobalPositionInt::kId:
             return Concern::kVehicleState;
         default:
             return Concern::kOther;

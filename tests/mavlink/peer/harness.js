@@ -94,9 +94,9 @@ function rpc(socketPath, method, params) {
 }
 
 // ---- gport-sim (with --trace) and gportd on it
-const trace = []; // {t: our clock, j: trace JSON}
+const trace = []; // {t: our clock, hr: performance.now(), j: trace JSON}
 function onTrace(line) {
-  try { trace.push({ t: Date.now(), j: JSON.parse(line) }); } catch (e) { /* not JSON */ }
+  try { trace.push({ t: Date.now(), hr: performance.now(), j: JSON.parse(line) }); } catch (e) { /* not JSON */ }
 }
 const controlFrames = (since) => trace.filter((e) => e.t >= since && e.j.cmd === '0x85');
 const cameraFrames = (since) => trace.filter((e) => e.t >= since && e.j.cmd === '0x86');
@@ -162,7 +162,7 @@ class Peer {
     input.pipe(new MavLinkPacketSplitter()).pipe(new MavLinkPacketParser()).on('data', (packet) => {
       const clazz = REGISTRY[packet.header.msgid];
       if (!clazz) return;
-      this.received.push({ t: Date.now(), name: clazz.MSG_NAME, header: packet.header,
+      this.received.push({ t: Date.now(), hr: performance.now(), name: clazz.MSG_NAME, header: packet.header,
         signature: packet.signature, buffer: packet.buffer,
         data: packet.protocol.data(packet.payload, clazz) });
     });

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -42,6 +43,10 @@ struct Invocation {
     std::optional<std::chrono::milliseconds> duration;  // speed --for, watch --for
     bool wait = false;                                  // angle, center --wait
     MonitorOptions monitor;                             // monitor
+    std::uint64_t since = 0;                            // captures --since
+    std::optional<long> limit;                          // captures --limit: at most this many
+    bool follow = false;                                // captures --follow
+    bool csv = false;                                   // captures --csv
 };
 
 struct UsageError {

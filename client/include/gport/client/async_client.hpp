@@ -66,6 +66,11 @@ class GPORT_CLIENT_API AsyncClient {
     void async_lock(Handler<Done> handler);
     void async_photo(Handler<Done> handler);
     void async_record(std::optional<bool> on, bool force, Handler<RecordResult> handler);
+    // With `meta` (CaptureOptions) and the capture gportd logged. A meta
+    // that is no JSON object completes with kInvalidParams, nothing sent.
+    void async_photo(const CaptureOptions& options, Handler<PhotoResult> handler);
+    void async_record(std::optional<bool> on, bool force, const CaptureOptions& options,
+                      Handler<RecordResult> handler);
     void async_acquire(Handler<Control> handler);
     void async_release(Handler<Control> handler);
     void async_settings(Handler<Settings> handler);

@@ -151,9 +151,29 @@ struct CenterResult {
     std::optional<MotionEnd> ended{};
 };
 
+// What gportd's capture log recorded for a photo or a record toggle that
+// reached the wire (the `capture` member of the reply; absent from a gportd
+// without the log, and when nothing was sent).
+struct Capture {
+    std::uint64_t index = 0;
+    std::optional<std::uint64_t> utc_us{};  // wall-clock time, µs since 1970
+    std::string kind{};                     // photo, record_start, record_stop, record_toggle
+};
+
+// `meta` for photo and record: the text of a JSON object (at most 1 KiB
+// compact) stored with the capture; empty: none sent.
+struct CaptureOptions {
+    std::string meta{};
+};
+
+struct PhotoResult {
+    std::optional<Capture> capture{};
+};
+
 struct RecordResult {
     bool sent = false;
     std::string recording{};  // "on", "off" or "unknown" after the call
+    std::optional<Capture> capture{};
 };
 
 struct Control {

@@ -1,7 +1,7 @@
 // gportd's command line (CLI11, with the conventions of gport/base/args.hpp):
 //
 //   gportd [--config FILE] [--device PATH] [--socket PATH] [--log-level LEVEL]
-//          [--simulate] [--help] [--version]
+//          [--state-dir DIR] [--simulate] [--help] [--version]
 //
 // Options with a value accept both "--opt VALUE" and "--opt=VALUE"; when an
 // option is repeated the last one wins. Values given here override the file.
@@ -50,6 +50,7 @@ struct CommandLine {
     std::optional<std::string> device;       // --device: overrides serial.device
     std::optional<std::string> socket_path;  // --socket: overrides socket.path
     std::optional<std::string> log_level;    // --log-level: overrides log.level
+    std::optional<std::string> state_dir;    // --state-dir: overrides captures.dir
     bool simulate = false;                   // --simulate: use the built-in simulated gimbal
     bool help = false;                       // --help / -h: print usage() and exit 0
     bool version = false;                    // --version: print version_text() and exit 0

@@ -126,6 +126,13 @@ struct MotionConfig {            // "motion"
     Millis timeout{10000};       // "timeout_ms": not reached by then -> ends "timeout"
 };
 
+// The capture log (docs/configuration.md, "captures"; docs/operations.md).
+struct CapturesConfig {                      // "captures"
+    std::string dir;                         // "dir": empty = $STATE_DIRECTORY, else memory only
+    std::uint64_t max_file_bytes = 1048576;  // "max_file_bytes": rotate past this
+    int keep_files = 4;                      // "keep_files": captures.jsonl and .1 ... .N-1
+};
+
 struct Config {
     SerialConfig serial;
     SocketConfig socket;
@@ -138,6 +145,7 @@ struct Config {
     LimitsConfig limits;
     FailsafeConfig failsafe;
     MotionConfig motion;
+    CapturesConfig captures;
     bool simulate = false;  // command line only: --simulate
 };
 

@@ -29,6 +29,8 @@ std::string attitude_payload(const daemon::AttitudeSample& sample);
 Line attitude_line(const daemon::AttitudeSample& sample);
 Line link_line(const daemon::LinkEvent& event);
 Line motion_line(const daemon::MotionEvent& event);
+// A `capture` notification: its params are the capture as `captures` lists it.
+Line capture_line(const nlohmann::json& capture);
 
 // A copy of an attitude notification line with "dropped":<count> added to its
 // params: how this one client learns how many samples it has lost so far.

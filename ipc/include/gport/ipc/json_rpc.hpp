@@ -25,6 +25,7 @@
 #include <variant>
 
 #include "gport/daemon/api.hpp"
+#include "gport/ipc/capture_log.hpp"
 #include "gport/ipc/status_cache.hpp"
 
 namespace gport::ipc {
@@ -62,6 +63,7 @@ struct Subscriptions {
     bool attitude = false;
     bool link = false;
     bool motion = false;
+    bool capture = false;
     std::optional<double> max_rate_hz;  // attitude only; empty = every sample
 };
 
@@ -164,11 +166,15 @@ class Dispatcher {
     void invalidate_status() { status_cache_.invalidate(); }
     const StatusCache& status_cache() const { return status_cache_; }
 
+    // The captures of photo and record (capture_log.hpp).
+    CaptureLog& captures() { return captures_; }
+
   private:
     daemon::Api& api_;
     std::function<ServerStats()> stats_;
     StatusCache status_cache_;
     ChannelHost* channel_host_ = nullptr;
+    CaptureLog captures_;
 };
 
 // Builds an error reply line ("id" null), for the transport's own errors:

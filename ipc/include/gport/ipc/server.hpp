@@ -36,6 +36,7 @@
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
 #include "gport/daemon/core/repeat_limiter.hpp"
+#include "gport/ipc/capture_log.hpp"
 #include "gport/ipc/json_rpc.hpp"
 #include "gport/ipc/session_host.hpp"
 
@@ -80,6 +81,8 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     void close();
 
     std::size_t clients() const;
+    // The capture log (app/ restores it and gives it its writer before start()).
+    CaptureLog& captures();
     std::uint64_t dropped_notifications() const { return dropped_total_; }
     // socket.max_clients, or fewer when RLIMIT_NOFILE could not be raised to fit.
     std::size_t max_clients() const { return max_clients_; }

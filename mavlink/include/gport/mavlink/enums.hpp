@@ -9,6 +9,7 @@ namespace gport::mavlink {
 namespace mav_type {
 inline constexpr std::uint8_t kGcs = 6;
 inline constexpr std::uint8_t kGimbal = 26;
+inline constexpr std::uint8_t kCamera = 30;
 }  // namespace mav_type
 
 namespace mav_autopilot {
@@ -24,11 +25,17 @@ inline constexpr std::uint8_t kCritical = 5;
 namespace mav_comp_id {
 inline constexpr std::uint8_t kAll = 0;  // broadcast
 inline constexpr std::uint8_t kAutopilot1 = 1;
+inline constexpr std::uint8_t kCamera = 100;
 inline constexpr std::uint8_t kGimbal = 154;
 }  // namespace mav_comp_id
 
 namespace mav_cmd {
+inline constexpr std::uint16_t kDoDigicamControl = 203;
 inline constexpr std::uint16_t kRequestMessage = 512;
+inline constexpr std::uint16_t kRequestCameraInformation = 521;  // deprecated: REQUEST_MESSAGE
+inline constexpr std::uint16_t kRequestCameraSettings = 522;
+inline constexpr std::uint16_t kRequestStorageInformation = 525;
+inline constexpr std::uint16_t kRequestCameraCaptureStatus = 527;
 inline constexpr std::uint16_t kImageStartCapture = 2000;
 inline constexpr std::uint16_t kImageStopCapture = 2001;
 inline constexpr std::uint16_t kVideoStartCapture = 2500;
@@ -43,6 +50,18 @@ inline constexpr std::uint8_t kUnsupported = 3;
 inline constexpr std::uint8_t kFailed = 4;
 inline constexpr std::uint8_t kInProgress = 5;
 }  // namespace mav_result
+
+// CAMERA_CAP_FLAGS
+namespace camera_cap {
+inline constexpr std::uint32_t kCaptureVideo = 1U << 0;
+inline constexpr std::uint32_t kCaptureImage = 1U << 1;
+}  // namespace camera_cap
+
+// CAMERA_MODE
+namespace camera_mode {
+inline constexpr std::uint8_t kImage = 0;
+inline constexpr std::uint8_t kVideo = 1;
+}  // namespace camera_mode
 
 // GIMBAL_DEVICE_CAP_FLAGS
 namespace gimbal_cap {

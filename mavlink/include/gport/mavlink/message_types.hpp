@@ -8,6 +8,7 @@
 //   284  GIMBAL_DEVICE_SET_ATTITUDE           32    32     99
 //   285  GIMBAL_DEVICE_ATTITUDE_STATUS        40    49    137
 //   286  AUTOPILOT_STATE_FOR_GIMBAL_DEVICE    53    57    210
+//   (and the camera's and the vehicle position's: camera_message_types.hpp)
 //
 // (base: the fields before <extensions/>; full: with them.) Each struct
 // carries its table (kFields, in wire order) and visits its members in the
@@ -34,6 +35,12 @@ template <typename V, typename... T>
 constexpr void each(V& v, T&... members) {
     (v(members), ...);
 }
+
+}  // namespace gport::mavlink
+
+#include "gport/mavlink/camera_message_types.hpp"  // IWYU pragma: export
+
+namespace gport::mavlink {
 
 struct Heartbeat {
     using F = FieldType;
@@ -275,8 +282,10 @@ struct AutopilotStateForGimbalDevice {
     }
 };
 
-using Message = std::variant<Heartbeat, CommandLong, CommandAck, GimbalDeviceInformation,
-                             GimbalDeviceSetAttitude, GimbalDeviceAttitudeStatus,
-                             AutopilotStateForGimbalDevice>;
+using Message =
+    std::variant<Heartbeat, CommandLong, CommandAck, GimbalDeviceInformation,
+                 GimbalDeviceSetAttitude, GimbalDeviceAttitudeStatus, AutopilotStateForGimbalDevice,
+                 Attitude, GlobalPositionInt, CameraInformation, CameraSettings, StorageInformation,
+                 CameraCaptureStatus, CameraImageCaptured>;
 
 }  // namespace gport::mavlink

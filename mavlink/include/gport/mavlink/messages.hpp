@@ -92,6 +92,18 @@ static_assert(detail::layout_ok<GimbalDeviceInformation>());
 static_assert(detail::layout_ok<GimbalDeviceSetAttitude>());
 static_assert(detail::layout_ok<GimbalDeviceAttitudeStatus>());
 static_assert(detail::layout_ok<AutopilotStateForGimbalDevice>());
+static_assert(detail::layout_ok<Attitude>());
+static_assert(detail::layout_ok<GlobalPositionInt>());
+static_assert(detail::layout_ok<CameraInformation>());
+static_assert(detail::layout_ok<CameraSettings>());
+static_assert(detail::layout_ok<StorageInformation>());
+static_assert(detail::layout_ok<CameraCaptureStatus>());
+static_assert(detail::layout_ok<CameraImageCaptured>());
+static_assert(full_length(CameraInformation::kFields) == 237);
+static_assert(full_length(CameraImageCaptured::kFields) == 255);
+static_assert(full_length(StorageInformation::kFields) == 61);
+static_assert(full_length(CameraCaptureStatus::kFields) == 23);
+static_assert(full_length(CameraSettings::kFields) == 14);
 
 // ---- the message table ----------------------------------------------------------
 

@@ -38,7 +38,11 @@ struct Options {
     Invert invert{};
     std::string signing_key{};  // the key file; empty: no signing
     std::string state_dir{};    // for the signing timestamp; default $STATE_DIRECTORY
+    bool camera = true;         // the camera component (compid 100); --no-camera
 };
+
+// The camera component's id (MAV_COMP_ID_CAMERA), beside the gimbal's.
+inline constexpr std::uint8_t kCameraCompid = 100;
 
 // What parse_options reads from the environment.
 struct Environment {

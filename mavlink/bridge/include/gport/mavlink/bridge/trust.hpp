@@ -12,7 +12,8 @@
 //
 // Commands are GIMBAL_DEVICE_SET_ATTITUDE and COMMAND_LONG; vehicle state
 // is what steers us without being a command: HEARTBEAT ("a gimbal manager
-// is present") and AUTOPILOT_STATE_FOR_GIMBAL_DEVICE (the vehicle's yaw).
+// is present"), AUTOPILOT_STATE_FOR_GIMBAL_DEVICE and ATTITUDE (the
+// vehicle's yaw) and GLOBAL_POSITION_INT (where a photo was taken).
 // Other messages concern nothing we act on; they count as trusted from the
 // vehicle and the ground stations (e.g. for choosing the reply peer).
 //

@@ -1,0 +1,80 @@
+// The capture log's cost (docs/operations.md, "The capture log"): what the
+// event loop pays per capture (the capture made, indexed, kept, serialized and
+// queued) and what the writer thread pays per capture on a disk (write and
+// fdatasync, with the hand-over between the threads).
+//   bench_captures [--benchmark_filter=...]   GPORT_BENCH_DIR: the disk to
+//   write on (default /var/tmp, which is rarely a tmpfs)
+#include <benchmark/benchmark.h>
+#include <spdlog/logger.h>
+#include <spdlog/sinks/null_sink.h>
+#include <stdlib.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "gport/app/capture_writer.hpp"
+#include "gport/ipc/capture_log.hpp"
+
+namespace {
+
+using nlohmann::json;
+
+json sample_capture() {
+    return json{{"kind", "photo"},
+                {"utc_us", 1795563183085470},
+                {"mono_us", 24172367794},
+                {"attitude",
+                 {{"imu", {{"roll", 0.12}, {"pitch", -30.05}, {"yaw", 12.5}}},
+                  {"hall", {{"roll", 0.1}, {"pitch", -29.98}, {"yaw", 45.01}}},
+                  {"age_ms", 7}}},
+                {"client", {{"pid", 1234}, {"uid", 0}, {"name", "gport-mavlink"}}},
+                {"meta", {{"lat", 47.397742}, {"lon", 8.545594}, {"alt_m", 488.5}}}};
+}
+
+std::shared_ptr<spdlog::logger> quiet() {
+    return std::make_shared<spdlog::logger>("bench",
+                                            std::make_shared<spdlog::sinks::null_sink_mt>());
+}
+
+std::string bench_dir() {
+    const char* base = std::getenv("GPORT_BENCH_DIR");
+    std::string pattern = std::string(base != nullptr ? base : "/var/tmp") + "/gport-bench-XXXXXX";
+    if (::mkdtemp(pattern.data()) == nullptr) {
+        return "/tmp";
+    }
+    return pattern;
+}
+
+// The loop's share: add() builds the line and queues it (the writer drains
+// in the background, so the queue never fills here).
+void BM_CaptureOnTheLoop(benchmark::State& state) {
+    const auto dir = bench_dir();
+    gport::app::CaptureWriter writer({dir, 64 << 20, 2}, quiet(), 1 << 20);
+    gport::ipc::CaptureLog log;
+    log.set_sink(&writer);
+    const auto capture = sample_capture();
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(log.add(capture));
+    }
+    writer.drain();
+    std::filesystem::remove_all(dir);
+}
+BENCHMARK(BM_CaptureOnTheLoop);
+
+// The writer's share: one capture queued, written and fdatasync'd, waited for.
+void BM_CaptureToDisk(benchmark::State& state) {
+    const auto dir = bench_dir();
+    gport::app::CaptureWriter writer({dir, 64 << 20, 2}, quiet());
+    const auto line = json(sample_capture()).dump();
+    for (auto _ : state) {
+        writer.write(line);
+        writer.drain();
+    }
+    state.counters["dropped"] = static_cast<double>(writer.stats().dropped);
+    std::filesystem::remove_all(dir);
+}
+BENCHMARK(BM_CaptureToDisk)->UseRealTime();
+
+}  // namespace

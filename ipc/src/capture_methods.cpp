@@ -1,0 +1,142 @@
+#include "capture_methods.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <fstream>
+#include <string>
+
+#include "json_common.hpp"
+#include "params.hpp"
+
+namespace gport::ipc::detail {
+namespace {
+
+using nlohmann::json;
+
+std::int64_t micros(std::chrono::nanoseconds since_epoch) {
+    return std::chrono::duration_cast<std::chrono::microseconds>(since_epoch).count();
+}
+
+// The process's name from /proc (procfs: no disk involved); empty if gone.
+std::string process_name(pid_t pid) {
+    std::ifstream comm(fmt::format("/proc/{}/comm", pid));
+    std::string name;
+    std::getline(comm, name);
+    return name;
+}
+
+// `meta`: absent, or an object of at most kMetaMaxBytes as compact JSON.
+const json* checked_meta(const json& params) {
+    if (!params.is_object()) {
+        return nullptr;
+    }
+    const auto it = params.find("meta");
+    if (it == params.end()) {
+        return nullptr;
+    }
+    if (!it->is_object()) {
+        throw InvalidParams(
+            fmt::format("meta must be a JSON object (at most {} bytes as compact "
+                        "JSON), not {}",
+                        CaptureLog::kMetaMaxBytes, it->type_name()));
+    }
+    const auto size = json_text(*it).size();
+    if (size > CaptureLog::kMetaMaxBytes) {
+        throw InvalidParams(fmt::format("meta is {} bytes as compact JSON; at most {} are allowed",
+                                        size, CaptureLog::kMetaMaxBytes));
+    }
+    return &*it;
+}
+
+// Adds the capture to the log and returns the summary the reply carries.
+json take(MethodContext& c, std::string_view kind, const json* meta) {
+    const auto& stored =
+        c.captures.add(capture_json(kind, c.client.info, c.api.latest_attitude(), meta));
+    return json{{"index", stored["index"]}, {"utc_us", stored["utc_us"]}, {"kind", kind}};
+}
+
+std::string_view record_kind(daemon::RecordingState now) {
+    switch (now) {
+        case daemon::RecordingState::kOn:
+            return "record_start";
+        case daemon::RecordingState::kOff:
+            return "record_stop";
+        case daemon::RecordingState::kUnknown:
+            break;
+    }
+    return "record_toggle";
+}
+
+}  // namespace
+
+json capture_json(std::string_view kind, const daemon::ClientInfo& client,
+                  const std::optional<daemon::AttitudeSample>& attitude, const json* meta) {
+    const auto wall = std::chrono::system_clock::now();
+    const auto mono = std::chrono::steady_clock::now();
+    json out = {{"kind", kind},
+                {"utc_us", micros(wall.time_since_epoch())},
+                {"mono_us", micros(mono.time_since_epoch())}};
+    if (attitude) {
+        const auto age =
+            std::chrono::duration_cast<std::chrono::milliseconds>(mono - attitude->received);
+        out["attitude"] = {{"imu", axes_json(attitude->attitude.imu)},
+                           {"hall", axes_json(attitude->attitude.hall)},
+                           {"age_ms", age.count()}};
+    } else {
+        out["attitude"] = nullptr;
+    }
+    json who = {{"pid", client.pid}, {"uid", client.uid}};
+    if (auto name = process_name(client.pid); !name.empty()) {
+        who["name"] = std::move(name);
+    }
+    out["client"] = std::move(who);
+    if (meta != nullptr) {
+        out["meta"] = *meta;
+    }
+    return out;
+}
+
+void photo(MethodContext& c, const json& params, Respond respond) {
+    Params(params).only({"meta"});
+    const json* meta = checked_meta(params);
+    auto outcome = c.api.photo(c.client.info);
+    if (!outcome) {
+        respond(RpcError{to_rpc_code(outcome.error().code), outcome.error().message});
+        return;
+    }
+    respond(json{{"sent", true}, {"capture", take(c, "photo", meta)}});
+}
+
+void record(MethodContext& c, const json& params, Respond respond) {
+    const Params p(params);
+    p.only({"on", "force", "meta"});
+    daemon::RecordRequest request;
+    request.on = p.boolean("on");
+    request.force = p.boolean("force").value_or(false);
+    if (request.force && !request.on) {
+        throw InvalidParams("force needs on: record {\"on\": true|false, \"force\": true}");
+    }
+    const json* meta = checked_meta(params);
+    auto outcome = c.api.record(c.client.info, request);
+    if (!outcome) {
+        respond(RpcError{to_rpc_code(outcome.error().code), outcome.error().message});
+        return;
+    }
+    json result{{"sent", outcome->sent}, {"recording", daemon::to_string(outcome->recording)}};
+    if (outcome->sent) {
+        result["capture"] = take(c, record_kind(outcome->recording), meta);
+    }
+    respond(std::move(result));
+}
+
+void captures(MethodContext& c, const json& params, Respond respond) {
+    const Params p(params);
+    p.only({"since", "limit"});
+    const auto since = p.integer("since", 0, std::numeric_limits<std::int64_t>::max()).value_or(0);
+    const auto limit = p.integer("limit", 1, static_cast<std::int64_t>(CaptureLog::kMaxLimit))
+                           .value_or(static_cast<std::int64_t>(CaptureLog::kDefaultLimit));
+    respond(c.captures.list(static_cast<std::uint64_t>(since), static_cast<std::size_t>(limit)));
+}
+
+}  // namespace gport::ipc::detail

@@ -1,0 +1,281 @@
+// The capture log end to end (issue 25): the real gportd --simulate over its
+// socket, its files in a state directory of the test's, restarted, on a full
+// disk and a tiny one, and read back by gportctl captures --csv.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <sys/mount.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "harness.hpp"
+
+namespace gport::testing {
+namespace {
+
+// The n-th comma-separated cell of a CSV line.
+std::string split_cell(const std::string& line, std::size_t n) {
+    std::stringstream row(line + ",");
+    std::string cell;
+    for (std::size_t i = 0; i <= n; ++i) {
+        std::getline(row, cell, ',');
+    }
+    return cell;
+}
+
+class CapturesEndToEnd : public ::testing::Test {
+  protected:
+    void start(const std::string& config_extra = "") {
+        daemon_ = std::make_unique<DaemonProcess>(
+            dir_, std::vector<std::string>{"--simulate", "--state-dir", state_},
+            std::vector<std::string>{}, config_extra);
+        client_ = std::make_unique<Client>(daemon_->socket());
+        ASSERT_TRUE(client_->connected());
+        ASSERT_TRUE(link_up(*client_));
+    }
+    void stop() {
+        client_.reset();
+        daemon_->process().signal(SIGTERM);
+        EXPECT_EQ(daemon_->process().wait(), 0);
+        daemon_.reset();
+    }
+    Json captures(const Json& params = nullptr) {
+        return client_->call("captures", params)["result"];
+    }
+    // gportctl's exit status and its stdout, as lines.
+    std::pair<int, std::vector<std::string>> gportctl(std::vector<std::string> args) {
+        args.insert(args.begin(), {GPORTCTL_PATH, "--socket", daemon_->socket()});
+        Process process(args);
+        const int status = process.wait(20s).value_or(-1);
+        std::vector<std::string> lines;
+        while (auto line = process.next_line(5s)) {
+            lines.push_back(*line);
+        }
+        return {status, lines};
+    }
+    Json status_captures() { return client_->call("status")["result"]["captures"]; }
+    // Waits until the writer has dealt with every capture taken.
+    bool settled(std::uint64_t taken) {
+        return eventually([&] {
+            auto s = status_captures();
+            return s["written"].get<std::uint64_t>() + s["dropped"].get<std::uint64_t>() == taken;
+        });
+    }
+
+    TempDir dir_;
+    std::string state_ = dir_.file("state");
+    std::unique_ptr<DaemonProcess> daemon_;
+    std::unique_ptr<Client> client_;
+};
+
+TEST_F(CapturesEndToEnd, PersistedAndListedAfterARestartWithIndexesContinuing) {
+    start();
+    EXPECT_EQ(client_->call("photo", {{"meta", {{"wp", 3}}}})["result"]["capture"]["index"], 1);
+    EXPECT_EQ(client_->call("record", {{"on", true}, {"force", true}})["result"]["capture"]["kind"],
+              "record_start");
+    EXPECT_EQ(client_->call("record", {{"on", false}})["result"]["capture"]["index"], 3);
+    const auto before = captures()["captures"];
+    ASSERT_TRUE(settled(3));
+    stop();
+
+    start();
+    const auto after = captures();
+    EXPECT_EQ(after["captures"], before) << "the same captures, read back from the file";
+    EXPECT_EQ(after["next"], 4);
+    EXPECT_EQ(client_->call("photo")["result"]["capture"]["index"], 4) << "never reused";
+    EXPECT_EQ(status_captures()["next_index"], 5);
+    EXPECT_EQ(status_captures()["file"], state_ + "/captures.jsonl");
+}
+
+TEST_F(CapturesEndToEnd, RotationKeepsNFilesAndTheIndexesAcrossARestart) {
+    const std::string config = R"("captures": {"max_file_bytes": 4096, "keep_files": 2})";
+    start(config);
+    const Json meta = {{"note", std::string(600, 'n')}};
+    for (int i = 0; i < 30; ++i) {
+        ASSERT_EQ(client_->call("photo", {{"meta", meta}})["result"]["sent"], true);
+    }
+    ASSERT_TRUE(settled(30));
+    stop();
+    EXPECT_TRUE(std::filesystem::exists(state_ + "/captures.jsonl.1"));
+    EXPECT_FALSE(std::filesystem::exists(state_ + "/captures.jsonl.2"));
+    EXPECT_LE(std::filesystem::file_size(state_ + "/captures.jsonl"), 4096u);
+
+    start(config);
+    const auto kept = captures({{"limit", 1000}})["captures"];
+    ASSERT_FALSE(kept.empty());
+    EXPECT_EQ(kept.back()["index"], 30);
+    EXPECT_GT(kept.front()["index"], 1) << "the oldest went with the oldest file";
+    EXPECT_EQ(client_->call("photo")["result"]["capture"]["index"], 31);
+}
+
+// The CSV a geotagger reads, checked field by field against the captures
+// the API lists for the same run.
+TEST_F(CapturesEndToEnd, GportctlCapturesCsvMatchesTheRun) {
+    start();
+    const auto moved = client_->call("angle", {{"pitch", -30}, {"wait", true}}, 20s);
+    ASSERT_EQ(moved["result"]["ended"]["reason"], "reached") << moved;
+    client_->call("photo", {{"meta", {{"lat", 47.397742}, {"lon", 8.545594}, {"alt_m", 488.5}}}});
+    client_->call("record", {{"on", true}, {"force", true}, {"meta", {{"wp", 2}}}});
+    client_->call("record", {{"on", false}});
+    const auto listed = captures()["captures"];
+    ASSERT_EQ(listed.size(), 3u);
+
+    const auto [status, lines] = gportctl({"captures", "--csv"});
+    ASSERT_EQ(status, 0);
+    ASSERT_EQ(lines.size(), 4u);
+    EXPECT_EQ(
+        lines[0],
+        "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,hall_yaw,lat,lon,alt_m");
+    for (std::size_t i = 0; i < 3; ++i) {
+        std::vector<std::string> cells;
+        std::stringstream row(lines[i + 1] + ",");
+        for (std::string cell; std::getline(row, cell, ',');) {
+            cells.push_back(cell);
+        }
+        ASSERT_EQ(cells.size(), 12u) << lines[i + 1];
+        const auto& c = listed[i];
+        EXPECT_EQ(cells[0], c["index"].dump());
+        EXPECT_EQ(cells[2], c["kind"]);
+        EXPECT_EQ(cells[1].size(), 27u) << "2026-11-24T23:33:03.085470Z: " << cells[1];
+        EXPECT_EQ(cells[1].back(), 'Z');
+        const auto us = c["utc_us"].get<std::int64_t>() % 1000000;
+        EXPECT_EQ(cells[1].substr(20, 6), fmt::format("{:06}", us));
+        EXPECT_EQ(std::stod(cells[4]), c["attitude"]["imu"]["pitch"].get<double>());
+        EXPECT_EQ(std::stod(cells[8]), c["attitude"]["hall"]["yaw"].get<double>());
+    }
+    EXPECT_NEAR(std::stod(split_cell(lines[1], 4)), -30, 1.0) << "the camera pointed down";
+    EXPECT_EQ(split_cell(lines[1], 9), "47.397742");
+    EXPECT_EQ(split_cell(lines[1], 10), "8.545594");
+    EXPECT_EQ(split_cell(lines[1], 11), "488.5");
+    EXPECT_EQ(split_cell(lines[2], 9), "") << "no position in its meta";
+
+    const auto [since_status, since_lines] = gportctl({"captures", "--csv", "--since", "3"});
+    EXPECT_EQ(since_status, 0);
+    ASSERT_EQ(since_lines.size(), 2u);
+    EXPECT_TRUE(since_lines[1].starts_with("3,"));
+    const auto [table_status, table] = gportctl({"captures", "--limit", "1"});
+    EXPECT_EQ(table_status, 0);
+    ASSERT_EQ(table.size(), 2u) << "a header and one capture";
+    EXPECT_TRUE(contains(table[1], "photo"));
+    const auto [both, refusal] = gportctl({"captures", "--csv", "--json"});
+    EXPECT_EQ(both, 64);
+}
+
+TEST_F(CapturesEndToEnd, GportctlCapturesFollowListsThenTails) {
+    start();
+    client_->call("photo");
+    Process follow(
+        {GPORTCTL_PATH, "--socket", daemon_->socket(), "--json", "captures", "--follow"});
+    const auto first = follow.next_line();
+    ASSERT_TRUE(first);
+    EXPECT_EQ(Json::parse(*first)["index"], 1);
+    client_->call("photo", {{"meta", {{"wp", 9}}}});
+    const auto tailed = follow.next_line();
+    ASSERT_TRUE(tailed) << "the new capture was not tailed";
+    EXPECT_EQ(Json::parse(*tailed)["index"], 2);
+    EXPECT_EQ(Json::parse(*tailed)["meta"]["wp"], 9);
+    follow.signal(SIGINT);
+    EXPECT_EQ(follow.wait(), 0);
+}
+
+// Every write fails (the file is /dev/full): the daemon keeps serving, the
+// stop still reaches the gimbal, the captures stay listed from memory, and
+// status says what went wrong.
+TEST_F(CapturesEndToEnd, AFullDiskLosesNoStopKeepsServingAndShowsTheError) {
+    std::filesystem::create_directory(state_);
+    std::filesystem::create_symlink("/dev/full", state_ + "/captures.jsonl");
+    start();
+    ASSERT_EQ(
+        client_->call("speed", {{"yaw", 10}, {"duration_ms", 5000}})["result"]["speed"]["yaw"], 10);
+    for (int i = 0; i < 5; ++i) {
+        ASSERT_EQ(client_->call("photo")["result"]["sent"], true);
+    }
+    const auto stops = client_->call("status")["result"]["counters"]["stops_sent"];
+    ASSERT_EQ(client_->call("stop")["result"]["sent"], true);
+    EXPECT_TRUE(eventually([&] {
+        return client_->call("status")["result"]["counters"]["stops_sent"] > stops;
+    })) << "the stop reached the gimbal";
+    ASSERT_TRUE(settled(5));
+    const auto s = status_captures();
+    EXPECT_EQ(s["dropped"], 5);
+    EXPECT_EQ(s["written"], 0);
+    ASSERT_TRUE(s["error"].is_string());
+    EXPECT_TRUE(contains(s["error"], "No space left on device")) << s;
+    EXPECT_EQ(captures()["captures"].size(), 5u) << "kept in memory";
+    EXPECT_EQ(client_->call("attitude")["result"].contains("imu"), true) << "still serving";
+}
+
+// A state directory gportd may not write (as root, gportd runs as nobody
+// under setpriv: root would write anyway).
+TEST_F(CapturesEndToEnd, AReadOnlyStateDirectoryKeepsServingAndShowsTheError) {
+    std::filesystem::create_directory(state_);
+    ASSERT_EQ(::chmod(state_.c_str(), 0555), 0);
+    std::vector<std::string> wrapper;
+    if (::geteuid() == 0) {
+        ASSERT_EQ(::chmod(dir_.path().c_str(), 0777), 0);  // for nobody's socket
+        wrapper = {"/usr/bin/setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", "--"};
+    }
+    daemon_ = std::make_unique<DaemonProcess>(
+        dir_, std::vector<std::string>{"--simulate", "--state-dir", state_},
+        std::vector<std::string>{}, "", wrapper);
+    client_ = std::make_unique<Client>(daemon_->socket());
+    ASSERT_TRUE(client_->connected());
+    ASSERT_TRUE(link_up(*client_));
+    ASSERT_EQ(client_->call("photo")["result"]["capture"]["index"], 1);
+    ASSERT_EQ(client_->call("record", {{"on", true}, {"force", true}})["result"]["sent"], true);
+    ASSERT_EQ(client_->call("record", {{"on", false}})["result"]["capture"]["kind"], "record_stop");
+    ASSERT_TRUE(settled(3));
+    const auto s = status_captures();
+    EXPECT_EQ(s["dropped"], 3);
+    ASSERT_TRUE(s["error"].is_string()) << s;
+    EXPECT_TRUE(contains(s["error"], "Permission denied")) << s;
+    EXPECT_EQ(captures()["captures"].size(), 3u);
+    const auto stops = client_->call("status")["result"]["counters"]["stops_sent"];
+    ASSERT_EQ(client_->call("stop")["result"]["sent"], true);
+    EXPECT_TRUE(eventually(
+        [&] { return client_->call("status")["result"]["counters"]["stops_sent"] > stops; }));
+}
+
+// A real filesystem that fills up: a 64 KiB tmpfs (root only).
+TEST_F(CapturesEndToEnd, ATinyTmpfsFillsUpWithoutLosingTheStop) {
+    std::filesystem::create_directory(state_);
+    if (::geteuid() != 0) {
+        GTEST_SKIP() << "mounting a 64 KiB tmpfs needs root; the /dev/full test covers a full "
+                        "disk without it";
+    }
+    if (::mount("tmpfs", state_.c_str(), "tmpfs", 0, "size=64k") != 0) {
+        GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno)
+                     << "); the /dev/full test covers a full disk";
+    }
+    struct Unmount {
+        std::string path;
+        ~Unmount() { ::umount2(path.c_str(), MNT_DETACH); }
+    } unmount{state_};
+    start(R"("captures": {"max_file_bytes": 1048576, "keep_files": 2})");
+    const Json meta = {{"note", std::string(1000, 'n')}};
+    int taken = 0;
+    while (status_captures()["error"].is_null() && taken < 200) {
+        ASSERT_EQ(client_->call("photo", {{"meta", meta}})["result"]["sent"], true);
+        ++taken;
+        ASSERT_TRUE(settled(static_cast<std::uint64_t>(taken)));
+    }
+    const auto s = status_captures();
+    ASSERT_TRUE(s["error"].is_string()) << "64 KiB never filled: " << s;
+    EXPECT_TRUE(contains(s["error"], "No space left on device")) << s;
+    EXPECT_GT(s["written"], 0);
+    const auto stops = client_->call("status")["result"]["counters"]["stops_sent"];
+    ASSERT_EQ(client_->call("stop")["result"]["sent"], true);
+    EXPECT_TRUE(eventually(
+        [&] { return client_->call("status")["result"]["counters"]["stops_sent"] > stops; }));
+    EXPECT_EQ(client_->call("photo")["result"]["capture"]["index"], taken + 1);
+}
+
+}  // namespace
+}  // namespace gport::testing

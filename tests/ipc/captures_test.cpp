@@ -1,0 +1,196 @@
+// The capture log through the dispatcher (photo and record with meta, the
+// captures method, status) and CaptureLog itself (restore, bounds, sink).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "fake_api.hpp"
+#include "gport/ipc/capture_log.hpp"
+#include "gport/ipc/json_rpc.hpp"
+
+namespace gport::ipc {
+namespace {
+
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+class FakeSink final : public CaptureSink {
+  public:
+    void write(std::string line) override { lines.push_back(std::move(line)); }
+    Stats stats() const override { return stats_value; }
+    std::string path() const override { return "/var/lib/gportd/captures.jsonl"; }
+    std::vector<std::string> lines;
+    Stats stats_value;
+};
+
+class CapturesTest : public ::testing::Test {
+  protected:
+    json call(std::string_view method, json params = nullptr) {
+        json request = {{"jsonrpc", "2.0"}, {"id", 1}, {"method", method}};
+        if (!params.is_null()) {
+            request["params"] = std::move(params);
+        }
+        json reply;
+        dispatcher_.handle_line(request.dump(), client_,
+                                [&](std::string line) { reply = json::parse(line); });
+        return reply;
+    }
+    // A meta object whose compact JSON is exactly `bytes` long.
+    static json meta_of(std::size_t bytes) {
+        const std::size_t overhead = json({{"s", ""}}).dump().size();
+        return json{{"s", std::string(bytes - overhead, 'x')}};
+    }
+
+    testing::FakeApi api_;
+    ClientState client_{{7, 4242, 1000, 1000, {}}, {}, 0, {}};
+    Dispatcher dispatcher_{api_, [] { return ServerStats{}; }};
+};
+
+TEST_F(CapturesTest, MetaOverTheLimitIsRefusedNamingItAndNothingIsSent) {
+    auto refused = call("photo", {{"meta", meta_of(1025)}});
+    EXPECT_EQ(refused["error"]["code"], -32602);
+    EXPECT_THAT(refused["error"]["message"].get<std::string>(), HasSubstr("1025 bytes"));
+    EXPECT_THAT(refused["error"]["message"].get<std::string>(), HasSubstr("at most 1024"));
+    refused = call("record", {{"meta", meta_of(4096)}});
+    EXPECT_EQ(refused["error"]["code"], -32602);
+    EXPECT_TRUE(api_.calls.empty()) << "a refused meta must not reach the gimbal";
+    EXPECT_TRUE(call("captures")["result"]["captures"].empty());
+
+    auto taken = call("photo", {{"meta", meta_of(1024)}});
+    EXPECT_EQ(taken["result"]["sent"], true);
+    EXPECT_EQ(call("captures")["result"]["captures"][0]["meta"], meta_of(1024));
+}
+
+TEST_F(CapturesTest, MetaThatIsNotAnObjectIsRefused) {
+    for (const auto& meta : {json::array({1}), json("lat"), json(3), json(nullptr)}) {
+        auto refused = call("photo", {{"meta", meta}});
+        EXPECT_EQ(refused["error"]["code"], -32602) << meta.dump();
+        EXPECT_THAT(refused["error"]["message"].get<std::string>(), HasSubstr("JSON object"));
+    }
+    EXPECT_TRUE(api_.calls.empty());
+}
+
+TEST_F(CapturesTest, ARefusedCommandMakesNoCapture) {
+    api_.error = daemon::CommandError{daemon::ErrorCode::kLinkDown, "no device"};
+    EXPECT_EQ(call("photo")["error"]["code"], -32000);
+    EXPECT_EQ(call("record")["error"]["code"], -32000);
+    api_.error.reset();
+    api_.record_result = {false, daemon::RecordingState::kOn};  // already on: nothing sent
+    auto unsent = call("record", {{"on", true}});
+    EXPECT_FALSE(unsent["result"].contains("capture"));
+    EXPECT_TRUE(call("captures")["result"]["captures"].empty());
+}
+
+TEST_F(CapturesTest, RepliesCarryTheCaptureAndKindsFollowTheRecordingState) {
+    daemon::AttitudeSample sample;
+    sample.received = std::chrono::steady_clock::now();
+    sample.attitude.imu = {100, -2050, 3000};
+    sample.attitude.hall = {0, -2000, 2990};
+    api_.attitude = sample;
+
+    auto photo = call("photo", {{"meta", {{"lat", 47.1}, {"lon", 8.5}, {"alt_m", 512.0}}}});
+    EXPECT_EQ(photo["result"]["sent"], true);
+    EXPECT_EQ(photo["result"]["capture"]["index"], 1);
+    EXPECT_EQ(photo["result"]["capture"]["kind"], "photo");
+    EXPECT_GT(photo["result"]["capture"]["utc_us"].get<std::int64_t>(), 1600000000000000);
+
+    api_.record_result = {true, daemon::RecordingState::kUnknown};
+    EXPECT_EQ(call("record")["result"]["capture"]["kind"], "record_toggle");
+    api_.record_result = {true, daemon::RecordingState::kOn};
+    auto start = call("record", {{"on", true}, {"force", true}});
+    EXPECT_EQ(start["result"]["capture"]["kind"], "record_start");
+    EXPECT_EQ(start["result"]["recording"], "on");
+    api_.record_result = {true, daemon::RecordingState::kOff};
+    EXPECT_EQ(call("record", {{"on", false}})["result"]["capture"]["kind"], "record_stop");
+
+    const auto list = call("captures")["result"];
+    ASSERT_EQ(list["captures"].size(), 4u);
+    EXPECT_EQ(list["next"], 5);
+    const auto& first = list["captures"][0];
+    EXPECT_EQ(first["attitude"]["imu"], json({{"roll", 1.0}, {"pitch", -20.5}, {"yaw", 30.0}}));
+    EXPECT_EQ(first["attitude"]["hall"]["yaw"], 29.9);
+    EXPECT_GE(first["attitude"]["age_ms"].get<std::int64_t>(), 0);
+    EXPECT_EQ(first["client"]["pid"], 4242);
+    EXPECT_EQ(first["client"]["uid"], 1000);
+    EXPECT_EQ(first["meta"]["lat"], 47.1);
+    EXPECT_TRUE(first["mono_us"].is_number_integer());
+    EXPECT_FALSE(list["captures"][1].contains("meta"));
+}
+
+TEST_F(CapturesTest, WithoutAttitudeTheCaptureSaysNull) {
+    call("photo");
+    EXPECT_TRUE(call("captures")["result"]["captures"][0]["attitude"].is_null());
+}
+
+TEST_F(CapturesTest, SinceAndLimitPageThroughAndAreChecked) {
+    for (int i = 0; i < 5; ++i) {
+        call("photo");
+    }
+    auto page = call("captures", {{"since", 2}, {"limit", 2}})["result"];
+    ASSERT_EQ(page["captures"].size(), 2u);
+    EXPECT_EQ(page["captures"][0]["index"], 2);
+    EXPECT_EQ(page["next"], 4);
+    page = call("captures", {{"since", page["next"]}, {"limit", 1000}})["result"];
+    EXPECT_EQ(page["captures"].size(), 2u);
+    EXPECT_EQ(page["next"], 6);
+    page = call("captures", {{"since", 6}})["result"];
+    EXPECT_TRUE(page["captures"].empty());
+    EXPECT_EQ(page["next"], 6) << "the index the next capture will get";
+
+    for (const auto& bad : {json{{"limit", 0}}, json{{"limit", 1001}}, json{{"since", -1}},
+                            json{{"since", "1"}}, json{{"from", 1}}}) {
+        EXPECT_EQ(call("captures", bad)["error"]["code"], -32602) << bad.dump();
+    }
+    EXPECT_THAT(call("captures", {{"limit", 1001}})["error"]["message"].get<std::string>(),
+                HasSubstr("1000"));
+}
+
+TEST_F(CapturesTest, StatusShowsTheWritersFigures) {
+    auto status = call("status")["result"]["captures"];
+    EXPECT_TRUE(status["file"].is_null()) << "memory only without a sink";
+    FakeSink sink;
+    sink.stats_value = {3, 2, std::string("cannot write: No space left on device")};
+    dispatcher_.captures().set_sink(&sink);
+    call("photo");
+    ASSERT_EQ(sink.lines.size(), 1u);
+    EXPECT_EQ(json::parse(sink.lines[0])["index"], 1);
+    status = call("status")["result"]["captures"];
+    EXPECT_EQ(status["written"], 3);
+    EXPECT_EQ(status["dropped"], 2);
+    EXPECT_EQ(status["error"], "cannot write: No space left on device");
+    EXPECT_EQ(status["file"], "/var/lib/gportd/captures.jsonl");
+}
+
+TEST_F(CapturesTest, CaptureIsATopicLikeTheOthers) {
+    auto subscribed = call("subscribe", {{"topics", {"capture"}}});
+    EXPECT_EQ(subscribed["result"]["topics"], json::array({"capture"}));
+    EXPECT_TRUE(client_.subscriptions.capture);
+    call("unsubscribe");
+    EXPECT_FALSE(client_.subscriptions.capture);
+}
+
+TEST(CaptureLog, RestoreContinuesAfterTheHighestIndexAndSkipsBrokenLines) {
+    CaptureLog log(3);
+    log.restore({R"({"index":7,"kind":"photo"})", R"({"index":8,"kind":"photo"})", "{\"ind",
+                 R"({"index":"9"})", "[]", R"({"index":9,"kind":"record_start"})",
+                 R"({"index":10,"kind":"record_stop"})"},
+                1);
+    EXPECT_EQ(log.next_index(), 11u);
+    const auto all = log.list(0, 100);
+    ASSERT_EQ(all["captures"].size(), 3u) << "only the newest `kept`";
+    EXPECT_EQ(all["captures"][0]["index"], 8);
+    EXPECT_EQ(log.add(json{{"kind", "photo"}})["index"], 11);
+    EXPECT_EQ(log.list(0, 100)["captures"][0]["index"], 9);
+}
+
+TEST(CaptureLog, RestoredNextIndexWinsWhenHigher) {
+    CaptureLog log;
+    log.restore({}, 42);
+    EXPECT_EQ(log.add(json{{"kind", "photo"}})["index"], 42);
+}
+
+}  // namespace
+}  // namespace gport::ipc

@@ -1,0 +1,284 @@
+'use strict';
+// gport-mavlink's camera component (compid 100) against the real programs:
+// node-mavlink plays the vehicle (system 1: heartbeat, ATTITUDE,
+// GLOBAL_POSITION_INT) and a ground station (system 255) against
+// gport-mavlink (udpin, defaults) + gportd + gport-sim; a rogue system 99
+// is ignored. gport-sim's --trace shows what reaches the gimbal: 0x86
+// photo ("0x86 2") and record ("0x86 1") frames.
+//
+//   node camera.js GPORTD GPORT_SIM GPORT_MAVLINK WORKDIR
+//
+// Timing checks are loose; the latencies are printed as figures.
+const fs = require('fs');
+const path = require('path');
+const h = require('./harness');
+
+const [gportdPath, simPath, bridgePath, workRoot] = process.argv.slice(2);
+const { check, figures, sleep, until, common, Peer, heartbeat, commandLong, deg } = h;
+const CAMERA = 100;
+const [IMAGE_START, IMAGE_STOP, VIDEO_START, VIDEO_STOP, REQUEST_MESSAGE, DIGICAM] =
+  [2000, 2001, 2500, 2501, 512, 203];
+const POSITION = { lat: -353632621, lon: 1491652374, alt: 584070, relativeAlt: 30250 };
+const VEHICLE_YAW = 30; // degrees, ATTITUDE's
+
+// MAVLink's mavlink_quaternion_to_euler, degrees.
+function toEuler([w, x, y, z]) {
+  const roll = Math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y));
+  const pitch = Math.asin(Math.max(-1, Math.min(1, 2 * (w * y - z * x))));
+  const yaw = Math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
+  return { roll: deg(roll), pitch: deg(pitch), yaw: deg(yaw) };
+}
+const wrap = (d) => ((((d + 180) % 360) + 360) % 360) - 180;
+const text = (bytes) => Buffer.from(bytes.filter((b) => b !== 0)).toString();
+
+function position() {
+  const m = new common.GlobalPositionInt();
+  Object.assign(m, { timeBootMs: 1000, vx: 0, vy: 0, vz: 0, hdg: 3000 }, POSITION);
+  return m;
+}
+function attitude() {
+  const m = new common.Attitude();
+  Object.assign(m, { timeBootMs: 1000, roll: 0, pitch: 0, yaw: h.rad(VEHICLE_YAW), rollspeed: 0,
+    pitchspeed: 0, yawspeed: 0 });
+  return m;
+}
+const cam = (command, params = []) => commandLong(command, { params, targetComponent: CAMERA });
+const fromCamera = (peer, t, name) => peer.since(t, name).filter((r) => r.header.compid === CAMERA);
+const ackOf = (peer, t, command) => until(() => fromCamera(peer, t, 'COMMAND_ACK')
+  .find((r) => r.data.command === command), 5000, `COMMAND_ACK for ${command}`);
+const photos = (t) => h.cameraFrames(t).filter((f) => f.j.action === 'photo');
+const records = (t) => h.cameraFrames(t).filter((f) => f.j.action === 'record');
+
+async function requestStatus(gcs) {
+  const t = Date.now();
+  gcs.send(cam(REQUEST_MESSAGE, [262]));
+  return (await until(() => fromCamera(gcs, t, 'CAMERA_CAPTURE_STATUS')[0], 5000, 'CAMERA_CAPTURE_STATUS')).data;
+}
+
+async function main() {
+  fs.rmSync(workRoot, { recursive: true, force: true });
+  fs.mkdirSync(workRoot, { recursive: true });
+  const { sock } = await h.startGimbal(workRoot, gportdPath, simPath);
+  const port = await h.freeUdpPort();
+  const bridge = h.start(workRoot, 'gport-mavlink', bridgePath,
+    ['--socket', sock, '--mavlink', `udpin:127.0.0.1:${port}`, '--log-level', 'debug']);
+  await until(() => bridge.lines.some((l) => /MAVLink on udpin/.test(l)), 10000, 'gport-mavlink to start');
+  check(bridge.lines.some((l) => /camera: compid 100/.test(l)), 'the start line names the camera component');
+
+  const rogue = new Peer({ sysid: 99, compid: 1 });
+  const vehicle = new Peer({ sysid: 1, compid: 1 });
+  const gcs = new Peer({ sysid: 255, compid: 190 });
+  for (const p of [rogue, vehicle, gcs]) { await p.bind(); p.target(port); }
+
+  // 1. A rogue system's camera commands do nothing and get no answer.
+  let t0 = Date.now();
+  rogue.send(heartbeat());
+  for (const m of [cam(IMAGE_START, [0, 0, 1]), cam(VIDEO_START), cam(REQUEST_MESSAGE, [259]),
+    commandLong(IMAGE_START, { params: [0, 0, 1], targetComponent: 0 }), cam(DIGICAM, [0, 0, 0, 0, 1])]) {
+    rogue.send(m);
+  }
+  await sleep(1000);
+  check(h.cameraFrames(t0).length === 0 && rogue.datagrams === 0,
+    `rogue system 99 (photo, video, information, broadcast photo, DIGICAM shot): ${h.cameraFrames(t0).length} ` +
+    `camera frames reach the gimbal, ${rogue.datagrams} datagrams answer it`);
+
+  // 2. The vehicle: heartbeat, attitude and position streams; the camera's
+  //    heartbeat beside the gimbal's, 1 Hz each.
+  const streams = setInterval(() => { vehicle.send(position()); vehicle.send(attitude()); }, 100);
+  const beats = setInterval(() => vehicle.send(heartbeat()), 1000);
+  vehicle.send(heartbeat());
+  t0 = Date.now();
+  await sleep(3200);
+  const camBeats = fromCamera(vehicle, t0, 'HEARTBEAT');
+  const gimbalBeats = vehicle.since(t0, 'HEARTBEAT').filter((r) => r.header.compid === 154);
+  check(camBeats.length >= 2 && camBeats.length <= 5 && camBeats.every((b) => b.data.type === 30 &&
+    b.data.autopilot === 8 && b.header.sysid === 1),
+  `camera HEARTBEAT from 1/100: ${camBeats.length} in 3.2 s, MAV_TYPE_CAMERA (30), MAV_AUTOPILOT_INVALID (8)`);
+  check(gimbalBeats.length >= 2, `the gimbal's heartbeat (154) continues beside it (${gimbalBeats.length})`);
+
+  // 3. CAMERA_INFORMATION on request, from the ground station.
+  t0 = Date.now();
+  gcs.send(cam(REQUEST_MESSAGE, [259]));
+  const infoAck = await ackOf(gcs, t0, REQUEST_MESSAGE).catch(() => null);
+  const info = await until(() => fromCamera(gcs, t0, 'CAMERA_INFORMATION')[0], 5000, 'CAMERA_INFORMATION').catch(() => null);
+  check(infoAck && infoAck.data.result === 0 && infoAck.data.targetSystem === 255,
+    `REQUEST_MESSAGE(CAMERA_INFORMATION): ACK ${infoAck && infoAck.data.result} to system ${infoAck && infoAck.data.targetSystem}`);
+  check(info && text(info.data.vendorName) === 'HEQUAV' && text(info.data.modelName) === 'G-Port' &&
+    info.data.flags === 3 && info.data.gimbalDeviceId === 154 && Number.isNaN(info.data.focalLength) &&
+    info.data.resolutionH === 0,
+  `CAMERA_INFORMATION: ${info && text(info.data.vendorName)} ${info && text(info.data.modelName)}, flags ` +
+    `${info && info.data.flags} (CAPTURE_VIDEO|CAPTURE_IMAGE), gimbal_device_id ${info && info.data.gimbalDeviceId}, focal length NaN`);
+  // The legacy request and the storage ("not available").
+  t0 = Date.now();
+  gcs.send(cam(521, [1]));
+  gcs.send(cam(REQUEST_MESSAGE, [261]));
+  const legacy = await until(() => fromCamera(gcs, t0, 'CAMERA_INFORMATION')[0], 5000, 'legacy information').catch(() => null);
+  const storage = await until(() => fromCamera(gcs, t0, 'STORAGE_INFORMATION')[0], 5000, 'STORAGE_INFORMATION').catch(() => null);
+  check(legacy !== null, 'MAV_CMD_REQUEST_CAMERA_INFORMATION (521) answered with CAMERA_INFORMATION');
+  check(storage && storage.data.status === 0, `STORAGE_INFORMATION status ${storage && storage.data.status} (not available)`);
+
+  // 4. A still gimbal at pitch -30, yaw 20 (vehicle frame), then one photo.
+  vehicle.send(h.setAttitude({ q: h.toQuaternion(0, -30, 20) }));
+  let gimbal = null;
+  for (let i = 0; i < 100; i += 1) {
+    gimbal = (await h.rpc(sock, 'attitude')).result;
+    if (Math.abs(gimbal.imu.pitch + 30) < 0.5 && Math.abs(gimbal.hall.yaw - 20) < 0.5) break;
+    await sleep(100);
+  }
+  await sleep(300);
+  gimbal = (await h.rpc(sock, 'attitude')).result;
+  t0 = Date.now();
+  const sentHr = performance.now();
+  gcs.send(cam(IMAGE_START, [0, 0, 1, 0]));
+  const photoAck = await ackOf(gcs, t0, IMAGE_START).catch(() => null);
+  const shot = await until(() => photos(t0)[0], 5000, 'a photo frame').catch(() => null);
+  const captured = await until(() => fromCamera(gcs, t0, 'CAMERA_IMAGE_CAPTURED')[0], 5000, 'CAMERA_IMAGE_CAPTURED').catch(() => null);
+  check(photoAck && photoAck.data.result === 0, `IMAGE_START_CAPTURE (1 image): ACK ${photoAck && photoAck.data.result} from the camera`);
+  check(shot !== null && photos(t0).length === 1, `one 0x86 photo frame on gport-sim's trace (${photos(t0).length})`);
+  if (check(captured !== null, 'CAMERA_IMAGE_CAPTURED from 1/100')) {
+    const c = captured.data;
+    const e = toEuler(c.q);
+    check(c.captureResult === 1, `capture_result ${c.captureResult}`);
+    check(Math.abs(e.pitch - gimbal.imu.pitch) < 1 && Math.abs(e.roll - gimbal.imu.roll) < 1,
+      `q: roll ${e.roll.toFixed(2)}, pitch ${e.pitch.toFixed(2)} match the IMU's ${gimbal.imu.roll}, ${gimbal.imu.pitch} within 1°`);
+    check(Math.abs(wrap(e.yaw - (VEHICLE_YAW + gimbal.hall.yaw))) < 1,
+      `q: yaw ${e.yaw.toFixed(2)} = the vehicle's ${VEHICLE_YAW} + the hall yaw ${gimbal.hall.yaw} (earth frame)`);
+    check(c.lat === POSITION.lat && c.lon === POSITION.lon && c.alt === POSITION.alt &&
+      c.relativeAlt === POSITION.relativeAlt,
+    `lat/lon/alt/relative_alt ${c.lat}/${c.lon}/${c.alt}/${c.relativeAlt} are the GLOBAL_POSITION_INT sent`);
+    check(c.imageIndex >= 0, `image_index ${c.imageIndex}`);
+    const utcSkew = Math.abs(Number(c.timeUtc) / 1000 - Date.now());
+    check(utcSkew < 10000, `time_utc within 10 s of the clock (${utcSkew.toFixed(0)} ms)`);
+    figures.push(`photo: IMAGE_START_CAPTURE sent -> CAMERA_IMAGE_CAPTURED received ${(captured.hr - sentHr).toFixed(2)} ms; ` +
+      `0x86 line on gport-sim's trace -> CAMERA_IMAGE_CAPTURED ${shot ? (captured.hr - shot.hr).toFixed(2) : '?'} ms ` +
+      '(performance.now() in this process at send and on arrival; trace lines stamped when read from gport-sim\'s stdout)');
+  }
+  // The capture's meta: in gportd's capture log when it has one, else the
+  // bridge repeated the call without it.
+  const listed = await h.rpc(sock, 'captures', { limit: 100 }).catch(() => null);
+  if (listed && listed.result && Array.isArray(listed.result.captures)) {
+    const last = listed.result.captures.filter((c) => c.kind === 'photo').pop();
+    check(last && last.meta && Math.abs(last.meta.lat - POSITION.lat / 1e7) < 1e-6 &&
+      Math.abs(last.meta.lon - POSITION.lon / 1e7) < 1e-6, `gportd's capture log has the position as meta (${last && JSON.stringify(last.meta)})`);
+  } else {
+    check(bridge.lines.some((l) => /refused the capture's meta \(unknown parameter/.test(l)) &&
+      captured && captured.data.captureResult === 1,
+    'a gportd without the capture log refused meta as unknown: the photo was repeated without it');
+  }
+
+  // 5. Two photos in one datagram (decoded in one go: no race): the second
+  //    is TEMPORARILY_REJECTED (one camera call in flight), the first taken.
+  t0 = Date.now();
+  gcs.sendBytes(Buffer.concat([gcs.frame(cam(IMAGE_START, [0, 0, 1])), gcs.frame(cam(IMAGE_START, [0, 0, 1]))]));
+  await until(() => fromCamera(gcs, t0, 'COMMAND_ACK').length >= 2, 5000, 'two ACKs').catch(() => null);
+  const results = fromCamera(gcs, t0, 'COMMAND_ACK').map((a) => a.data.result).sort();
+  check(results.join() === '0,1', `two photos at once: ACKs ${results.join()} (ACCEPTED, TEMPORARILY_REJECTED)`);
+  await sleep(500);
+
+  // 6. Interval capture: 3 images, 1 s apart.
+  t0 = Date.now();
+  gcs.send(cam(IMAGE_START, [0, 1, 3, 0]));
+  const intervalAck = await ackOf(gcs, t0, IMAGE_START).catch(() => null);
+  const during = await requestStatus(gcs).catch(() => null);
+  await until(() => photos(t0).length >= 3, 8000, 'three photos').catch(() => null);
+  await sleep(2000);
+  const frames = photos(t0);
+  const images = vehicle.since(t0, 'CAMERA_IMAGE_CAPTURED').concat(gcs.since(t0, 'CAMERA_IMAGE_CAPTURED'))
+    .sort((a, b) => a.t - b.t);
+  const gaps = frames.slice(1).map((f, i) => f.t - frames[i].t);
+  check(intervalAck && intervalAck.data.result === 0, `IMAGE_START_CAPTURE (interval 1 s, 3 images): ACK ${intervalAck && intervalAck.data.result}`);
+  check(during && during.imageStatus >= 2 && during.imageInterval === 1,
+    `CAMERA_CAPTURE_STATUS during it: image_status ${during && during.imageStatus}, interval ${during && during.imageInterval}`);
+  check(frames.length === 3 && gaps.every((g) => g > 500 && g < 2000),
+    `3 photo frames (${frames.length}), ${gaps.join(', ')} ms apart`);
+  const indexes = images.map((i) => i.data.imageIndex);
+  check(images.length === 3 && indexes.every((v, i) => i === 0 || v === indexes[i - 1] + 1) &&
+    images.every((i) => i.data.captureResult === 1 && i.data.lat === POSITION.lat),
+  `3 CAMERA_IMAGE_CAPTURED, indexes ${indexes.join(', ')}, each with the position`);
+  figures.push(`interval capture: photo frames ${gaps.join(', ')} ms apart (asked 1000); 0x86 -> CAMERA_IMAGE_CAPTURED ` +
+    `${frames.map((f, i) => (images[i] ? (images[i].hr - f.hr).toFixed(2) : '?')).join(', ')} ms`);
+  // An unlimited one, stopped.
+  t0 = Date.now();
+  gcs.send(cam(IMAGE_START, [0, 1, 0, 0]));
+  await until(() => photos(t0).length >= 1, 5000, 'an unlimited capture').catch(() => null);
+  gcs.send(cam(IMAGE_STOP));
+  const stopAck = await ackOf(gcs, t0, IMAGE_STOP).catch(() => null);
+  const stoppedAt = Date.now();
+  await sleep(2000);
+  check(stopAck && stopAck.data.result === 0 && photos(stoppedAt + 200).length === 0,
+    `IMAGE_STOP_CAPTURE ends an unlimited capture (${photos(t0).length} photos, none after the stop)`);
+  // Refused parameters.
+  t0 = Date.now();
+  gcs.send(cam(IMAGE_START, [0, 0.1, 5]));
+  const tooFast = await ackOf(gcs, t0, IMAGE_START).catch(() => null);
+  check(tooFast && tooFast.data.result === 2 && photos(t0).length === 0 &&
+    bridge.lines.some((l) => /interval \(param2\) = 0.1 s/.test(l)),
+  `an interval of 0.1 s is DENIED (${tooFast && tooFast.data.result}) and logged with what is allowed`);
+
+  // 6b. Positions from a ground station (trusted for commands, not for
+  //     vehicle state) and a rogue are not used; the vehicle's, once over
+  //     1 s old, is not either: zeros.
+  clearInterval(streams);
+  await sleep(1300);
+  const spoof = position();
+  spoof.lat = 100000000; spoof.lon = 200000000;
+  gcs.send(spoof); rogue.send(spoof);
+  await sleep(100);
+  t0 = Date.now();
+  gcs.send(cam(IMAGE_START, [0, 0, 1]));
+  const stale = await until(() => fromCamera(gcs, t0, 'CAMERA_IMAGE_CAPTURED')[0], 5000, 'CAMERA_IMAGE_CAPTURED').catch(() => null);
+  check(stale && stale.data.captureResult === 1 && stale.data.lat === 0 && stale.data.lon === 0 &&
+    stale.data.alt === 0, `spoofed positions (ground station, rogue) ignored, the vehicle's 1.4 s old not used: ` +
+    `lat/lon/alt ${stale && [stale.data.lat, stale.data.lon, stale.data.alt].join('/')}`);
+
+  // 7. Video: start and stop, two record frames, the status says so.
+  t0 = Date.now();
+  gcs.send(cam(VIDEO_START));
+  const startAck = await ackOf(gcs, t0, VIDEO_START).catch(() => null);
+  await sleep(1200);
+  const recording = await requestStatus(gcs).catch(() => null);
+  const t1 = Date.now();
+  gcs.send(cam(VIDEO_STOP));
+  const stopVideoAck = await ackOf(gcs, t1, VIDEO_STOP).catch(() => null);
+  const idle = await requestStatus(gcs).catch(() => null);
+  await until(() => records(t0).length >= 2, 5000, 'two record frames').catch(() => null);
+  check(startAck && startAck.data.result === 0 && stopVideoAck && stopVideoAck.data.result === 0,
+    `VIDEO_START/STOP_CAPTURE: ACKs ${startAck && startAck.data.result}, ${stopVideoAck && stopVideoAck.data.result}`);
+  check(records(t0).length === 2, `two 0x86 record frames on the trace (${records(t0).length})`);
+  check(recording && recording.videoStatus === 1 && recording.recordingTimeMs >= 1000 &&
+    idle && idle.videoStatus === 0 && idle.recordingTimeMs === 0,
+  `CAMERA_CAPTURE_STATUS: video_status ${recording && recording.videoStatus} (${recording && recording.recordingTimeMs} ms) ` +
+    `then ${idle && idle.videoStatus}`);
+
+  // 8. DIGICAM_CONTROL shot (CAMx_TYPE=5 set-ups), broadcast: one photo,
+  //    answered by the camera only.
+  t0 = Date.now();
+  vehicle.send(commandLong(DIGICAM, { params: [0, 0, 0, 0, 1, 0, 0], targetComponent: 0 }));
+  const digicam = await until(() => vehicle.since(t0, 'COMMAND_ACK').filter((a) => a.data.command === DIGICAM).length > 0 &&
+    vehicle.since(t0, 'COMMAND_ACK').filter((a) => a.data.command === DIGICAM), 5000, 'the DIGICAM ack').catch(() => []);
+  await sleep(500);
+  check(digicam.length === 1 && digicam[0].header.compid === CAMERA && digicam[0].data.result === 0 &&
+    photos(t0).length === 1, `broadcast DIGICAM_CONTROL shot: ${digicam.length} ACK from component ` +
+    `${digicam[0] && digicam[0].header.compid}, ${photos(t0).length} photo frame`);
+
+  // 9. --no-camera: a second bridge without the component.
+  const port2 = await h.freeUdpPort();
+  const quiet = h.start(workRoot, 'gport-mavlink-no-camera', bridgePath,
+    ['--socket', sock, '--mavlink', `udpin:127.0.0.1:${port2}`, '--no-camera']);
+  await until(() => quiet.lines.some((l) => /MAVLink on udpin/.test(l)), 10000, 'the second gport-mavlink');
+  const vehicle2 = new Peer({ sysid: 1, compid: 1 });
+  await vehicle2.bind(); vehicle2.target(port2);
+  t0 = Date.now();
+  vehicle2.send(heartbeat());
+  vehicle2.send(cam(IMAGE_START, [0, 0, 1]));
+  await sleep(2500);
+  check(vehicle2.since(t0, 'HEARTBEAT').some((r) => r.header.compid === 154) &&
+    fromCamera(vehicle2, t0).length === 0 && photos(t0).length === 0,
+  `--no-camera: gimbal heartbeats, nothing from component 100, no photo (${fromCamera(vehicle2, t0).length} frames)`);
+  quiet.kill('SIGTERM');
+
+  clearInterval(beats);
+  for (const p of [rogue, vehicle, gcs, vehicle2]) p.close();
+}
+
+main().catch((e) => { check(false, 'unexpected: ' + (e.stack || e)); }).finally(() => h.finish(workRoot, h.children));
