@@ -1,5 +1,7 @@
-// Motion: the commands that move the gimbal, and what ends a motion. The
-// keepalive's timer, braking and the failsafe are in motion_watch.cpp.
+// Motion: the commands that move the gimbal (a speed braked before it is
+// sent, by the one freshness rule), and what ends a motion. The attitude,
+// the keepalive's timer, braking a running speed and the failsafe are in
+// motion_watch.cpp.
 #include "gport/daemon/core/motion.hpp"
 
 #include <fmt/format.h>
@@ -10,6 +12,7 @@
 namespace gport::daemon {
 
 namespace gp = gport::protocol;
+using Clock = std::chrono::steady_clock;
 
 namespace {
 
@@ -25,8 +28,8 @@ std::string pid_of(const std::optional<ClientInfo>& client) {
     return client ? std::to_string(client->pid) : std::string("-");
 }
 
-std::optional<CommandError> out_of_range(const char* name, std::optional<Millis> value,
-                                         Millis max) {
+std::optional<CommandError> out_of_range_error(const char* name, std::optional<Millis> value,
+                                               Millis max) {
     if (!value || (value->count() >= 1 && *value <= max)) {
         return std::nullopt;
     }
@@ -62,10 +65,10 @@ void Motion::reload(const config::Config& config) {
 Outcome<SpeedRequest> Motion::check_speed(gp::Axes speed, std::optional<Millis> duration,
                                           bool clamp, std::optional<Millis> lease) const {
     const auto max = durations_.max_duration;
-    if (auto bad = out_of_range("duration_ms", duration, max)) {
+    if (auto bad = out_of_range_error("duration_ms", duration, max)) {
         return std::move(*bad);
     }
-    if (auto bad = out_of_range("lease_ms", lease, max)) {
+    if (auto bad = out_of_range_error("lease_ms", lease, max)) {
         return std::move(*bad);
     }
     auto limited = MotionLimits(limits_).speed(speed, clamp);
@@ -92,7 +95,7 @@ Outcome<SpeedStarted> Motion::speed(const ClientInfo& client, SpeedRequest reque
         started = stopped_at_limit(client, *braked);
     } else {
         auto begun = keepalive_.start(client, braked->speed, request.duration, request.lease,
-                                      braked->braked, std::chrono::steady_clock::now());
+                                      braked->braked, Clock::now());
         arm_keepalive();
         started = begun.reply;
         if (begun.event) {
@@ -103,6 +106,36 @@ Outcome<SpeedStarted> Motion::speed(const ClientInfo& client, SpeedRequest reque
     started.clamped = std::move(request.speed.clamped);
     started.braked = std::move(braked->braked);
     return started;
+}
+
+// The one freshness rule (is_fresh), for braking, hold and no_attitude.
+Motion::Freshness Motion::freshness(SteadyTime now) const {
+    if (!latest_) {
+        return {};
+    }
+    const auto age = std::chrono::duration_cast<Millis>(now - latest_->received);
+    return {age, is_fresh(age, stale_after_)};
+}
+
+Outcome<Braked> Motion::brake_command(gp::Axes speed) const {
+    const auto brake = soft_brake();
+    const auto limited = brake.needs_attitude(speed);
+    if (limited.empty()) {
+        return Braked{speed, {}};
+    }
+    const auto attitude = freshness(Clock::now());
+    if (!attitude.fresh) {
+        const auto why = attitude.age
+                             ? fmt::format("the latest is {} ms old", attitude.age->count())
+                             : std::string("none has arrived yet");
+        return CommandError{
+            ErrorCode::kLinkDown,
+            fmt::format("no fresh attitude from the gimbal ({}; fresh means younger than "
+                        "link.stale_ms = {} ms), and braking {} at the soft limits (limits.*) "
+                        "needs it; nothing sent",
+                        why, stale_after_.count(), fmt::join(limited, ", "))};
+    }
+    return brake.apply(speed, latest_->attitude.hall, *attitude.age);
 }
 
 // Nothing is left to move: the zero speed has gone out; a running motion
@@ -210,7 +243,7 @@ void Motion::on_link(LinkState state) {
     if (state == LinkState::kDown) {
         failsafe(EndReason::kLinkDown, failsafe_.on_link_lost, false);
     } else if (state == LinkState::kStale && keepalive_.active()) {
-        watch_speed(std::chrono::steady_clock::now());
+        watch_speed(Clock::now());
     }
 }
 
@@ -257,7 +290,7 @@ std::optional<ClientInfo> Motion::owner() const {
 }
 
 std::optional<MotionStatus> Motion::status() const {
-    if (auto speed = keepalive_.status(std::chrono::steady_clock::now())) {
+    if (auto speed = keepalive_.status(Clock::now())) {
         return speed;
     }
     return tracker_.status();

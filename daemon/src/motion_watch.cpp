@@ -1,7 +1,7 @@
-// Motion: watching a running motion. The keepalive's timer (a tick re-sends
-// the speed after braking it), braking at the soft limits by the attitude
-// (soft_brake.hpp; docs/api.md, "Braking at the soft limits"), the one
-// freshness rule, and the failsafe policies (docs/api.md, "Failsafe").
+// Motion: watching a running motion. The attitude, the keepalive's timer (a
+// tick re-sends the speed after braking it), braking the running speed at
+// the soft limits (soft_brake.hpp; docs/api.md, "Braking at the soft
+// limits"), and the failsafe policies (docs/api.md, "Failsafe").
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -26,36 +26,7 @@ void Motion::on_attitude_published(const AttitudeSample& sample) {
     tracker_.on_attitude(sample);
 }
 
-Motion::Freshness Motion::freshness(SteadyTime now) const {
-    if (!latest_) {
-        return {};
-    }
-    const auto age = std::chrono::duration_cast<Millis>(now - latest_->received);
-    return {age, is_fresh(age, stale_after_)};
-}
-
 // ---- braking -----------------------------------------------------------------
-
-Outcome<Braked> Motion::brake_command(gp::Axes speed) const {
-    const auto brake = soft_brake();
-    const auto limited = brake.needs_attitude(speed);
-    if (limited.empty()) {
-        return Braked{speed, {}};
-    }
-    const auto attitude = freshness(Clock::now());
-    if (!attitude.fresh) {
-        const auto why = attitude.age
-                             ? fmt::format("the latest is {} ms old", attitude.age->count())
-                             : std::string("none has arrived yet");
-        return CommandError{
-            ErrorCode::kLinkDown,
-            fmt::format("no fresh attitude from the gimbal ({}; fresh means younger than "
-                        "link.stale_ms = {} ms), and braking {} at the soft limits (limits.*) "
-                        "needs it; nothing sent",
-                        why, stale_after_.count(), fmt::join(limited, ", "))};
-    }
-    return brake.apply(speed, latest_->attitude.hall, *attitude.age);
-}
 
 void Motion::watch_speed(SteadyTime now) {
     const auto speed = keepalive_.speed();
