@@ -104,7 +104,7 @@ class Core final : public Api {
     void arm_quality_timer();
 
     boost::asio::io_context& io_;
-    config::Config config_;
+    config::Config config_;  // as started: read only for keys a reload never changes
     std::shared_ptr<spdlog::logger> log_;
     SteadyTime started_;
     CoreObserver* observer_ = nullptr;

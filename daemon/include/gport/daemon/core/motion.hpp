@@ -9,8 +9,8 @@
 //
 // Commands come in two steps with Core's admission between them, so that a
 // bad parameter is refused before access and control are (docs/api.md):
-// check_speed() / check_angle() / centre(), then speed() / angle() /
-// center() / lock(). The frames go straight to the SerialPort; motion events
+// check_speed() / check_angle(), then speed() / angle() / center() /
+// lock(). The frames go straight to the SerialPort; motion events
 // are logged here and go to the observer.
 //
 // Freshness — one rule, for braking, for the hold failsafe and for ending a
