@@ -7,8 +7,6 @@
 
 #include <boost/asio/post.hpp>
 
-#include "gport/daemon/client_log.hpp"
-
 namespace gport::daemon {
 
 namespace asio = boost::asio;
@@ -19,14 +17,6 @@ namespace {
 
 constexpr auto kLineQualityInterval = 10s;
 constexpr auto kShutdownDrainLimit = 500ms;
-
-MotionTracker::Options tracker_options(const config::MotionConfig& motion) {
-    return {motion.tolerance_deg, motion.timeout};
-}
-
-Millis keepalive_period(double rate_hz) {
-    return std::chrono::duration_cast<Millis>(std::chrono::duration<double>(1.0 / rate_hz));
-}
 
 // "dead_zone 10 -> 5, inverted no -> yes": the values that changed, or that
 // nothing did.
@@ -41,10 +31,6 @@ std::string settings_change(const gp::SettingsBlock& before, const gp::SettingsB
     add("follow_speed", std::to_string(before.follow_speed), std::to_string(after.follow_speed));
     add("inverted", before.inverted() ? "yes" : "no", after.inverted() ? "yes" : "no");
     return out.empty() ? "nothing changed (the values asked for were already set)" : out;
-}
-
-std::string pid_of(const std::optional<ClientInfo>& client) {
-    return client ? std::to_string(client->pid) : std::string("-");
 }
 
 }  // namespace
@@ -68,15 +54,7 @@ Core::Core(asio::io_context& io, const config::Config& config, std::shared_ptr<s
                                  }},
             log_),
       monitor_(io, config.link.stale_after, [this](const LinkEvent& e) { on_link(e); }),
-      keepalive_(
-          io, keepalive_period(config.keepalive.rate_hz),
-          [this](const gp::Control& c) { return send_control(c); },
-          [this](const MotionEvent& e) { on_motion(e); }, [this] { watch_motion(); },
-          [this] {
-              // A hung controller is an owner gone as far as the gimbal cares.
-              failsafe_end(EndReason::kLeaseExpired, config_.failsafe.on_owner_gone, true);
-          }),
-      tracker_(io, tracker_options(config.motion), [this](const MotionEvent& e) { on_motion(e); }),
+      motion_(io, config, port_, log_),
       settings_(io, config.requests,
                 [this](const gp::Frame& f) -> std::optional<CommandError> {
                     if (send(f)) {
@@ -99,15 +77,11 @@ void Core::start() {
     arm_quality_timer();
 }
 
-// The only state a reload touches.
+// The only state a reload touches. config_ keeps the keys as started: the
+// motion keys live in motion_ from then on.
 void Core::reload(const config::Config& config) {
     arbiter_.set_policy(AccessPolicy(config.access));
-    config_.keepalive.default_duration = config.keepalive.default_duration;
-    config_.keepalive.max_duration = config.keepalive.max_duration;
-    config_.limits = config.limits;
-    config_.failsafe = config.failsafe;
-    config_.motion = config.motion;
-    tracker_.set_options(tracker_options(config.motion));
+    motion_.reload(config);
 }
 
 void Core::add_link_listener(std::function<void(const LinkEvent&)> listener) {
@@ -148,13 +122,11 @@ void Core::on_frame(const gp::FrameView& frame, SteadyTime now, WallTime wall) {
 void Core::on_attitude(const gp::Attitude& attitude, SteadyTime now, WallTime wall) {
     latest_ = AttitudeSample{++seq_, wall, now, attitude};
     monitor_.attitude_received(now);
-    if (keepalive_.active()) {
-        watch_motion();  // braking reacts to every sample, not only to ticks
-    }
+    motion_.on_attitude(*latest_);  // braking: before the sample is published
     if (observer_ != nullptr) {
         observer_->on_attitude(*latest_);
     }
-    tracker_.on_attitude(*latest_);  // after the sample is published: it may end a motion
+    motion_.on_attitude_published(*latest_);  // tracking: it may end a motion
 }
 
 // ---- events ------------------------------------------------------------------
@@ -165,42 +137,12 @@ void Core::on_link(const LinkEvent& event) {
     } else {
         log_->info("link {}: {}", to_string(event.state), event.reason);
     }
-    if (event.state == LinkState::kDown) {
-        // The device is closed: nothing can be sent, so neither the zero
-        // speed (as before) nor "center" (failsafe_end says so); a stale
-        // attitude is kNoAttitude (watch_motion). Never "hold".
-        failsafe_end(EndReason::kLinkDown, config_.failsafe.on_link_lost, false);
-    } else if (event.state == LinkState::kStale && keepalive_.active()) {
-        watch_motion();  // a motion that brakes by the attitude ends (no_attitude)
-    }
+    motion_.on_link(event.state);  // down ends the motion; stale one that brakes by the attitude
     for (auto& listener : link_listeners_) {
         listener(event);
     }
     if (observer_ != nullptr) {
         observer_->on_link(event);
-    }
-}
-
-void Core::on_motion(const MotionEvent& event) {
-    const ClientLogScope scope(event.owner);  // the motion's lines name its owner
-    if (event.mode == MotionMode::kSpeed &&
-        (event.change == MotionChange::kStarted || event.change == MotionChange::kReplaced)) {
-        speed_started_ = std::chrono::steady_clock::now();
-    }
-    if (event.change == MotionChange::kUpdated) {  // a streaming controller: not news
-        const auto& axes = event.mode == MotionMode::kSpeed ? event.speed : event.angle;
-        log_->debug("motion updated ({}) by pid {}: {} {} {} {}", to_string(event.mode),
-                    pid_of(event.owner), event.mode == MotionMode::kSpeed ? "speed" : "target",
-                    axes.roll, axes.pitch, axes.yaw);
-    } else if (event.change == MotionChange::kEnded) {
-        log_->info("motion ended ({}), owner pid {}",
-                   event.reason ? to_string(*event.reason) : "unknown", pid_of(event.owner));
-    } else {
-        log_->info("motion {} ({}) by pid {}", to_string(event.change), to_string(event.mode),
-                   pid_of(event.owner));
-    }
-    if (observer_ != nullptr) {
-        observer_->on_motion(event);
     }
 }
 
@@ -233,7 +175,7 @@ void Core::report_line_quality() {
 // ---- shutdown -----------------------------------------------------------
 
 void Core::shutdown(std::function<void()> done) {
-    failsafe_end(EndReason::kShutdown, config_.failsafe.on_shutdown, true);
+    motion_.shutdown();
     stopping_ = true;
     settings_.abort_all(link_down());  // after stopping_: "gportd is shutting down"
     quality_timer_.cancel();

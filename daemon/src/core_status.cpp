@@ -32,18 +32,13 @@ Status Core::status() const {
     c.bad_messages = bad_messages_;
     c.device_opens = l.opens;
     c.device_failures = l.failures;
-    c.keepalive_frames = keepalive_.frames_sent();
-    c.motion_updates = keepalive_.updates() + tracker_.updates();
+    c.keepalive_frames = motion_.keepalive_frames();
+    c.motion_updates = motion_.updates();
     c.stops_sent = l.stops_written;
     c.frames_replaced = l.frames_replaced;
     c.frames_refused = l.queue_overflows;
     c.settings_timeouts = settings_.timeouts();
-    s.motion = keepalive_.status();
-    if (s.motion) {
-        s.motion->elapsed = std::chrono::duration_cast<Millis>(now - speed_started_);
-    } else {
-        s.motion = tracker_.status();
-    }
+    s.motion = motion_.status();
     s.controller = arbiter_.holder();
     s.recording = recording_;
     return s;

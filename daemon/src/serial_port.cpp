@@ -1,5 +1,6 @@
 #include "gport/daemon/core/serial_port.hpp"
 
+#include <fmt/format.h>
 #include <sys/ioctl.h>
 #include <termios.h>
 
@@ -233,6 +234,20 @@ void SerialPort::notify_drained() {
     for (auto& w : waiters) {
         w();
     }
+}
+
+CommandError link_down_error(const SerialPort& port, bool closing, std::string_view consequence) {
+    std::string why;
+    if (!port.is_open()) {
+        why = "is not open";
+    } else if (closing) {
+        why = "is closing: gportd is shutting down";
+    } else {
+        why = fmt::format("takes no data ({} frames wait for it)", SerialPort::kMaxQueuedFrames);
+    }
+    return CommandError{ErrorCode::kLinkDown,
+                        fmt::format("gimbal link down: serial device {} {}{}{}", port.device(), why,
+                                    consequence.empty() ? "" : "; ", consequence)};
 }
 
 }  // namespace gport::daemon

@@ -1,8 +1,10 @@
 // gport::daemon::Core — the one object that owns the gimbal device and keeps
-// it safe for every client: the serial port with reconnect, link health, the
-// speed keepalive and deadman, settings requests, control arbitration,
-// counters. Clients see it only as a daemon::Api; the program that runs
-// gportd constructs it, and so sees its parts (gport/daemon/core/).
+// it safe for every client: the serial port with reconnect, link health,
+// settings requests, control arbitration, status and counters; the motion
+// policy (keepalive, tracking, limits, braking, failsafe) is its Motion part
+// (core/motion.hpp), to which it hands admitted commands. Clients see it only
+// as a daemon::Api; the program that runs gportd constructs it, and so sees
+// its parts (gport/daemon/core/).
 #pragma once
 
 #include <spdlog/logger.h>
@@ -19,13 +21,10 @@
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
 #include "gport/daemon/core/arbiter.hpp"
-#include "gport/daemon/core/keepalive.hpp"
 #include "gport/daemon/core/link_monitor.hpp"
-#include "gport/daemon/core/motion_limits.hpp"
-#include "gport/daemon/core/motion_tracker.hpp"
+#include "gport/daemon/core/motion.hpp"
 #include "gport/daemon/core/serial_port.hpp"
 #include "gport/daemon/core/settings_exchange.hpp"
-#include "gport/daemon/core/soft_brake.hpp"
 #include "gport/protocol/decoder.hpp"
 
 namespace gport::daemon {
@@ -55,12 +54,15 @@ class Core final : public Api {
     void add_link_listener(std::function<void(const LinkEvent&)> listener);
 
     // ---- Api (core_commands.cpp, core_status.cpp) ----
-    void set_observer(CoreObserver* observer) override { observer_ = observer; }
+    void set_observer(CoreObserver* observer) override {
+        observer_ = observer;
+        motion_.set_observer(observer);
+    }
     Status status() const override;
     std::optional<AttitudeSample> latest_attitude() const override { return latest_; }
     bool may_command(const ClientInfo& client) const override;
-    config::LimitsConfig limits() const override { return config_.limits; }
-    Millis max_duration() const override { return config_.keepalive.max_duration; }
+    config::LimitsConfig limits() const override { return motion_.limits(); }
+    Millis max_duration() const override { return motion_.max_duration(); }
     Outcome<SpeedStarted> speed(const ClientInfo& client, protocol::Axes speed,
                                 std::optional<Millis> duration, bool clamp = false,
                                 std::optional<Millis> lease = std::nullopt) override;
@@ -85,57 +87,24 @@ class Core final : public Api {
     // states: access and control (Arbiter), then the device.
     std::optional<CommandError> admit(const ClientInfo& client, Arbiter::Needs needs) const;
     bool device_ready() const { return port_.is_open() && !stopping_; }
-    // The one kLinkDown error: names the device and why nothing goes to it,
-    // then what follows for this request (may be empty).
+    // The one kLinkDown error (link_down_error), then what follows for this
+    // request (may be empty).
     CommandError link_down(std::string_view consequence = {}) const;
-    // Sends a position frame (angle, centre or lock) and, when `track_as` is
-    // given, tracks it as a motion of that mode towards the frame's angle
-    // (`clamped`: the axes the soft limits clamped, told in its events).
-    Outcome<Done> position(const ClientInfo& client, const protocol::Control& control,
-                           std::optional<MotionMode> track_as, MotionEndCallback on_end = {},
-                           std::vector<std::string> clamped = {});
-    // The centre command, or the angle frame to the centre clamped into the
-    // soft limits.
-    protocol::Control centre_control(const Limited& centre) const;
     Outcome<Done> camera(const ClientInfo& client, protocol::CameraAction action);
     void settings(const ClientInfo& client, std::optional<SettingsChange> change,
                   SettingsCallback done);
     bool send(const protocol::Frame& frame);
-    bool send_control(const protocol::Control& control);
-    // Ends the motion (speed or tracked), if any, for `reason` under the
-    // failsafe `policy`: zero speed first (if `send_zero`), then the hold
-    // angle or the centre frame; logs the action once at warning level.
-    void failsafe_end(EndReason reason, config::Failsafe policy, bool send_zero);
-    // The owner of the running motion, speed or tracked (at most one runs).
-    std::optional<ClientInfo> motion_owner() const;
-    // Ends whichever motion runs; zero speed first if `send_zero`.
-    void end_motion(EndReason reason, bool send_zero);
-
-    // ---- braking at the soft limits (core_brake.cpp) ----
-    SoftBrake soft_brake() const;
-    // The age of the latest sample when it is younger than link.stale_ms.
-    std::optional<Millis> fresh_attitude_age(SteadyTime now) const;
-    // A speed command after braking; kLinkDown when an axis it moves needs
-    // a fresh attitude and there is none.
-    Outcome<Braked> brake_command(protocol::Axes speed) const;
-    // A speed command whose every moving axis was braked: nothing moves.
-    SpeedStarted stopped_at_limit(const ClientInfo& client, const Braked& braked);
-    // On every attitude sample and keepalive tick: brakes the running speed
-    // motion's axes near their limits, or ends it (kNoAttitude) when it
-    // needs an attitude that is not fresh.
-    void watch_motion();
 
     // ---- the read path and events (core.cpp) ----
     void on_bytes(std::span<const std::uint8_t> bytes);
     void on_frame(const protocol::FrameView& frame, SteadyTime now, WallTime wall);
     void on_attitude(const protocol::Attitude& attitude, SteadyTime now, WallTime wall);
     void on_link(const LinkEvent& event);
-    void on_motion(const MotionEvent& event);
     void report_line_quality();
     void arm_quality_timer();
 
     boost::asio::io_context& io_;
-    config::Config config_;
+    config::Config config_;  // as started: read only for keys a reload never changes
     std::shared_ptr<spdlog::logger> log_;
     SteadyTime started_;
     CoreObserver* observer_ = nullptr;
@@ -145,8 +114,7 @@ class Core final : public Api {
     protocol::Decoder decoder_;
     SerialPort port_;
     LinkMonitor monitor_;
-    Keepalive keepalive_;
-    MotionTracker tracker_;  // angle and centre motions
+    Motion motion_;  // after port_: it sends through it
     SettingsExchange settings_;
     boost::asio::steady_timer quality_timer_;
     boost::asio::steady_timer shutdown_timer_;
@@ -155,7 +123,6 @@ class Core final : public Api {
     std::uint64_t bad_messages_ = 0;
     bool stopping_ = false;
     RecordingState recording_ = RecordingState::kUnknown;  // assumed; unknown on each open
-    SteadyTime speed_started_{};  // when the running speed motion started (status elapsed_ms)
 };
 
 }  // namespace gport::daemon

@@ -15,10 +15,12 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "gport/config/config.hpp"
 #include "gport/daemon/core/repeat_limiter.hpp"
 #include "gport/daemon/core/write_queue.hpp"
+#include "gport/daemon/outcome.hpp"
 #include "gport/protocol/frame.hpp"
 
 namespace gport::daemon {
@@ -98,5 +100,12 @@ class SerialPort {
     std::vector<std::function<void()>> drained_waiters_;
     Stats stats_;
 };
+
+// The one kLinkDown error for a frame that could not be queued: names the
+// device and why nothing goes to it (not open; `closing`: gportd is shutting
+// down; else it takes no data), then what follows for this request (may be
+// empty).
+CommandError link_down_error(const SerialPort& port, bool closing = false,
+                             std::string_view consequence = {});
 
 }  // namespace gport::daemon
