@@ -166,7 +166,7 @@ for folder in "${order[@]}"; do
       code=${text%%#*}
       [[ $code == *gport* ]] || continue
       [[ $code =~ add_library\([[:space:]]*gport::[a-z0-9_]+[[:space:]]+ALIAS ]] && continue
-      for name in $(grep -oE 'gport(::|_)[a-z0-9_]+' <<<"$code" | sort -u); do
+      while IFS= read -r name; do
         [[ -n ${owner[$name]+x} ]] || continue  # a function or variable, not a target
         part=${owner[$name]}
         [[ $part == . ]] && continue
@@ -175,7 +175,7 @@ for folder in "${order[@]}"; do
         elif ! may_use "$folder" "$part"; then
           fail "$file:$number: links $name: $folder/ may not use $part/ (it may use: $(allowed_text "$folder"))"
         fi
-      done
+      done < <(grep -oE 'gport(::|_)[a-z0-9_]+' <<<"$code" | sort -u)
     done <"$file"
   done < <(cmake_files "$folder")
 done
