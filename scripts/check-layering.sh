@@ -1,34 +1,33 @@
 #!/usr/bin/env bash
-# Fails when a folder includes a folder above it in the layering order
-# (docs/architecture.md, "Layout"):
+# Fails when a folder uses a folder it may not: the allow-list is the table
+# of docs/architecture.md, "Layout" (the rows after the line
+# "<!-- layers: ... -->"): one row per folder, its second column the folders
+# it may use besides itself ("—" for none). This script and the document
+# read that one table.
 #
-#   base  protocol  config  daemon  sim  ipc  systemd  app  client  cli  examples  mavlink
+# Checked, in every layered folder:
+#   - includes: quoted or angled "gport/<part>/..." includes (<part> is the
+#     folder whose include/ holds it) and relative "../" includes, resolved
+#     against the including file, in *.cpp, *.hpp, *.h, *.cc and *.in;
+#   - CMake links: every gport::<target> (and raw gport_<target>) named in
+#     the folder's CMakeLists.txt and *.cmake files, outside comments, where
+#     <target> is a library some layered folder declares (add_library or
+#     gport_add_library); the target's folder must be on the list.
+# Targets declared outside the layered folders are refused too (e.g.
+# gport::test_fakes of tests/support), except the top-level CMakeLists.txt's
+# (gport::asio, gport::version: Boost.Asio and the generated version header,
+# usable anywhere); gport/version.hpp may be included anywhere. tests/,
+# bench/ and fuzz/ are outside the table and not checked. The table must be
+# acyclic and name only folders that are in it.
 #
-# mavlink/ is last: its codec needs only base/, and the gport-mavlink program
-# (mavlink/bridge/) is a client of gportd built on the client library, so it
-# sits above every part of the daemon and above client/.
+# Each finding names the file, the line, what it reaches and what the folder
+# may use.
 #
-# Each folder may include its own headers and those of the folders before
-# it, never those after it. Checked: quoted or angled "gport/<part>/..."
-# includes (<part> is the folder whose include/ holds it) and relative
-# "../" includes, resolved against the including file. gport/version.hpp is
-# generated (gport::version) and may be included anywhere. tests/, bench/
-# and fuzz/ are outside the order and not checked. A folder that does not
-# exist is skipped.
+# usage: check-layering.sh [ROOT]   (ROOT: the source tree, default: this one)
 set -euo pipefail
-cd "$(dirname "$0")/.."
-
-order=(base protocol config daemon sim ipc systemd app client cli examples mavlink)
-
-rank() {  # the folder's place in the order, or nothing
-  local i
-  for i in "${!order[@]}"; do
-    if [[ ${order[$i]} == "$1" ]]; then
-      echo "$i"
-      return
-    fi
-  done
-}
+root=${1:-"$(dirname "$0")/.."}
+cd "$root"
+table_doc=docs/architecture.md
 
 failures=0
 fail() {
@@ -36,9 +35,67 @@ fail() {
   failures=$((failures + 1))
 }
 
+[[ -f $table_doc ]] || { echo "check-layering: $table_doc not found" >&2; exit 2; }
+
+# ---- the table: folder -> the folders it may use -------------------------
+declare -A allowed=()  # folder -> " a b c " (space-padded)
+declare -A table_line=()
+order=()
+table=$(awk '
+  /<!-- layers:/ { inside = 1; next }
+  inside && /^\|/ { rows = 1; print NR "\t" $0; next }
+  inside && rows { exit }
+' "$table_doc")
+[[ -n $table ]] || { echo "check-layering: no \"<!-- layers:\" table in $table_doc" >&2; exit 2; }
+while IFS=$'\t' read -r number row; do
+  IFS='|' read -r _ first second _ <<<"$row"
+  folder=$(tr -d '` /' <<<"$first")
+  [[ $folder == folder || $folder =~ ^-+$ ]] && continue  # header, separator
+  [[ $folder =~ ^[a-z_]+$ ]] || { fail "$table_doc:$number: \"$first\" is not a folder"; continue; }
+  uses=$(tr -d '`/' <<<"$second" | tr ',' ' ' | sed 's/—//g')
+  allowed[$folder]=" $(xargs <<<"$uses") "
+  table_line[$folder]=$number
+  order+=("$folder")
+done <<<"$table"
+
+for folder in "${order[@]}"; do
+  for used in ${allowed[$folder]}; do
+    [[ -n ${allowed[$used]+x} ]] \
+      || fail "$table_doc:${table_line[$folder]}: $folder/ may use \"$used\", which is not a row of the table"
+  done
+done
+
+# No cycles: a depth-first walk from each folder must never come back to it.
+declare -A state=()  # unset: new, 1: on the path, 2: done
+walk() {
+  local folder=$1 used
+  state[$folder]=1
+  for used in ${allowed[$folder]}; do
+    [[ -n ${allowed[$used]+x} ]] || continue
+    if [[ ${state[$used]:-} == 1 ]]; then
+      fail "$table_doc:${table_line[$folder]}: the table has a cycle: $folder/ may use $used/, which may use $folder/ (through its list)"
+    elif [[ -z ${state[$used]:-} ]]; then
+      walk "$used"
+    fi
+  done
+  state[$folder]=2
+}
+for folder in "${order[@]}"; do
+  [[ -n ${state[$folder]:-} ]] || walk "$folder"
+done
+
+may_use() {  # folder part: true when folder may use part
+  [[ $1 == "$2" || ${allowed[$1]} == *" $2 "* ]]
+}
+allowed_text() {
+  local list
+  list=$(xargs <<<"${allowed[$1]}")
+  echo "${list:-nothing else}"
+}
+
+# ---- includes --------------------------------------------------------------
 for folder in "${order[@]}"; do
   [[ -d $folder ]] || continue
-  own=$(rank "$folder")
   while IFS= read -r hit; do
     file=${hit%%:*}
     rest=${hit#*:}
@@ -56,25 +113,75 @@ for folder in "${order[@]}"; do
       ../*)
         resolved=$(realpath -m --relative-to=. "$(dirname "$file")/$target")
         part=${resolved%%/*}
-        [[ $part == "$folder" ]] && continue
         ;;
       *)
         continue
         ;;
     esac
-    reached=$(rank "$part")
-    if [[ -z $reached ]]; then
+    if [[ -z ${allowed[$part]+x} ]]; then
       fail "$file:$line: includes \"$target\", which reaches $part/, outside the layered folders"
-    elif ((reached > own)); then
-      fail "$file:$line: includes \"$target\": $folder/ reaches up to $part/ (the order is: ${order[*]})"
+    elif ! may_use "$folder" "$part"; then
+      fail "$file:$line: includes \"$target\": $folder/ may not use $part/ (it may use: $(allowed_text "$folder"))"
     fi
   done < <(grep -rnE '^[[:space:]]*#[[:space:]]*include[[:space:]]*["<](gport/|\.\./)' \
              --include='*.cpp' --include='*.hpp' --include='*.h' --include='*.cc' \
              --include='*.in' "$folder" || true)
 done
 
+# ---- CMake links -----------------------------------------------------------
+cmake_files() {  # the CMake files under $1, or of the whole tree without an argument
+  find "${1:-.}" \( -name build -o -name .git \) -prune -o \
+    \( -name CMakeLists.txt -o -name '*.cmake' \) -type f -print
+}
+# Which folder declares each target: gport::<alias> and the raw gport_<name>.
+declare -A owner=()
+while IFS= read -r file; do
+  rel=${file#./}
+  if [[ $rel == CMakeLists.txt ]]; then
+    declarer=.  # the top level: usable anywhere
+  else
+    declarer=${rel%%/*}
+  fi
+  while IFS= read -r decl; do
+    read -r raw alias <<<"$decl"
+    owner[$raw]=$declarer
+    [[ -n $alias ]] && owner["gport::$alias"]=$declarer
+  done < <(sed 's/#.*//' "$file" | grep -oE \
+             '(gport_add_library\([[:space:]]*gport_[a-z0-9_]+[[:space:]]+[a-z0-9_]+|add_library\([[:space:]]*gport_[a-z0-9_]+)' \
+           | sed -E 's/^(gport_)?add_library\([[:space:]]*//')
+  while IFS= read -r decl; do  # add_library(gport::alias ALIAS gport_raw)
+    read -r alias raw <<<"$decl"
+    owner[$alias]=${owner[$raw]:-$declarer}
+  done < <(sed 's/#.*//' "$file" | grep -oE 'add_library\([[:space:]]*gport::[a-z0-9_]+[[:space:]]+ALIAS[[:space:]]+gport_[a-z0-9_]+' \
+           | sed -E 's/add_library\([[:space:]]*//; s/[[:space:]]+ALIAS[[:space:]]+/ /')
+done < <(cmake_files)
+
+for folder in "${order[@]}"; do
+  [[ -d $folder ]] || continue
+  while IFS= read -r file; do
+    file=${file#./}
+    number=0
+    while IFS= read -r text || [[ -n $text ]]; do
+      number=$((number + 1))
+      code=${text%%#*}
+      [[ $code == *gport* ]] || continue
+      [[ $code =~ add_library\([[:space:]]*gport::[a-z0-9_]+[[:space:]]+ALIAS ]] && continue
+      while IFS= read -r name; do
+        [[ -n ${owner[$name]+x} ]] || continue  # a function or variable, not a target
+        part=${owner[$name]}
+        [[ $part == . ]] && continue
+        if [[ -z ${allowed[$part]+x} ]]; then
+          fail "$file:$number: links $name, declared in $part/, outside the layered folders"
+        elif ! may_use "$folder" "$part"; then
+          fail "$file:$number: links $name: $folder/ may not use $part/ (it may use: $(allowed_text "$folder"))"
+        fi
+      done < <(grep -oE 'gport(::|_)[a-z0-9_]+' <<<"$code" | sort -u)
+    done <"$file"
+  done < <(cmake_files "$folder")
+done
+
 if ((failures > 0)); then
-  echo "check-layering: $failures upward include(s); see docs/architecture.md, \"Layout\"" >&2
+  echo "check-layering: $failures finding(s); the allow-list is the table in $table_doc, \"Layout\"" >&2
   exit 1
 fi
-echo "check-layering: every include points down (${order[*]})"
+echo "check-layering: every include and link is allowed (${#order[@]} folders, $table_doc)"

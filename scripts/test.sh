@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Checks the layering, installs what is missing, then builds and runs every test:
-#   0. scripts/check-layering.sh: no folder includes one above it (seconds);
+#   0. scripts/check-layering.sh: every include and CMake link is on its folder's
+#      allow-list (docs/architecture.md, "Layout"; seconds);
 #   1. Release build (warnings are errors), all tests;
 #      then the systemd end-to-end test on its .deb: a real systemd booted in
 #      a container (scripts/systemd-e2e.sh; about a minute, two the first

@@ -1,5 +1,5 @@
 // gportctl's command line on CLI11: global options anywhere, one subcommand,
-// its options. Values are checked here against the protocol's own constants,
+// its options. Values are checked here against the wire contract's ranges,
 // so that a typo is a usage error (64) before any connection is made.
 #include "gport/cli/options.hpp"
 
@@ -9,8 +9,7 @@
 #include <limits>
 
 #include "gport/base/args.hpp"
-#include "gport/ipc/json_rpc.hpp"
-#include "gport/protocol/messages.hpp"
+#include "gport/contract/limits.hpp"
 #include "suggest.hpp"
 
 namespace gport::cli {
@@ -19,10 +18,10 @@ namespace {
 using nlohmann::json;
 using namespace std::chrono_literals;
 
-// The longest --for and --lease the protocol accepts; gportd's own
-// keepalive.max_duration_ms is usually lower (run.cpp reports its refusal
-// as a usage error naming the option).
-constexpr std::chrono::milliseconds kMaxDuration{ipc::kMaxDurationMs};
+// The longest --for and --lease gportctl sends; gportd's own
+// keepalive.max_duration_ms is lower (run.cpp reports its refusal as a
+// usage error naming the option).
+constexpr std::chrono::milliseconds kMaxDuration{contract::kMaxDurationMs};
 
 // call: the longest method name, and the deepest params, gportctl sends.
 constexpr std::size_t kMaxMethodLength = 64;
@@ -166,7 +165,7 @@ class Parser {
 
     void add_axes(CLI::App* sub, std::string_view unit) {
         const auto range =
-            args::number_in(-protocol::kMaxDegrees, protocol::kMaxDegrees, std::string(unit));
+            args::number_in(-contract::kMaxDegrees, contract::kMaxDegrees, std::string(unit));
         for (auto [name, value] : {std::pair{"roll", &v_.roll}, std::pair{"pitch", &v_.pitch},
                                    std::pair{"yaw", &v_.yaw}}) {
             sub->add_option(fmt::format("--{}", name), *value, fmt::format("{} ({})", name, unit))
@@ -255,7 +254,7 @@ class Parser {
             ->check(args::one_of(kTopics));
         sub->add_option("--rate", v_.rate, "at most HZ attitude samples a second (the newest)")
             ->type_name("HZ")
-            ->check(args::number_in(ipc::kMinRateHz, ipc::kMaxRateHz, "a rate in Hz"));
+            ->check(args::number_in(contract::kMinRateHz, contract::kMaxRateHz, "a rate in Hz"));
         sub->add_flag("--shared-memory", v_.shared_memory,
                       "attitude from gportd's shared-memory channel (every sample)");
         sub->add_option("-n,--count", v_.count, "exit 0 after COUNT events")

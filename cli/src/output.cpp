@@ -5,6 +5,8 @@
 
 #include <regex>
 
+#include "gport/contract/limits.hpp"
+
 namespace gport::cli {
 namespace {
 
@@ -153,17 +155,18 @@ std::string settings(const json& s) {
 // limits: one line per axis, then speed and margin; "no limit" for the
 // protocol's whole range.
 std::string limits(const json& l) {
+    using contract::kMaxDegrees;
     std::string out;
     for (const auto* axis : {"roll", "pitch", "yaw"}) {
         const auto range = l.value(axis, json::object());
-        const double min = get(range, "min", -327.67);
-        const double max = get(range, "max", 327.67);
+        const double min = get(range, "min", -kMaxDegrees);
+        const double max = get(range, "max", kMaxDegrees);
         out += fmt::format("{:<16}{} to {} deg{}\n", std::string(axis) + ":", min, max,
-                           min <= -327.67 && max >= 327.67 ? " (no limit)" : "");
+                           min <= -kMaxDegrees && max >= kMaxDegrees ? " (no limit)" : "");
     }
-    const double speed = get(l, "max_speed", 327.67);
+    const double speed = get(l, "max_speed", kMaxDegrees);
     out += fmt::format("{:<16}{} deg/s{}\n", "max speed:", speed,
-                       speed >= 327.67 ? " (no limit)" : "");
+                       speed >= kMaxDegrees ? " (no limit)" : "");
     out += fmt::format("{:<16}{} deg\n", "braking margin:", get(l, "braking_margin_deg", 0.0));
     return out;
 }

@@ -14,6 +14,7 @@
 #include "gport/client/attitude_channel.hpp"
 #include "gport/client/connection.hpp"
 #include "gport/client/error.hpp"
+#include "gport/contract/errors.hpp"
 
 namespace gport::cli {
 namespace {
@@ -128,7 +129,7 @@ class Runner {
     // "duration_ms = 120000 is out of range; allowed 1 to 60000".
     static std::optional<std::string> option_refusal(const json& error, const json& params) {
         const std::string message = error.value("message", "");
-        if (error.value("code", 0) != -32602) {
+        if (error.value("code", 0) != contract::rpc_error::kInvalidParams) {
             return std::nullopt;
         }
         for (const auto& [param, option] :

@@ -92,26 +92,11 @@ std::optional<MotionEnd> motion_end(const json& result) {
 }
 
 Counters counters(const json& j) {
-    const auto n = [&](const char* key) { return j.value(key, std::uint64_t{0}); };
-    return {n("frames_in"),
-            n("bytes_in"),
-            n("frames_out"),
-            n("bytes_out"),
-            n("attitude_frames"),
-            n("crc_errors"),
-            n("header_errors"),
-            n("garbage_bytes"),
-            n("resyncs"),
-            n("bad_messages"),
-            n("device_opens"),
-            n("device_failures"),
-            n("keepalive_frames"),
-            n("motion_updates"),
-            n("stops_sent"),
-            n("frames_replaced"),
-            n("frames_refused"),
-            n("settings_timeouts"),
-            n("dropped_notifications")};
+    Counters c;
+#define GPORT_CLIENT_COUNTER(name) c.name = j.value(#name, std::uint64_t{0});
+    GPORT_CONTRACT_COUNTERS(GPORT_CLIENT_COUNTER)
+#undef GPORT_CLIENT_COUNTER
+    return c;
 }
 
 std::optional<Motion> motion(const json& status) {

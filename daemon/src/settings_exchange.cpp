@@ -16,13 +16,13 @@ std::optional<CommandError> SettingsExchange::admit(std::uint64_t client) const 
     const auto mine =
         std::ranges::count_if(jobs_, [&](const Job& j) { return j.client == client; });
     if (static_cast<std::size_t>(mine) >= kMaxPerClient) {
-        return CommandError{ErrorCode::kTooMany,
+        return CommandError{ErrorCode::kTooManyRequests,
                             fmt::format("too many settings requests: at most {} per client may "
                                         "wait for the gimbal; wait for a reply, then retry",
                                         kMaxPerClient)};
     }
     if (jobs_.size() >= kMaxTotal) {
-        return CommandError{ErrorCode::kTooMany,
+        return CommandError{ErrorCode::kTooManyRequests,
                             fmt::format("too many settings requests: at most {} from all clients "
                                         "may wait for the gimbal; retry later",
                                         kMaxTotal)};

@@ -156,7 +156,7 @@ void run_request(const json& request, detail::MethodContext& context, const Repl
         }
     };
     if (!context.client.rate.take(std::chrono::steady_clock::now())) {
-        respond(RpcError{rpc_error::kTooMany, over_rate(context.client.rate)});
+        respond(RpcError{rpc_error::kTooManyRequests, over_rate(context.client.rate)});
         return;
     }
     const auto& name = request["method"].get_ref<const std::string&>();
@@ -261,24 +261,6 @@ std::chrono::steady_clock::duration RequestRate::wait_for(
     }
     return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
         std::chrono::duration<double>(missing / per_second));
-}
-
-int to_rpc_code(daemon::ErrorCode code) {
-    switch (code) {
-        case daemon::ErrorCode::kInvalidParams:
-            return rpc_error::kInvalidParams;
-        case daemon::ErrorCode::kLinkDown:
-            return rpc_error::kLinkDown;
-        case daemon::ErrorCode::kPermission:
-            return rpc_error::kPermission;
-        case daemon::ErrorCode::kNoAnswer:
-            return rpc_error::kNoAnswer;
-        case daemon::ErrorCode::kTooMany:
-            return rpc_error::kTooMany;
-        case daemon::ErrorCode::kBusy:
-            break;
-    }
-    return rpc_error::kBusy;
 }
 
 std::string error_line(int code, std::string_view message) {

@@ -12,6 +12,7 @@
 
 #include "attitude_channel.hpp"
 #include "capture_methods.hpp"
+#include "gport/contract/names.hpp"
 #include "gport/ipc/event_json.hpp"
 #include "json_common.hpp"
 #include "params.hpp"
@@ -23,7 +24,7 @@ namespace {
 using nlohmann::json;
 
 RpcError error_of(const daemon::CommandError& error) {
-    return {to_rpc_code(error.code), error.message};
+    return {error.code, error.message};
 }
 
 // Answers a command whose result is only "the frame went out".
@@ -118,16 +119,16 @@ void attitude(MethodContext& c, const json& params, Respond respond) {
     respond(attitude_result(*sample));
 }
 
-const std::initializer_list<std::string_view> kTopics = {"attitude", "link", "motion", "capture"};
+using contract::kTopics;
 
 bool& topic_flag(Subscriptions& subs, std::string_view topic) {
-    if (topic == "attitude") {
+    if (topic == contract::kTopicAttitude) {
         return subs.attitude;
     }
-    if (topic == "link") {
+    if (topic == contract::kTopicLink) {
         return subs.link;
     }
-    return topic == "motion" ? subs.motion : subs.capture;
+    return topic == contract::kTopicMotion ? subs.motion : subs.capture;
 }
 
 void set_topics(Subscriptions& subs, const std::vector<std::string>& topics, bool on) {
@@ -151,7 +152,7 @@ void subscribe(MethodContext& c, const json& params, Respond respond) {
     }
     auto& subs = c.client.subscriptions;
     set_topics(subs, *topics, true);
-    if (std::find(topics->begin(), topics->end(), "attitude") != topics->end()) {
+    if (std::find(topics->begin(), topics->end(), contract::kTopicAttitude) != topics->end()) {
         subs.max_rate_hz = rate;  // each attitude subscription sets (or clears) the rate
     }
     respond(subscriptions_json(subs));
@@ -162,8 +163,7 @@ void unsubscribe(MethodContext& c, const json& params, Respond respond) {
     p.only({"topics"});
     auto topics = p.names("topics", kTopics);
     auto& subs = c.client.subscriptions;
-    set_topics(subs,
-               topics.value_or(std::vector<std::string>{"attitude", "link", "motion", "capture"}),
+    set_topics(subs, topics.value_or(std::vector<std::string>(kTopics.begin(), kTopics.end())),
                false);
     if (!subs.attitude) {
         subs.max_rate_hz.reset();
@@ -335,6 +335,20 @@ constexpr std::array kMethods{
     Entry{"set_settings", set_settings},
     Entry{"limits", limits},
 };
+
+// The table is the contract's list of methods, in its order.
+constexpr bool same_names() {
+    if (kMethods.size() != contract::kMethods.size()) {
+        return false;
+    }
+    for (std::size_t i = 0; i < kMethods.size(); ++i) {
+        if (kMethods[i].name != contract::kMethods[i]) {
+            return false;
+        }
+    }
+    return true;
+}
+static_assert(same_names(), "ipc's methods must be gport/contract/names.hpp's kMethods");
 
 }  // namespace
 

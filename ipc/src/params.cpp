@@ -38,7 +38,7 @@ std::string shown(std::string_view name) {
 
 }  // namespace
 
-std::string join(std::initializer_list<std::string_view> names) {
+std::string join(std::span<const std::string_view> names) {
     std::string out;
     std::size_t i = 0;
     for (auto name : names) {
@@ -152,7 +152,7 @@ std::optional<bool> Params::boolean(std::string_view name) const {
 }
 
 std::optional<std::vector<std::string>> Params::names(
-    std::string_view name, std::initializer_list<std::string_view> allowed) const {
+    std::string_view name, std::span<const std::string_view> allowed) const {
     const json* value = find(name);
     if (value == nullptr) {
         return std::nullopt;

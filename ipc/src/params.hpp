@@ -9,6 +9,7 @@
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -39,8 +40,8 @@ class Params {
                                         std::string_view bound = {}) const;
     std::optional<bool> boolean(std::string_view name) const;
     // A non-empty array of distinct names, each one of `allowed`.
-    std::optional<std::vector<std::string>> names(
-        std::string_view name, std::initializer_list<std::string_view> allowed) const;
+    std::optional<std::vector<std::string>> names(std::string_view name,
+                                                  std::span<const std::string_view> allowed) const;
 
   private:
     const nlohmann::json* find(std::string_view name) const;
@@ -49,6 +50,6 @@ class Params {
 };
 
 // "a, b and c" for messages.
-std::string join(std::initializer_list<std::string_view> names);
+std::string join(std::span<const std::string_view> names);
 
 }  // namespace gport::ipc::detail

@@ -1,5 +1,6 @@
 #include "result_json.hpp"
 
+#include "gport/contract/counters.hpp"
 #include "gport/version.hpp"
 #include "json_common.hpp"
 
@@ -12,26 +13,14 @@ using nlohmann::json;
 // Bumped when a method, field or notification changes incompatibly.
 constexpr int kApiVersion = 1;
 
+// The contract's field list, in its order (gport/contract/counters.hpp).
 json counters_json(const daemon::Counters& c, std::uint64_t dropped) {
-    return {{"frames_in", c.frames_in},
-            {"bytes_in", c.bytes_in},
-            {"frames_out", c.frames_out},
-            {"bytes_out", c.bytes_out},
-            {"attitude_frames", c.attitude_frames},
-            {"crc_errors", c.crc_errors},
-            {"header_errors", c.header_errors},
-            {"garbage_bytes", c.garbage_bytes},
-            {"resyncs", c.resyncs},
-            {"bad_messages", c.bad_messages},
-            {"device_opens", c.device_opens},
-            {"device_failures", c.device_failures},
-            {"keepalive_frames", c.keepalive_frames},
-            {"motion_updates", c.motion_updates},
-            {"stops_sent", c.stops_sent},
-            {"frames_replaced", c.frames_replaced},
-            {"frames_refused", c.frames_refused},
-            {"settings_timeouts", c.settings_timeouts},
-            {"dropped_notifications", dropped}};
+    json out = json::object();
+#define GPORT_IPC_COUNTER(name) out[#name] = c.name;
+    GPORT_CONTRACT_CORE_COUNTERS(GPORT_IPC_COUNTER)
+#undef GPORT_IPC_COUNTER
+    out["dropped_notifications"] = dropped;
+    return out;
 }
 
 json motion_json(const std::optional<daemon::MotionStatus>& motion) {

@@ -134,7 +134,7 @@ void Server::reject(stream_protocol::socket socket, const std::string& why) {
         refused_ = 0;
         refused_logged_ = now;
     }
-    auto line = std::make_shared<const std::string>(error_line(rpc_error::kServerFull, why));
+    auto line = std::make_shared<const std::string>(error_line(rpc_error::kNoSlot, why));
     auto peer = std::make_shared<stream_protocol::socket>(std::move(socket));
     asio::async_write(*peer, asio::buffer(*line),
                       [peer, line](const boost::system::error_code&, std::size_t) {

@@ -281,7 +281,7 @@ void Session::on_idle_timer() {
     host_.log().info("client {} (pid {} uid {}) idle for {} ms; closing it", state_.info.id,
                      state_.info.pid, state_.info.uid, timeout.count());
     close_after_reply(
-        rpc_error::kServerFull,
+        rpc_error::kNoSlot,
         fmt::format("idle for {} ms with no subscription (socket.idle_timeout_ms); closing",
                     timeout.count()));
 }

@@ -226,7 +226,7 @@ TEST_F(StopSafety, SettingsRequestsAreCappedPerClientAndInTotal) {
     simulator->pause_reading();  // a gimbal that never answers
     std::vector<daemon::Outcome<daemon::Settings>> refused;
     auto keep = [&](daemon::Outcome<daemon::Settings> r) {
-        if (!r.ok() && r.error().code == ErrorCode::kTooMany) {
+        if (!r.ok() && r.error().code == ErrorCode::kTooManyRequests) {
             refused.push_back(r);
         }
     };

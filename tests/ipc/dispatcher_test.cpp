@@ -252,7 +252,7 @@ TEST_F(DispatcherTest, CoreErrorsMapToTheirCodes) {
     const std::pair<daemon::ErrorCode, int> cases[] = {
         {daemon::ErrorCode::kInvalidParams, -32602}, {daemon::ErrorCode::kLinkDown, -32000},
         {daemon::ErrorCode::kPermission, -32001},    {daemon::ErrorCode::kNoAnswer, -32002},
-        {daemon::ErrorCode::kBusy, -32003},
+        {daemon::ErrorCode::kBusy, -32003},          {daemon::ErrorCode::kTooManyRequests, -32005},
     };
     for (const auto& [error, expected] : cases) {
         api_.error = daemon::CommandError{error, "from the core"};

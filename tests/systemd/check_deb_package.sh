@@ -43,6 +43,8 @@ for pattern in '^\./usr/bin/gportd$' '^\./usr/bin/gportctl$' '^\./usr/bin/gport-
                '/libgport-client\.so\.1$' '/libgport-client\.so$' \
                '/pkgconfig/gport-client\.pc$' '/cmake/gport-client/gport-clientConfig\.cmake$' \
                '^\./usr/include/gport/client/client\.hpp$' \
+               '^\./usr/include/gport/contract/errors\.hpp$' \
+               '^\./usr/include/gport/contract/counters\.hpp$' \
                '^\./usr/lib/python3/dist-packages/gport/__init__\.py$' \
                '^\./usr/lib/python3/dist-packages/gport/client\.py$' \
                '^\./usr/lib/python3/dist-packages/gport/aio\.py$' \

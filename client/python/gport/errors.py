@@ -4,6 +4,10 @@ Every error is a :class:`GportError` with ``code`` (the JSON-RPC error code,
 or ``None`` for errors of the client side: lost connection, timeout) and
 ``message`` (the daemon's text, which names what was wrong and what is
 allowed).
+
+The codes are gportd's wire contract (contract/include/gport/contract/
+errors.hpp in the source tree); tests/contract/check_python.py checks every
+class below against it.
 """
 
 from __future__ import annotations

@@ -8,25 +8,19 @@
 #include <string>
 
 #include "gport/client/export.hpp"
+#include "gport/contract/errors.hpp"
 
 namespace gport::client {
 
-// The codes of docs/api.md ("Error codes"), plus three of the library's own.
+// The codes of docs/api.md ("Error codes"), with the names and values of
+// gport/contract/errors.hpp, plus three of the library's own.
 enum class ErrorCode : int {
     kTransport = -1,  // cannot connect, or the connection broke / was closed
     kBadReply = -2,   // a reply the library does not understand (version mismatch?)
     kTimeout = -3,    // no reply within the call timeout (the connection stays usable)
-    kParse = -32700,
-    kInvalidRequest = -32600,
-    kUnknownMethod = -32601,
-    kInvalidParams = -32602,
-    kInternal = -32603,
-    kLinkDown = -32000,
-    kPermission = -32001,
-    kNoAnswer = -32002,
-    kBusy = -32003,
-    kNoSlot = -32004,
-    kTooManyRequests = -32005,
+#define GPORT_CLIENT_ERROR_CODE(name, code, meaning) name = contract::rpc_error::name,
+    GPORT_CONTRACT_ERROR_CODES(GPORT_CLIENT_ERROR_CODE)
+#undef GPORT_CLIENT_ERROR_CODE
 };
 
 class GPORT_CLIENT_API Error : public std::runtime_error {

@@ -13,6 +13,8 @@
 #include <variant>
 #include <vector>
 
+#include "gport/contract/counters.hpp"
+
 namespace gport::client {
 
 using Milliseconds = std::chrono::milliseconds;
@@ -69,26 +71,13 @@ struct Motion {
     std::optional<std::int64_t> elapsed_ms{};
 };
 
+// The status result's counters: the fields of gport/contract/counters.hpp
+// (frames_in, bytes_in, ... settings_timeouts, dropped_notifications), each
+// a std::uint64_t, in that order.
 struct Counters {
-    std::uint64_t frames_in = 0;
-    std::uint64_t bytes_in = 0;
-    std::uint64_t frames_out = 0;
-    std::uint64_t bytes_out = 0;
-    std::uint64_t attitude_frames = 0;
-    std::uint64_t crc_errors = 0;
-    std::uint64_t header_errors = 0;
-    std::uint64_t garbage_bytes = 0;
-    std::uint64_t resyncs = 0;
-    std::uint64_t bad_messages = 0;
-    std::uint64_t device_opens = 0;
-    std::uint64_t device_failures = 0;
-    std::uint64_t keepalive_frames = 0;
-    std::uint64_t motion_updates = 0;
-    std::uint64_t stops_sent = 0;
-    std::uint64_t frames_replaced = 0;
-    std::uint64_t frames_refused = 0;
-    std::uint64_t settings_timeouts = 0;
-    std::uint64_t dropped_notifications = 0;
+#define GPORT_CLIENT_COUNTER(name) std::uint64_t name = 0;
+    GPORT_CONTRACT_COUNTERS(GPORT_CLIENT_COUNTER)
+#undef GPORT_CLIENT_COUNTER
 };
 
 struct Status {

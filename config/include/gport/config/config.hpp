@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "gport/contract/limits.hpp"
+
 namespace gport::config {
 
 using Millis = std::chrono::milliseconds;
@@ -74,8 +76,9 @@ struct LogConfig {               // "log"
 };
 
 // Soft limits on motion, in degrees; the core refuses (or, on request, clamps)
-// commands beyond them. The defaults are the protocol's whole range: no limit.
-constexpr double kMaxDegrees = 327.67;
+// commands beyond them. The defaults are the protocol's whole range
+// (contract::kMaxDegrees): no limit.
+using contract::kMaxDegrees;
 constexpr double kMaxBrakingMargin = 90.0;  // limits.braking_margin_deg: 0 to this
 
 struct AxisRange {              // "roll", "pitch", "yaw"

@@ -8,6 +8,7 @@
 // (kBusy), device open (kLinkDown).
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "gport/config/config.hpp"
+#include "gport/contract/counters.hpp"
 #include "gport/daemon/events.hpp"
 #include "gport/daemon/outcome.hpp"
 
@@ -78,25 +80,12 @@ struct AngleSent {
     std::vector<std::string> clamped{};  // axes clamped ("roll", "pitch", "yaw")
 };
 
+// The counters of the status result: the core's part of the contract's
+// list (gport/contract/counters.hpp says what each counts).
 struct Counters {
-    std::uint64_t frames_in = 0;
-    std::uint64_t bytes_in = 0;
-    std::uint64_t frames_out = 0;
-    std::uint64_t bytes_out = 0;
-    std::uint64_t attitude_frames = 0;
-    std::uint64_t crc_errors = 0;
-    std::uint64_t header_errors = 0;
-    std::uint64_t garbage_bytes = 0;
-    std::uint64_t resyncs = 0;
-    std::uint64_t bad_messages = 0;  // valid frames whose content made no sense
-    std::uint64_t device_opens = 0;
-    std::uint64_t device_failures = 0;  // failed opens and lost devices
-    std::uint64_t keepalive_frames = 0;
-    std::uint64_t motion_updates = 0;   // speeds, angles, centres that updated their owner's motion
-    std::uint64_t stops_sent = 0;       // zero-speed frames written to the device
-    std::uint64_t frames_replaced = 0;  // waiting 0x85 frames a newer 0x85 replaced
-    std::uint64_t frames_refused = 0;   // camera/settings frames refused: the device is stuck
-    std::uint64_t settings_timeouts = 0;
+#define GPORT_DAEMON_COUNTER(name) std::uint64_t name = 0;
+    GPORT_CONTRACT_CORE_COUNTERS(GPORT_DAEMON_COUNTER)
+#undef GPORT_DAEMON_COUNTER
 };
 
 struct MotionStatus {

@@ -1,22 +1,18 @@
 // What a command to the daemon core returns: a value, or an error whose code
-// maps one-to-one onto the client API's error codes (docs/api.md, "Error
-// codes").
+// is one of the client API's error codes (docs/api.md, "Error codes"; the
+// list is gport/contract/errors.hpp).
 #pragma once
 
 #include <string>
 
 #include "gport/base/result.hpp"
+#include "gport/contract/errors.hpp"
 
 namespace gport::daemon {
 
-enum class ErrorCode {
-    kInvalidParams,  // -32602: a parameter outside what is allowed
-    kLinkDown,       // -32000: the serial device is not open
-    kPermission,     // -32001: this peer may only read
-    kNoAnswer,       // -32002: the gimbal did not answer
-    kBusy,           // -32003: another client holds control
-    kTooMany,        // -32005: too many requests from this client (or in total)
-};
+// The core answers with kInvalidParams, kLinkDown, kPermission, kNoAnswer,
+// kBusy and kTooManyRequests; ipc sends the code as it is.
+using ErrorCode = contract::rpc_error::Code;
 
 struct CommandError {
     ErrorCode code;

@@ -24,39 +24,22 @@
 #include <string_view>
 #include <variant>
 
+#include "gport/contract/errors.hpp"
+#include "gport/contract/limits.hpp"
 #include "gport/daemon/api.hpp"
 #include "gport/ipc/capture_log.hpp"
 #include "gport/ipc/status_cache.hpp"
 
 namespace gport::ipc {
 
-// JSON-RPC error codes of the client API.
-namespace rpc_error {
-inline constexpr int kParse = -32700;
-inline constexpr int kInvalidRequest = -32600;
-inline constexpr int kUnknownMethod = -32601;
-inline constexpr int kInvalidParams = -32602;
-inline constexpr int kLinkDown = -32000;
-inline constexpr int kPermission = -32001;
-inline constexpr int kNoAnswer = -32002;
-inline constexpr int kBusy = -32003;
-inline constexpr int kServerFull = -32004;  // sent once to a client over max_clients
-inline constexpr int kTooMany = -32005;     // request rate or outstanding requests over a limit
-inline constexpr int kInternal = -32603;    // also: the attitude channel cannot be made
-}  // namespace rpc_error
-
-int to_rpc_code(daemon::ErrorCode code);
-
-inline constexpr std::size_t kMaxDepth = 64;
-inline constexpr std::size_t kMaxBatch = 32;
-inline constexpr std::size_t kMaxIdLength = 128;
-inline constexpr double kMaxRateHz = 1000.0;
-// The longest duration_ms and lease_ms a request may carry (a day); the
-// daemon's keepalive.max_duration_ms narrows it.
-inline constexpr std::int64_t kMaxDurationMs = 86'400'000;
-// Slower than one sample in 100 s is not a rate anyone needs, and keeps the
-// interval far from overflowing a clock duration.
-inline constexpr double kMinRateHz = 0.01;
+// The wire contract (gport/contract/): the error codes (rpc_error::kBusy...)
+// and the limits a request is checked against, under the names ipc uses.
+namespace rpc_error = contract::rpc_error;
+using contract::kMaxBatch;
+using contract::kMaxDepth;
+using contract::kMaxIdLength;
+using contract::kMaxRateHz;
+using contract::kMinRateHz;
 
 // What one client has asked to receive.
 struct Subscriptions {

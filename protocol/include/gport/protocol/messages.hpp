@@ -23,6 +23,7 @@
 #include <variant>
 #include <vector>
 
+#include "gport/contract/limits.hpp"
 #include "gport/protocol/frame.hpp"
 #include "gport/protocol/result.hpp"
 
@@ -47,9 +48,11 @@ inline constexpr std::size_t kAttitudeWithRatesSize = 24;
 // ---- units -----------------------------------------------------------------
 
 // Largest magnitude an int16 in 0.01 units carries without wrapping; the
-// wire's -32768 is refused too, so the range is symmetric.
+// wire's -32768 is refused too, so the range is symmetric. In degrees it is
+// the client API's range of angles and speeds (gport/contract/limits.hpp).
 inline constexpr std::int16_t kMaxCenti = 32767;
-inline constexpr double kMaxDegrees = 327.67;
+using contract::kMaxDegrees;
+static_assert(kMaxCenti / 100.0 == kMaxDegrees, "the API's range is the wire's int16 range");
 
 // Degrees (or °/s) to 0.01 steps, rounded to nearest (halves away from zero).
 // Refuses NaN, infinities and values outside ±327.67 with a message naming

@@ -40,7 +40,7 @@ class SettingsExchange {
 
     void on_changed(Changed changed) { changed_ = std::move(changed); }
 
-    // kTooMany when the client, or everyone together, has too many requests
+    // kTooManyRequests when the client, or everyone together, has too many requests
     // waiting; check before get()/set().
     std::optional<CommandError> admit(std::uint64_t client) const;
     void get(std::uint64_t client, Reply reply);
