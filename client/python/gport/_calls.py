@@ -12,34 +12,8 @@ from dataclasses import dataclass
 from typing import Any, Callable, Generic, Iterable, Mapping, TypeVar
 
 from . import _protocol as p
+from . import results as r
 from .errors import ConnectionLost, Timeout
-from .results import (
-    AngleResult,
-    Attitude,
-    Captures,
-    CenterResult,
-    Control,
-    Limits,
-    Notification,
-    PhotoResult,
-    RecordResult,
-    Settings,
-    SpeedResult,
-    Status,
-    Subscription,
-    parse_angle,
-    parse_attitude,
-    parse_captures,
-    parse_center,
-    parse_control,
-    parse_limits,
-    parse_photo,
-    parse_record,
-    parse_settings,
-    parse_speed,
-    parse_status,
-    parse_subscription,
-)
 
 T = TypeVar("T")
 
@@ -65,14 +39,14 @@ class Call(Generic[T]):
 
 
 # The methods without params.
-STATUS: Call[Status] = Call("status", None, parse_status)
-ATTITUDE: Call[Attitude] = Call("attitude", None, parse_attitude)
+STATUS: Call[r.Status] = Call("status", None, r.parse_status)
+ATTITUDE: Call[r.Attitude] = Call("attitude", None, r.parse_attitude)
 STOP: Call[None] = Call("stop", None, _nothing)
 LOCK: Call[None] = Call("lock", None, _nothing)
-ACQUIRE: Call[Control] = Call("acquire", None, parse_control)
-RELEASE: Call[Control] = Call("release", None, parse_control)
-LIMITS: Call[Limits] = Call("limits", None, parse_limits)
-SETTINGS: Call[Settings] = Call("get_settings", None, parse_settings)
+ACQUIRE: Call[r.Control] = Call("acquire", None, r.parse_control)
+RELEASE: Call[r.Control] = Call("release", None, r.parse_control)
+LIMITS: Call[r.Limits] = Call("limits", None, r.parse_limits)
+SETTINGS: Call[r.Settings] = Call("get_settings", None, r.parse_settings)
 
 
 def speed(
@@ -82,7 +56,7 @@ def speed(
     duration_ms: int | None,
     lease_ms: int | None,
     clamp: bool,
-) -> Call[SpeedResult]:
+) -> Call[r.SpeedResult]:
     """Also what a moving() block re-sends (Movement)."""
     params = p.drop_none(
         roll=roll,
@@ -92,30 +66,30 @@ def speed(
         lease_ms=lease_ms,
         clamp=True if clamp else None,
     )
-    return Call("speed", params, parse_speed)
+    return Call("speed", params, r.parse_speed)
 
 
-def angle(roll: float, pitch: float, yaw: float, clamp: bool, wait: bool) -> Call[AngleResult]:
+def angle(roll: float, pitch: float, yaw: float, clamp: bool, wait: bool) -> Call[r.AngleResult]:
     # `wait` is sent only when true, so that daemons without it still answer.
     params = p.drop_none(
         roll=roll, pitch=pitch, yaw=yaw, clamp=True if clamp else None, wait=True if wait else None
     )
-    return Call("angle", params, parse_angle, wait)
+    return Call("angle", params, r.parse_angle, wait)
 
 
-def center(wait: bool) -> Call[CenterResult]:
-    return Call("center", {"wait": True} if wait else None, parse_center, wait)
+def center(wait: bool) -> Call[r.CenterResult]:
+    return Call("center", {"wait": True} if wait else None, r.parse_center, wait)
 
 
-def photo(meta: Mapping[str, Any] | None) -> Call[PhotoResult]:
-    return Call("photo", _with_meta({}, meta) or None, parse_photo)
+def photo(meta: Mapping[str, Any] | None) -> Call[r.PhotoResult]:
+    return Call("photo", _with_meta({}, meta) or None, r.parse_photo)
 
 
-def record(on: bool | None, force: bool, meta: Mapping[str, Any] | None) -> Call[RecordResult]:
+def record(on: bool | None, force: bool, meta: Mapping[str, Any] | None) -> Call[r.RecordResult]:
     if force and on is None:
         raise ValueError("record(force=True) needs on=True or on=False")
     params = p.drop_none(on=on, force=True if force else None)
-    return Call("record", _with_meta(params, meta), parse_record)
+    return Call("record", _with_meta(params, meta), r.parse_record)
 
 
 def _with_meta(params: dict[str, Any], meta: Mapping[str, Any] | None) -> dict[str, Any]:
@@ -129,27 +103,27 @@ def _with_meta(params: dict[str, Any], meta: Mapping[str, Any] | None) -> dict[s
     return {**params, "meta": dict(meta)}
 
 
-def captures(since: int | None, limit: int | None) -> Call[Captures]:
-    return Call("captures", p.drop_none(since=since, limit=limit), parse_captures)
+def captures(since: int | None, limit: int | None) -> Call[r.Captures]:
+    return Call("captures", p.drop_none(since=since, limit=limit), r.parse_captures)
 
 
 def set_settings(
     dead_zone: int | None, follow_speed: int | None, inverted: bool | None
-) -> Call[Settings]:
+) -> Call[r.Settings]:
     params = p.drop_none(dead_zone=dead_zone, follow_speed=follow_speed, inverted=inverted)
     if not params:
         raise ValueError("set_settings needs at least one of dead_zone, follow_speed, inverted")
-    return Call("set_settings", params, parse_settings)
+    return Call("set_settings", params, r.parse_settings)
 
 
-def subscribe(topics: Iterable[str], max_rate_hz: float | None) -> Call[Subscription]:
+def subscribe(topics: Iterable[str], max_rate_hz: float | None) -> Call[r.Subscription]:
     params = p.drop_none(topics=p.topic_list(topics), max_rate_hz=max_rate_hz)
-    return Call("subscribe", params, parse_subscription)
+    return Call("subscribe", params, r.parse_subscription)
 
 
-def unsubscribe(topics: str | Iterable[str] | None) -> Call[Subscription]:
+def unsubscribe(topics: str | Iterable[str] | None) -> Call[r.Subscription]:
     params = None if topics is None else {"topics": p.topic_list(topics)}
-    return Call("unsubscribe", params, parse_subscription)
+    return Call("unsubscribe", params, r.parse_subscription)
 
 
 class Subscriptions:
@@ -170,11 +144,13 @@ class Subscriptions:
         return None
 
     @staticmethod
-    def with_channel(result: Subscription) -> Subscription:
+    def with_channel(result: r.Subscription) -> r.Subscription:
         """The socket's subscription plus attitude from the channel."""
-        return Subscription((*result.topics, "attitude"), None)
+        return r.Subscription((*result.topics, "attitude"), None)
 
-    def subscribed(self, wanted: list[str], max_rate_hz: float | None, result: Subscription) -> None:
+    def subscribed(
+        self, wanted: list[str], max_rate_hz: float | None, result: r.Subscription
+    ) -> None:
         for topic in result.topics:
             self.topics.setdefault(topic, None)
         if "attitude" in wanted:
@@ -186,7 +162,7 @@ class Subscriptions:
         return topics is None or "attitude" in p.topic_list(topics)
 
     def unsubscribed(
-        self, topics: str | Iterable[str] | None, result: Subscription, inbox: p.Inbox
+        self, topics: str | Iterable[str] | None, result: r.Subscription, inbox: p.Inbox
     ) -> None:
         """After unsubscribe(topics): what is left, and none of theirs waits."""
         self.topics = {t: self.topics.get(t) for t in result.topics}
@@ -212,7 +188,9 @@ class NextNotification:
         self.wanted = None if topics is None else frozenset(p.topic_list(topics))
         self.deadline = None if timeout is None else time.monotonic() + timeout
 
-    def take(self, inbox: p.Inbox, alive: bool, closed: Callable[[], str]) -> Notification | None:
+    def take(
+        self, inbox: p.Inbox, alive: bool, closed: Callable[[], str]
+    ) -> r.Notification | None:
         """The oldest waiting notification wanted; ConnectionLost (closed()
         says why) once the connection is gone and none waits."""
         item = inbox.take(self.wanted)
@@ -225,9 +203,9 @@ class NextNotification:
         return None if self.deadline is None else max(0.0, self.deadline - time.monotonic())
 
 
-def streamed(item: Notification | None, timeout: float | None) -> Attitude:
+def streamed(item: r.Notification | None, timeout: float | None) -> r.Attitude:
     """attitude_stream()'s next sample: Timeout when none came in ``timeout``."""
     if item is None:
         raise Timeout(f"no attitude sample within {timeout} s")
-    assert isinstance(item, Attitude)
+    assert isinstance(item, r.Attitude)
     return item
