@@ -5,13 +5,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <thread>
+#include <memory>
 
 #include "gport/cli/captures.hpp"
 #include "gport/cli/monitor.hpp"
 #include "gport/cli/output.hpp"
 #include "gport/cli/progress.hpp"
-#include "gport/client/attitude_channel.hpp"
+#include "gport/client/attitude_feed.hpp"
 #include "gport/client/connection.hpp"
 #include "gport/client/error.hpp"
 #include "gport/contract/errors.hpp"
@@ -29,9 +29,6 @@ constexpr auto kResendEvery = 200ms;
 constexpr auto kResendDuration = 500ms;
 // speed --for shows its progress this often (attitude samples asked for).
 constexpr double kProgressHz = 2.0;
-// watch --shared-memory waits on the ring at most this long before looking
-// at the socket again.
-constexpr auto kRingSlice = 20ms;
 // captures: the most gportd lists in one reply.
 constexpr long kCapturesPage = 1000;
 
@@ -245,27 +242,31 @@ class Runner {
     }
 
     // Until Ctrl-C, or -n COUNT events, or --for DURATION (exit 0 for all three).
+    // With --shared-memory, attitude comes from the library's feed, whose
+    // descriptor the connection polls with the socket.
     int watch() {
         json params = inv_.params;
-        std::optional<client::AttitudeChannel> ring;
+        std::unique_ptr<client::AttitudeFeed> feed;
         if (inv_.shared_memory) {
             auto& topics = params["topics"];
             const auto before = topics.size();
             topics.erase(std::remove(topics.begin(), topics.end(), "attitude"), topics.end());
             if (topics.size() != before) {
-                if (auto status = open_ring(ring); status != kExitOk) {
+                if (auto status = open_feed(feed); status != kExitOk) {
                     return status;
                 }
             }
         }
+        const Unwatch unwatch{conn_};  // before the feed goes
         json result = {{"topics", json::array()}};
         if (!params["topics"].empty()) {
             if (const int status = call("subscribe", params, result); status != kExitOk) {
                 return status;
             }
         }
-        if (ring) {
+        if (feed) {
             result["topics"] = inv_.topics;  // as gportd would list them
+            conn_.watch(feed->fd());
         }
         // What is watched, for the person at the terminal; never in the
         // output a script reads.
@@ -279,42 +280,39 @@ class Runner {
         long seen = 0;
         json message;
         while (!inv_.count || seen < *inv_.count) {
-            if (ring && !ring->closed()) {
-                // The socket's events first, without waiting; then the ring,
-                // waiting on its futex at most kRingSlice for a sample (so
-                // link and motion events wait at most that long).
-                auto status = conn_.read(message, 0ms);
-                if (status == Connection::ReadStatus::kTimeout) {
-                    if (timed && std::chrono::steady_clock::now() >= deadline) {
-                        return kExitOk;
-                    }
-                    if (auto sample = ring->next(timed ? std::min(kRingSlice, until(deadline))
-                                                       : kRingSlice)) {
-                        notification(attitude_notification(*sample));
-                        ++seen;
-                    }
-                    continue;
-                }
-                if (auto done = handle_read(status, message, seen)) {
-                    return *done;
-                }
-                continue;
-            }
             const auto status = timed ? conn_.read(message, until(deadline)) : conn_.read(message);
-            if (status == Connection::ReadStatus::kTimeout) {
-                if (timed && std::chrono::steady_clock::now() >= deadline) {
-                    return kExitOk;
-                }
-                continue;
-            }
-            if (auto done = handle_read(status, message, seen)) {
+            if (status == Connection::ReadStatus::kWoken) {
+                print_samples(*feed, seen);
+            } else if (auto done = handle_read(status, message, seen)) {
                 return *done;
+            }
+            if (timed && std::chrono::steady_clock::now() >= deadline) {
+                return kExitOk;
             }
         }
         return kExitOk;
     }
 
-    // watch: a read's outcome other than a timeout; the exit status when it ends the watch.
+    // watch: the feed's new samples, as gportd's notifications (up to -n).
+    void print_samples(client::AttitudeFeed& feed, long& seen) {
+        feed.reset();
+        while (!inv_.count || seen < *inv_.count) {
+            const auto sample = feed.take();
+            if (!sample) {
+                return;
+            }
+            notification(client::attitude_notification(*sample));
+            ++seen;
+        }
+    }
+
+    struct Unwatch {
+        Connection& conn;
+        ~Unwatch() { conn.watch(-1); }
+    };
+
+    // watch: a read's outcome other than a wake; the exit status when it
+    // ends the watch.
     std::optional<int> handle_read(Connection::ReadStatus status, const json& message, long& seen) {
         switch (status) {
             case Connection::ReadStatus::kMessage:
@@ -333,19 +331,20 @@ class Runner {
         }
     }
 
-    int open_ring(std::optional<client::AttitudeChannel>& ring) {
+    int open_feed(std::unique_ptr<client::AttitudeFeed>& feed) {
         try {
-            ring = conn_.attitude_channel([this](const json& n) { notification(n); });
+            feed = std::make_unique<client::AttitudeFeed>(
+                conn_.attitude_channel([this](const json& n) { notification(n); }));
         } catch (const client::Error& e) {
-            if (e.transport()) {
-                if (conn_.interrupted()) {
-                    return kExitInterrupted;
-                }
+            if (e.transport() && conn_.interrupted()) {
+                return kExitInterrupted;
+            }
+            if (e.transport() && conn_.closed()) {
                 err_ << "gportctl: the daemon closed the connection\n";
                 return kExitUnavailable;
             }
             err_ << "gportctl: " << format_error(e) << "\n";
-            return kExitError;
+            return e.transport() ? kExitUnavailable : kExitError;
         }
         return kExitOk;
     }

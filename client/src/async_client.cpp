@@ -23,9 +23,9 @@
 #include "codec.hpp"
 #include "connect_error.hpp"
 #include "gport/base/descriptors.hpp"
+#include "gport/client/attitude_feed.hpp"
 #include "gport/client/channel_claims.hpp"
 #include "gport/client/lines.hpp"
-#include "ring_channel.hpp"
 
 namespace gport::client {
 
@@ -217,13 +217,11 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
              });
     }
 
-    // Attitude from the ring from now on: the waker's eventfd on the loop.
+    // Attitude from the ring from now on: the feed's descriptor on the loop.
     void start_ring(AttitudeChannel channel) {
         stop_ring();
-        channel.impl()->skip_to_newest();
-        waker = std::make_unique<RingWaker>(channel.impl()->mapping);
-        ring = std::move(channel);
-        ring_wait = std::make_unique<asio::posix::stream_descriptor>(io, ::dup(waker->fd()));
+        ring = std::make_unique<AttitudeFeed>(std::move(channel));
+        ring_wait = std::make_unique<asio::posix::stream_descriptor>(io, ::dup(ring->fd()));
         wait_ring(ring_generation);
     }
 
@@ -242,10 +240,11 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
                               });
     }
 
+    // A callback may end the feed (unsubscribe): the generation tells.
     void drain_ring(std::uint64_t generation) {
-        waker->reset();
+        ring->reset();
         while (generation == ring_generation) {
-            auto sample = ring->impl()->take();
+            auto sample = ring->take();
             if (!sample) {
                 return;
             }
@@ -258,7 +257,6 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     void stop_ring() {
         ++ring_generation;
         ring_wait.reset();  // a pending wait completes with operation_aborted
-        waker.reset();
         ring.reset();
     }
 
@@ -352,8 +350,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     std::function<void(const Error&)> on_disconnect;
     ChannelClaims claims;  // received descriptors, attitude_channel requests, the channel
     // Transparent shared-memory attitude (async_subscribe with shared_memory).
-    std::optional<AttitudeChannel> ring;
-    std::unique_ptr<RingWaker> waker;
+    std::unique_ptr<AttitudeFeed> ring;
     std::unique_ptr<asio::posix::stream_descriptor> ring_wait;
     std::uint64_t ring_generation = 0;
 };

@@ -7,9 +7,9 @@
 #include <utility>
 
 #include "codec.hpp"
+#include "gport/client/attitude_feed.hpp"
 #include "gport/client/connection.hpp"
 #include "notification_queue.hpp"
-#include "ring_channel.hpp"
 
 namespace gport::client {
 
@@ -100,29 +100,29 @@ struct Client::Impl {
 
     // Attitude from the ring from now on, woken through the connection's poll.
     void start_ring() {
-        if (ring) {
-            return;
+        if (!ring) {
+            ring = std::make_unique<AttitudeFeed>(open_channel());
+            connection.watch(ring->fd());
         }
-        auto channel = open_channel();
-        channel.impl()->skip_to_newest();
-        waker = std::make_unique<RingWaker>(channel.impl()->mapping);
-        ring = std::move(channel);
-        connection.watch(waker->fd());
     }
 
     void stop_ring() noexcept {
         connection.watch(-1);
-        waker.reset();
         ring.reset();
     }
 
+    // A callback may end the feed (unsubscribe): looked at before each take.
     std::size_t drain_ring(bool queue_only) {
         if (!ring) {
             return 0;
         }
-        waker->reset();
+        ring->reset();
         std::size_t count = 0;
-        while (auto sample = ring->impl()->take()) {
+        while (ring) {
+            auto sample = ring->take();
+            if (!sample) {
+                break;
+            }
             ++count;
             if (callback && !queue_only) {
                 callback(Notification(std::move(*sample)));
@@ -136,10 +136,8 @@ struct Client::Impl {
     Connection connection;
     detail::NotificationQueue queue;
     std::function<void(const Notification&)> callback;
-    // Transparent shared-memory attitude (subscribe with shared_memory); the
-    // waker goes before the mapping it reads.
-    std::optional<AttitudeChannel> ring;
-    std::unique_ptr<RingWaker> waker;
+    // Transparent shared-memory attitude (subscribe with shared_memory).
+    std::unique_ptr<AttitudeFeed> ring;
 };
 
 std::string Client::default_socket() {

@@ -11,7 +11,7 @@
 //   attitude_channel replies carry "descriptors":0 and share it.
 // - AttitudeChannel::Impl: a reader with its own cursor over a mapping.
 // - RingWaker: a thread that turns the word's changes into a pollable
-//   eventfd for Client::next_notification and AsyncClient.
+//   eventfd (AttitudeFeed's: for Client, AsyncClient and gportctl).
 #pragma once
 
 #include <atomic>

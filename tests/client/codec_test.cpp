@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "connect_error.hpp"
+#include "gport/client/attitude_feed.hpp"
 
 namespace gport::client::codec {
 namespace {
@@ -113,6 +114,29 @@ TEST(ClientCodec, AttitudeWithRatesAndDrops) {
     ASSERT_TRUE(s.rates.has_value());
     EXPECT_DOUBLE_EQ(s.rates->hall.roll, 1.25);
     EXPECT_DOUBLE_EQ(s.rates->imu.y, -2.3);
+}
+
+// gportctl watch --shared-memory prints ring samples with this: the values
+// gportd's notification of the same sample has (whole numbers as integers,
+// as gportd prints them; dropped only when some were missed), and the
+// decoder reads them back unchanged.
+TEST(ClientCodec, AttitudeNotificationIsWhatGportdSends) {
+    const auto sent = json::parse(R"({"jsonrpc":"2.0","method":"attitude","params":
+        {"seq":1042,"t":1763770000.123456,"imu":{"roll":0,"pitch":0,"yaw":-39.29},
+         "hall":{"roll":-19.21,"pitch":-0.16,"yaw":45},"dropped":3,
+         "rates":{"hall":{"roll":1.25,"pitch":-0.5,"yaw":0},"imu":{"x":0.12,"y":-2.3,"z":0}}}})");
+    const auto sample = std::get<AttitudeSample>(*notification(sent));
+    const auto made = attitude_notification(sample);
+    EXPECT_EQ(made, sent);
+    EXPECT_EQ(made["params"]["hall"]["yaw"].dump(), "45") << "an integer, as gportd prints it";
+    EXPECT_EQ(std::get<AttitudeSample>(*notification(made)).hall.roll, -19.21);
+
+    AttitudeSample plain = sample;
+    plain.dropped = 0;
+    plain.rates.reset();
+    const auto without = attitude_notification(plain)["params"];
+    EXPECT_FALSE(without.contains("dropped")) << "gportd sends it only after a drop";
+    EXPECT_FALSE(without.contains("rates"));
 }
 
 TEST(ClientCodec, MotionEventsOfEveryKind) {

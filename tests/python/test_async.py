@@ -126,3 +126,27 @@ def test_async_reconnect(daemon: Daemon) -> None:
         await client.close()
 
     asyncio.run(main())
+
+
+def test_both_clients_offer_the_same_methods() -> None:
+    """Every public method of gport.Client is on gport.AsyncClient with the
+    same parameters (a coroutine, but for the generators and context
+    managers): both carry out the same Calls."""
+    import inspect
+    from typing import Any, Callable
+
+    def shape(member: Callable[..., Any]) -> list[tuple[str, object, object]]:
+        return [
+            (p.name, p.kind, None if type(p.default) is object else p.default)  # a sentinel
+            for p in inspect.signature(member).parameters.values()
+        ]
+
+    def public(cls: type) -> dict[str, Callable[..., Any]]:
+        return {n: m for n, m in vars(cls).items() if callable(m) and not n.startswith("_")}
+
+    sync, aio = public(gport.Client), public(gport.AsyncClient)
+    assert set(sync) - set(aio) == set()
+    streams = ("notifications", "attitude_stream", "control", "moving")
+    for name, member in sync.items():
+        assert shape(aio[name]) == shape(member), name
+        assert inspect.iscoroutinefunction(aio[name]) or name in streams, name

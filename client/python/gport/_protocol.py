@@ -1,4 +1,5 @@
-"""What the sync and async clients share: framing, params, replies, the inbox."""
+"""What the sync and async clients share: framing, replies, the inbox (what
+each method sends and reads: _calls)."""
 
 from __future__ import annotations
 
@@ -289,67 +290,8 @@ def drop_none(**params: Any) -> dict[str, Any]:
     return {k: v for k, v in params.items() if v is not None}
 
 
-def speed_params(
-    roll: float,
-    pitch: float,
-    yaw: float,
-    duration_ms: int | None,
-    lease_ms: int | None,
-    clamp: bool,
-) -> dict[str, Any]:
-    return drop_none(
-        roll=roll,
-        pitch=pitch,
-        yaw=yaw,
-        duration_ms=duration_ms,
-        lease_ms=lease_ms,
-        clamp=True if clamp else None,
-    )
-
-
-def angle_params(roll: float, pitch: float, yaw: float, clamp: bool, wait: bool) -> dict[str, Any]:
-    # `wait` is sent only when true, so that daemons without it still answer.
-    return drop_none(
-        roll=roll, pitch=pitch, yaw=yaw, clamp=True if clamp else None, wait=True if wait else None
-    )
-
-
-def record_params(on: bool | None, force: bool) -> dict[str, Any]:
-    if force and on is None:
-        raise ValueError("record(force=True) needs on=True or on=False")
-    return drop_none(on=on, force=True if force else None)
-
-
-def with_meta(params: dict[str, Any], meta: Mapping[str, Any] | None) -> dict[str, Any]:
-    """``params`` with ``meta`` for photo and record (docs/api.md, "Captures"):
-    a mapping, sent as a JSON object; gportd refuses one over 1024 bytes as
-    compact JSON with InvalidParams. Anything else raises ValueError here."""
-    if meta is None:
-        return params
-    if not isinstance(meta, Mapping):
-        raise ValueError(f"meta must be a mapping (a JSON object), not {type(meta).__name__}")
-    return {**params, "meta": dict(meta)}
-
-
-def captures_params(since: int | None, limit: int | None) -> dict[str, Any]:
-    return drop_none(since=since, limit=limit)
-
-
-def settings_params(
-    dead_zone: int | None, follow_speed: int | None, inverted: bool | None
-) -> dict[str, Any]:
-    params = drop_none(dead_zone=dead_zone, follow_speed=follow_speed, inverted=inverted)
-    if not params:
-        raise ValueError("set_settings needs at least one of dead_zone, follow_speed, inverted")
-    return params
-
-
 def topic_list(topics: str | Iterable[str]) -> list[str]:
     return [topics] if isinstance(topics, str) else list(topics)
-
-
-def subscribe_params(topics: str | Iterable[str], max_rate_hz: float | None) -> dict[str, Any]:
-    return drop_none(topics=topic_list(topics), max_rate_hz=max_rate_hz)
 
 
 def reply_limit(timeout: float | None, wait: bool) -> float | None:

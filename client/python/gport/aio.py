@@ -8,8 +8,9 @@ import threading
 import time
 from collections import deque
 from contextlib import asynccontextmanager
-from typing import Any, AsyncGenerator, AsyncIterator, Iterable, Mapping
+from typing import Any, AsyncGenerator, AsyncIterator, Iterable, Mapping, TypeVar
 
+from . import _calls as c
 from . import _protocol as p
 from .channel import AttitudeChannel, ChannelClaims, RingPump
 from .errors import ConnectionLost, GportError, Timeout
@@ -17,32 +18,21 @@ from .moving import AsyncMovement, quietly_async
 from .results import (
     AngleResult,
     Attitude,
+    Captures,
     CenterResult,
     Control,
+    Limits,
     Notification,
-    Captures,
     PhotoResult,
     RecordResult,
     Settings,
-    Limits,
     SpeedResult,
     Status,
     Subscription,
-    parse_angle,
-    parse_attitude,
-    parse_center,
-    parse_control,
-    parse_captures,
-    parse_photo,
-    parse_record,
-    parse_settings,
-    parse_limits,
-    parse_speed,
-    parse_status,
-    parse_subscription,
 )
 
 _DEFAULT: Any = object()
+T = TypeVar("T")
 
 
 class AsyncClient:
@@ -59,14 +49,13 @@ class AsyncClient:
         self._pending: dict[int, asyncio.Future[p.Reply]] = {}
         self._inbox = p.Inbox()
         self._changed = asyncio.Event()
-        self._subscribed: dict[str, float | None] = {}
+        self._subs = c.Subscriptions()
         self._next_id = 0
         self._sock: socket.socket | None = None
         self._lines = p.LineBuffer()
         self._send_lock: asyncio.Lock | None = None
         self._claims = ChannelClaims()  # received descriptors, the channel
         self._pump: RingPump | None = None
-        self._shared_attitude = False
         self._alive = False
         self._refused: GportError | None = None
         self._reason: str | None = None  # why the client ended the connection
@@ -143,7 +132,7 @@ class AsyncClient:
         self._alive = False
         for future in self._pending.values():
             if not future.done():
-                future.set_exception(ConnectionLost(p.closed_message(self._refused, self._reason)))
+                future.set_exception(ConnectionLost(self._closed()))
         self._pending.clear()
         self._claims.reset()
         self._changed.set()
@@ -161,6 +150,9 @@ class AsyncClient:
             self._changed.set()
         elif isinstance(message, p.Refused):
             self._refused = message.error
+
+    def _closed(self) -> str:
+        return p.closed_message(self._refused, self._reason)
 
     @property
     def connected(self) -> bool:
@@ -192,13 +184,10 @@ class AsyncClient:
                     raise
                 await asyncio.sleep(0.05)
         self._inbox.clear()
-        topics = dict(self._subscribed)
-        if self._shared_attitude:
+        if self._subs.shared_attitude:
             await self._start_ring()
-        if "attitude" in topics:
-            await self.subscribe("attitude", max_rate_hz=topics.pop("attitude"))
-        if topics:
-            await self.subscribe(list(topics))
+        for topics, rate in self._subs.again():
+            await self.subscribe(topics, max_rate_hz=rate)
 
     async def __aenter__(self) -> AsyncClient:
         if not self._alive:
@@ -215,6 +204,10 @@ class AsyncClient:
         """Any method by name; returns the decoded ``result`` or raises GportError."""
         limit: float | None = self.timeout if timeout is _DEFAULT else timeout
         return (await self._request(method, params, limit))[1]
+
+    async def _run(self, call: c.Call[T]) -> T:
+        """One method of the API: its request, its result read."""
+        return call.parse(await self.call(call.method, call.params, call.limit(self.timeout)))
 
     async def _request(
         self, method: str, params: Mapping[str, Any] | None, limit: float | None
@@ -233,7 +226,7 @@ class AsyncClient:
         within ``limit``: the connection is closed (ConnectionLost)."""
         sock, lock = self._sock, self._send_lock
         if not self._alive or sock is None or lock is None:
-            raise ConnectionLost(p.closed_message(self._refused, self._reason))
+            raise ConnectionLost(self._closed())
         self._next_id += 1
         request_id = self._next_id
         future: asyncio.Future[p.Reply] = asyncio.get_running_loop().create_future()
@@ -251,7 +244,7 @@ class AsyncClient:
             if isinstance(error, ConnectionLost):
                 raise
             self._end(sock, _send_failure(error, method, limit, self.path))
-            raise ConnectionLost(p.closed_message(self._refused, self._reason)) from None
+            raise ConnectionLost(self._closed()) from None
         return request_id, future
 
     async def _await_reply(
@@ -278,11 +271,11 @@ class AsyncClient:
     async def _send_line(self, sock: socket.socket, lock: asyncio.Lock, line: bytes) -> None:
         async with lock:  # whole lines: one sendall at a time
             if sock is not self._sock:
-                raise ConnectionLost(p.closed_message(self._refused, self._reason))
+                raise ConnectionLost(self._closed())
             await asyncio.get_running_loop().sock_sendall(sock, line)
 
     async def status(self) -> Status:
-        return parse_status(await self.call("status"))
+        return await self._run(c.STATUS)
 
     async def attitude_channel(self) -> AttitudeChannel:
         """As gport.Client.attitude_channel: gportd's shared-memory attitude
@@ -291,7 +284,7 @@ class AsyncClient:
         return self._claims.channel(request_id, result)
 
     async def attitude(self) -> Attitude:
-        return parse_attitude(await self.call("attitude"))
+        return await self._run(c.ATTITUDE)
 
     async def speed(
         self,
@@ -303,11 +296,10 @@ class AsyncClient:
         lease_ms: int | None = None,
         clamp: bool = False,
     ) -> SpeedResult:
-        params = p.speed_params(roll, pitch, yaw, duration_ms, lease_ms, clamp)
-        return parse_speed(await self.call("speed", params))
+        return await self._run(c.speed(roll, pitch, yaw, duration_ms, lease_ms, clamp))
 
     async def stop(self) -> None:
-        await self.call("stop")
+        await self._run(c.STOP)
 
     async def angle(
         self,
@@ -318,42 +310,39 @@ class AsyncClient:
         clamp: bool = False,
         wait: bool = False,
     ) -> AngleResult:
-        params = p.angle_params(roll, pitch, yaw, clamp, wait)
-        return parse_angle(await self.call("angle", params, p.reply_limit(self.timeout, wait)))
+        return await self._run(c.angle(roll, pitch, yaw, clamp, wait))
 
     async def center(self, *, wait: bool = False) -> CenterResult:
-        params = {"wait": True} if wait else None
-        return parse_center(await self.call("center", params, p.reply_limit(self.timeout, wait)))
+        return await self._run(c.center(wait))
 
     async def lock(self) -> None:
-        await self.call("lock")
+        await self._run(c.LOCK)
 
     async def photo(self, *, meta: Mapping[str, Any] | None = None) -> PhotoResult:
         """Takes a photo; ``meta`` (a mapping) is stored with the capture."""
-        return parse_photo(await self.call("photo", p.with_meta({}, meta) or None))
+        return await self._run(c.photo(meta))
 
     async def record(
         self, on: bool | None = None, force: bool = False, *, meta: Mapping[str, Any] | None = None
     ) -> RecordResult:
-        params = p.with_meta(p.record_params(on, force), meta)
-        return parse_record(await self.call("record", params))
+        return await self._run(c.record(on, force, meta))
 
     async def captures(self, since: int | None = None, limit: int | None = None) -> Captures:
         """The captures gportd kept from index ``since`` on, oldest first."""
-        return parse_captures(await self.call("captures", p.captures_params(since, limit)))
+        return await self._run(c.captures(since, limit))
 
     async def acquire(self) -> Control:
-        return parse_control(await self.call("acquire"))
+        return await self._run(c.ACQUIRE)
 
     async def release(self) -> Control:
-        return parse_control(await self.call("release"))
+        return await self._run(c.RELEASE)
 
     async def limits(self) -> Limits:
         """gportd's configured soft limits (read-only)."""
-        return parse_limits(await self.call("limits"))
+        return await self._run(c.LIMITS)
 
     async def settings(self) -> Settings:
-        return parse_settings(await self.call("get_settings"))
+        return await self._run(c.SETTINGS)
 
     async def set_settings(
         self,
@@ -362,8 +351,7 @@ class AsyncClient:
         follow_speed: int | None = None,
         inverted: bool | None = None,
     ) -> Settings:
-        params = p.settings_params(dead_zone, follow_speed, inverted)
-        return parse_settings(await self.call("set_settings", params))
+        return await self._run(c.set_settings(dead_zone, follow_speed, inverted))
 
     async def subscribe(
         self,
@@ -376,30 +364,22 @@ class AsyncClient:
         sleeps on the channel's futex and hands each sample to this event
         loop (call_soon_threadsafe), which queues it like a socket one."""
         wanted = p.topic_list(topics)
-        if shared_memory and "attitude" in wanted:
-            rest = [t for t in wanted if t != "attitude"]
-            result = Subscription((), None)
-            if rest:
-                result = await self.subscribe(rest)
+        rest = c.Subscriptions.through_channel(wanted, shared_memory)
+        if rest is not None:
+            result = (await self.subscribe(rest)) if rest else Subscription((), None)
             await self._start_ring()
-            self._shared_attitude = True
-            return Subscription((*result.topics, "attitude"), None)
-        raw = await self.call("subscribe", p.subscribe_params(wanted, max_rate_hz))
-        result = parse_subscription(raw)
-        for topic in result.topics:
-            self._subscribed.setdefault(topic, None)
-        if "attitude" in wanted:
-            self._subscribed["attitude"] = max_rate_hz
+            self._subs.shared_attitude = True
+            return c.Subscriptions.with_channel(result)
+        result = await self._run(c.subscribe(wanted, max_rate_hz))
+        self._subs.subscribed(wanted, max_rate_hz, result)
         return result
 
     async def unsubscribe(self, topics: str | Iterable[str] | None = None) -> Subscription:
-        if topics is None or "attitude" in p.topic_list(topics):
-            self._shared_attitude = False
+        if c.Subscriptions.ends_channel(topics):
+            self._subs.shared_attitude = False
             self._stop_ring()
-        params = None if topics is None else {"topics": p.topic_list(topics)}
-        result = parse_subscription(await self.call("unsubscribe", params))
-        self._subscribed = {t: self._subscribed.get(t) for t in result.topics}
-        self._inbox.clear(None if topics is None else p.topic_list(topics))
+        result = await self._run(c.unsubscribe(topics))
+        self._subs.unsubscribed(topics, result, self._inbox)
         return result
 
     async def _start_ring(self) -> None:
@@ -440,22 +420,17 @@ class AsyncClient:
         self, topics: Iterable[str] | None = None, timeout: float | None = None
     ) -> Notification | None:
         """As gport.Client.next_notification."""
-        wanted = None if topics is None else frozenset(p.topic_list(topics))
-        deadline = None if timeout is None else time.monotonic() + timeout
-        while True:
-            item = self._inbox.take(wanted)
-            if item is not None:
-                return item
-            if not self._alive:
-                raise ConnectionLost(p.closed_message(self._refused, self._reason))
-            left = None if deadline is None else deadline - time.monotonic()
-            if left is not None and left <= 0:
+        want = c.NextNotification(topics, timeout)
+        while (item := want.take(self._inbox, self._alive, self._closed)) is None:
+            left = want.left()
+            if left == 0:
                 return None
             self._changed.clear()
             try:
                 await asyncio.wait_for(self._changed.wait(), left)
             except asyncio.TimeoutError:
                 return None
+        return item
 
     async def notifications(
         self, topics: Iterable[str] | None = None
@@ -476,11 +451,7 @@ class AsyncClient:
         await self.subscribe("attitude", max_rate_hz=rate, shared_memory=shared_memory)
         try:
             while True:
-                item = await self.next_notification(("attitude",), timeout)
-                if item is None:
-                    raise Timeout(f"no attitude sample within {timeout} s")
-                assert isinstance(item, Attitude)
-                yield item
+                yield c.streamed(await self.next_notification(("attitude",), timeout), timeout)
         finally:
             if self._alive:
                 try:
@@ -514,7 +485,7 @@ class AsyncClient:
         """``async with client.moving(yaw=30):`` as gport.Client.moving, with
         a task re-sending the speed."""
         interval = p.keepalive_interval(lease_ms)
-        movement = AsyncMovement(self, p.speed_params(roll, pitch, yaw, None, lease_ms, clamp))
+        movement = AsyncMovement(self, c.speed(roll, pitch, yaw, None, lease_ms, clamp))
         await movement.start(interval, duration_ms)
         try:
             yield movement

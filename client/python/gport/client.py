@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-import os
 import select
 import socket
 import threading
 import time
 from contextlib import contextmanager
-from typing import Any, Generator, Iterable, Iterator, Mapping
+from typing import Any, Generator, Iterable, Iterator, Mapping, TypeVar
 
+from . import _calls as c
 from . import _protocol as p
 from .channel import AttitudeChannel, ChannelClaims, RingPump
 from .errors import ConnectionLost, GportError, Timeout
@@ -17,32 +17,21 @@ from .moving import Movement, quietly
 from .results import (
     AngleResult,
     Attitude,
+    Captures,
     CenterResult,
     Control,
+    Limits,
     Notification,
-    Captures,
     PhotoResult,
     RecordResult,
     Settings,
-    Limits,
     SpeedResult,
     Status,
     Subscription,
-    parse_angle,
-    parse_attitude,
-    parse_center,
-    parse_control,
-    parse_captures,
-    parse_photo,
-    parse_record,
-    parse_settings,
-    parse_limits,
-    parse_speed,
-    parse_status,
-    parse_subscription,
 )
 
 _DEFAULT: Any = object()  # "the client's timeout", distinct from None (no limit)
+T = TypeVar("T")
 
 
 class Client:
@@ -63,7 +52,7 @@ class Client:
         self._write_lock = threading.Lock()
         self._pending: dict[int, p.Reply | None] = {}
         self._inbox = p.Inbox()
-        self._subscribed: dict[str, float | None] = {}
+        self._subs = c.Subscriptions()
         self._next_id = 0
         self._sock: socket.socket | None = None
         self._reader: threading.Thread | None = None
@@ -72,7 +61,6 @@ class Client:
         self._claims = ChannelClaims()  # received descriptors, the channel
         self._reason: str | None = None  # why the client ended the connection
         self._pump: RingPump | None = None
-        self._shared_attitude = False
         self._open()
 
     # ---- connection -------------------------------------------------------
@@ -146,6 +134,9 @@ class Client:
                 return
             self._cond.notify_all()
 
+    def _closed(self) -> str:
+        return p.closed_message(self._refused, self._reason)
+
     @property
     def connected(self) -> bool:
         """False once the connection ended (the daemon closed it, a line it
@@ -193,13 +184,11 @@ class Client:
                 time.sleep(0.05)
         with self._cond:
             self._inbox.clear()
-            topics = dict(self._subscribed)
-        if self._shared_attitude:
+            again = self._subs.again()
+        if self._subs.shared_attitude:
             self._start_ring()
-        if "attitude" in topics:
-            self.subscribe("attitude", max_rate_hz=topics.pop("attitude"))
-        if topics:
-            self.subscribe(list(topics))
+        for topics, rate in again:
+            self.subscribe(topics, max_rate_hz=rate)
 
     def __enter__(self) -> Client:
         return self
@@ -215,10 +204,14 @@ class Client:
         limit: float | None = self.timeout if timeout is _DEFAULT else timeout
         return self._await_reply(self._send(method, params, limit), method, limit)
 
+    def _run(self, call: c.Call[T]) -> T:
+        """One method of the API: its request, its result read."""
+        return call.parse(self.call(call.method, call.params, call.limit(self.timeout)))
+
     def _send(self, method: str, params: Mapping[str, Any] | None, limit: float | None) -> int:
         with self._cond:
             if not self._alive or self._sock is None:
-                raise ConnectionLost(p.closed_message(self._refused, self._reason))
+                raise ConnectionLost(self._closed())
             self._next_id += 1
             request_id, sock = self._next_id, self._sock
             self._pending[request_id] = None
@@ -270,7 +263,7 @@ class Client:
             finally:  # also when interrupted (Ctrl-C): a late reply is dropped
                 self._pending.pop(request_id, None)
             if reply is None and not self._alive:
-                raise ConnectionLost(p.closed_message(self._refused, self._reason))
+                raise ConnectionLost(self._closed())
         if reply is None:
             raise Timeout(f"no reply to {method} within {limit} s")
         if reply.error is not None:
@@ -278,7 +271,7 @@ class Client:
         return reply.result
 
     def status(self) -> Status:
-        return parse_status(self.call("status"))
+        return self._run(c.STATUS)
 
     def attitude_channel(self) -> AttitudeChannel:
         """Opens gportd's shared-memory attitude channel (docs/api.md): a
@@ -298,7 +291,7 @@ class Client:
             return self._claims.channel(request_id, result)
 
     def attitude(self) -> Attitude:
-        return parse_attitude(self.call("attitude"))
+        return self._run(c.ATTITUDE)
 
     def speed(
         self,
@@ -310,11 +303,10 @@ class Client:
         lease_ms: int | None = None,
         clamp: bool = False,
     ) -> SpeedResult:
-        params = p.speed_params(roll, pitch, yaw, duration_ms, lease_ms, clamp)
-        return parse_speed(self.call("speed", params))
+        return self._run(c.speed(roll, pitch, yaw, duration_ms, lease_ms, clamp))
 
     def stop(self) -> None:
-        self.call("stop")
+        self._run(c.STOP)
 
     def angle(
         self,
@@ -325,41 +317,39 @@ class Client:
         clamp: bool = False,
         wait: bool = False,
     ) -> AngleResult:
-        params = p.angle_params(roll, pitch, yaw, clamp, wait)
-        return parse_angle(self.call("angle", params, p.reply_limit(self.timeout, wait)))
+        return self._run(c.angle(roll, pitch, yaw, clamp, wait))
 
     def center(self, *, wait: bool = False) -> CenterResult:
-        params = {"wait": True} if wait else None
-        return parse_center(self.call("center", params, p.reply_limit(self.timeout, wait)))
+        return self._run(c.center(wait))
 
     def lock(self) -> None:
-        self.call("lock")
+        self._run(c.LOCK)
 
     def photo(self, *, meta: Mapping[str, Any] | None = None) -> PhotoResult:
         """Takes a photo; ``meta`` (a mapping) is stored with the capture."""
-        return parse_photo(self.call("photo", p.with_meta({}, meta) or None))
+        return self._run(c.photo(meta))
 
     def record(
         self, on: bool | None = None, force: bool = False, *, meta: Mapping[str, Any] | None = None
     ) -> RecordResult:
-        return parse_record(self.call("record", p.with_meta(p.record_params(on, force), meta)))
+        return self._run(c.record(on, force, meta))
 
     def captures(self, since: int | None = None, limit: int | None = None) -> Captures:
         """The captures gportd kept from index ``since`` on, oldest first."""
-        return parse_captures(self.call("captures", p.captures_params(since, limit)))
+        return self._run(c.captures(since, limit))
 
     def acquire(self) -> Control:
-        return parse_control(self.call("acquire"))
+        return self._run(c.ACQUIRE)
 
     def release(self) -> Control:
-        return parse_control(self.call("release"))
+        return self._run(c.RELEASE)
 
     def limits(self) -> Limits:
         """gportd's configured soft limits (read-only)."""
-        return parse_limits(self.call("limits"))
+        return self._run(c.LIMITS)
 
     def settings(self) -> Settings:
-        return parse_settings(self.call("get_settings"))
+        return self._run(c.SETTINGS)
 
     def set_settings(
         self,
@@ -368,8 +358,7 @@ class Client:
         follow_speed: int | None = None,
         inverted: bool | None = None,
     ) -> Settings:
-        params = p.settings_params(dead_zone, follow_speed, inverted)
-        return parse_settings(self.call("set_settings", params))
+        return self._run(c.set_settings(dead_zone, follow_speed, inverted))
 
     def subscribe(
         self,
@@ -388,32 +377,25 @@ class Client:
         the channel's futex and queues each sample. ``max_rate_hz`` does not
         apply to it."""
         wanted = p.topic_list(topics)
-        if shared_memory and "attitude" in wanted:
-            rest = [t for t in wanted if t != "attitude"]
-            result = Subscription((), None)
-            if rest:
-                result = self.subscribe(rest)
+        rest = c.Subscriptions.through_channel(wanted, shared_memory)
+        if rest is not None:
+            result = self.subscribe(rest) if rest else Subscription((), None)
             self._start_ring()
-            self._shared_attitude = True
-            return Subscription((*result.topics, "attitude"), None)
-        result = parse_subscription(self.call("subscribe", p.subscribe_params(wanted, max_rate_hz)))
+            self._subs.shared_attitude = True
+            return c.Subscriptions.with_channel(result)
+        result = self._run(c.subscribe(wanted, max_rate_hz))
         with self._cond:
-            for topic in result.topics:
-                self._subscribed.setdefault(topic, None)
-            if "attitude" in wanted:
-                self._subscribed["attitude"] = max_rate_hz
+            self._subs.subscribed(wanted, max_rate_hz, result)
         return result
 
     def unsubscribe(self, topics: str | Iterable[str] | None = None) -> Subscription:
         """Ends the topics (None: all), the shared-memory attitude too."""
-        if topics is None or "attitude" in p.topic_list(topics):
-            self._shared_attitude = False
+        if c.Subscriptions.ends_channel(topics):
+            self._subs.shared_attitude = False
             self._stop_ring()
-        params = None if topics is None else {"topics": p.topic_list(topics)}
-        result = parse_subscription(self.call("unsubscribe", params))
+        result = self._run(c.unsubscribe(topics))
         with self._cond:
-            self._subscribed = {t: self._subscribed.get(t) for t in result.topics}
-            self._inbox.clear(None if topics is None else p.topic_list(topics))
+            self._subs.unsubscribed(topics, result, self._inbox)
         return result
 
     def _start_ring(self) -> None:
@@ -439,19 +421,14 @@ class Client:
         """The oldest waiting notification (of ``topics``, default all),
         waiting up to ``timeout`` seconds (None: no limit); None on timeout.
         Raises ConnectionLost once the connection is gone and none waits."""
-        wanted = None if topics is None else frozenset(p.topic_list(topics))
-        deadline = None if timeout is None else time.monotonic() + timeout
+        want = c.NextNotification(topics, timeout)
         with self._cond:
-            while True:
-                item = self._inbox.take(wanted)
-                if item is not None:
-                    return item
-                if not self._alive:
-                    raise ConnectionLost(p.closed_message(self._refused, self._reason))
-                left = None if deadline is None else deadline - time.monotonic()
-                if left is not None and left <= 0:
+            while (item := want.take(self._inbox, self._alive, self._closed)) is None:
+                left = want.left()
+                if left == 0:
                     return None
                 self._cond.wait(left)
+            return item
 
     def notifications(
         self, topics: Iterable[str] | None = None
@@ -477,11 +454,7 @@ class Client:
         self.subscribe("attitude", max_rate_hz=rate, shared_memory=shared_memory)
         try:
             while True:
-                item = self.next_notification(("attitude",), timeout)
-                if item is None:
-                    raise Timeout(f"no attitude sample within {timeout} s")
-                assert isinstance(item, Attitude)
-                yield item
+                yield c.streamed(self.next_notification(("attitude",), timeout), timeout)
         finally:
             if self.connected:
                 try:
@@ -521,7 +494,7 @@ class Client:
         control, the link went down) ends the re-sends and is raised when the
         block ends normally."""
         interval = p.keepalive_interval(lease_ms)
-        movement = Movement(self, p.speed_params(roll, pitch, yaw, None, lease_ms, clamp))
+        movement = Movement(self, c.speed(roll, pitch, yaw, None, lease_ms, clamp))
         movement.start(interval, duration_ms)
         try:
             yield movement

@@ -9,8 +9,9 @@ import time
 from typing import Any, Awaitable, Callable, Mapping, Protocol
 
 from . import _protocol as p
+from ._calls import Call
 from .errors import GportError
-from .results import SpeedResult, parse_speed
+from .results import SpeedResult
 
 
 class Caller(Protocol):
@@ -32,9 +33,10 @@ def quietly(action: Callable[[], Any], pending: BaseException) -> None:
 class Movement:
     """The speed a ``moving`` block keeps alive; ``update`` changes it."""
 
-    def __init__(self, client: Caller, params: dict[str, Any]) -> None:
+    def __init__(self, client: Caller, first: Call[SpeedResult]) -> None:
         self._client = client
-        self._params = params
+        self._parse = first.parse
+        self._params = dict(first.params or {})
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
@@ -72,7 +74,7 @@ class Movement:
             if left <= 0:
                 return None
             params["duration_ms"] = left
-        self.result = parse_speed(self._client.call("speed", params))
+        self.result = self._parse(self._client.call("speed", params))
         return self.result
 
     def _keep(self, interval: float) -> None:
@@ -100,9 +102,10 @@ async def quietly_async(action: Callable[[], Awaitable[Any]], pending: BaseExcep
 class AsyncMovement:
     """The speed an async ``moving`` block keeps alive; ``update`` changes it."""
 
-    def __init__(self, client: AsyncCaller, params: dict[str, Any]) -> None:
+    def __init__(self, client: AsyncCaller, first: Call[SpeedResult]) -> None:
         self._client = client
-        self._params = params
+        self._parse = first.parse
+        self._params = dict(first.params or {})
         self._task: asyncio.Task[None] | None = None
         self._deadline: float | None = None
         self.result: SpeedResult | None = None
@@ -131,7 +134,7 @@ class AsyncMovement:
             if left <= 0:
                 return None
             params["duration_ms"] = left
-        self.result = parse_speed(await self._client.call("speed", params))
+        self.result = self._parse(await self._client.call("speed", params))
         return self.result
 
     async def _keep(self, interval: float) -> None:
