@@ -11,9 +11,10 @@
 // The parts are independent except where the table says otherwise: a wait
 // started while the session was open still completes after it closes (an
 // aborted read, a cancelled timer), so Input and Output have their own
-// completion events, legal in every Life; nothing new starts once the session
-// is closing (except the continuation that drains a paused client), and
-// nothing at all once it is closed.
+// completion events, legal in every Life. Once the session is closing no
+// new input wait starts (except the continuation that drains a paused
+// client) while writes go on, since the replies owed are still written;
+// once it is closed nothing new starts at all.
 #pragma once
 
 #include <optional>
