@@ -6,6 +6,7 @@
 #include <spdlog/logger.h>
 
 #include <boost/asio/post.hpp>
+#include <cassert>
 #include <utility>
 
 #include "gport/config/config.hpp"
@@ -60,10 +61,10 @@ void Session::start() {
 }
 
 void Session::close() {
-    if (closed_) {
+    if (closed()) {
         return;
     }
-    closed_ = true;
+    advance(SessionEvent::kClosed);
     boost::system::error_code ignored;
     socket_.shutdown(Socket::shutdown_both, ignored);
     socket_.close(ignored);
@@ -77,10 +78,25 @@ void Session::close() {
     host_.session_closed(*this);
 }
 
+// A refused event means the session's code broke its own table: loud in
+// every build (the log), fatal in a debug build.
+bool Session::advance(SessionEvent event) {
+    if (const auto next = transition(lifecycle_, event)) {
+        lifecycle_ = *next;
+        return true;
+    }
+    host_.log().error("client {} (pid {}): session event {} is illegal in state {}; ignored",
+                      state_.info.id, state_.info.pid, to_string(event), to_string(lifecycle_));
+    assert(!"illegal session transition (session_state.cpp)");
+    return false;
+}
+
 // ---- reading --------------------------------------------------------------------
 
 void Session::read() {
-    reading_ = true;
+    if (!advance(SessionEvent::kReadStarted)) {
+        return;
+    }
     socket_.async_read_some(
         asio::buffer(read_buffer_),
         [self = shared_from_this()](const boost::system::error_code& error, std::size_t size) {
@@ -89,8 +105,8 @@ void Session::read() {
 }
 
 void Session::on_read(const boost::system::error_code& error, std::size_t size) {
-    reading_ = false;
-    if (closed_ || closing_) {
+    advance(SessionEvent::kReadDone);
+    if (!open()) {
         return;
     }
     if (error == asio::error::eof) {
@@ -103,14 +119,14 @@ void Session::on_read(const boost::system::error_code& error, std::size_t size) 
     }
 }
 
-// Runs process_input on a later turn, once.
-void Session::schedule_input() {
-    if (input_posted_ || closed_) {
+// Runs process_input on a later turn, once: `event` is kYielded (a turn's
+// worth handled) or kUnpaused (a paused client has read its replies).
+void Session::post_input(SessionEvent event) {
+    if (!advance(event)) {
         return;
     }
-    input_posted_ = true;
     asio::post(socket_.get_executor(), [self = shared_from_this()] {
-        self->input_posted_ = false;
+        self->advance(SessionEvent::kResumed);
         self->process_input();
     });
 }
@@ -118,14 +134,14 @@ void Session::schedule_input() {
 // Handles up to kLinesPerTurn complete lines, then yields; reads more only
 // when no complete line is left and the client's replies are drained.
 void Session::process_input() {
-    if (closed_ || closing_ || reading_ || throttled_) {
+    if (!open() || lifecycle_.input != Input::kIdle) {
         return;
     }
     const std::size_t limit = host_.config().line_limit;
     std::size_t handled = 0;
-    while (!closed_ && !closing_) {
+    while (open()) {
         if (backlogged()) {
-            paused_ = true;  // drained() resumes
+            advance(SessionEvent::kBacklogged);  // drained() resumes
             return;
         }
         const auto newline = input_.find('\n', consumed_);
@@ -137,7 +153,7 @@ void Session::process_input() {
             return;
         }
         if (handled++ == kLinesPerTurn) {
-            schedule_input();
+            post_input(SessionEvent::kYielded);
             return;
         }
         if (handled == 1) {
@@ -150,7 +166,7 @@ void Session::process_input() {
             return;
         }
     }
-    if (closed_ || closing_) {
+    if (!open()) {
         return;
     }
     input_.erase(0, std::exchange(consumed_, 0));
@@ -188,17 +204,19 @@ void Session::handle_line(std::string_view line) {
 // a flood with errors at full speed.
 bool Session::throttle() {
     const auto& rate = state_.rate;
-    if (rate.per_second <= 0 || rate.tokens >= 1 || closed_) {
+    if (rate.per_second <= 0 || rate.tokens >= 1 || !open()) {
         return false;
     }
     const auto wait = rate.wait_for(static_cast<double>(kMaxBatch), Clock::now());
     if (wait <= Clock::duration::zero()) {
         return false;
     }
-    throttled_ = true;
+    if (!advance(SessionEvent::kThrottled)) {
+        return false;
+    }
     throttle_timer_.expires_after(wait);
     throttle_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
-        self->throttled_ = false;
+        self->advance(SessionEvent::kThrottleEnded);
         if (!error) {
             self->process_input();
         }
@@ -227,7 +245,9 @@ void Session::refuse_long_line() {
 // Stops reading, sends one last error, and closes once everything is written.
 void Session::close_after_reply(int code, const std::string& message) {
     reply(error_line(code, message));
-    closing_ = true;
+    if (open()) {  // else the reply overflowed the queue and closed it
+        advance(SessionEvent::kRefused);
+    }
     input_.clear();
     input_.shrink_to_fit();
     flush();
@@ -239,12 +259,11 @@ void Session::hang_up() {
     const std::string_view rest = std::string_view(input_).substr(consumed_);
     if (rest.size() <= host_.config().line_limit) {
         handle_line(rest);
-        if (closed_) {
+        if (closed()) {
             return;  // it overflowed: closing already told the server
         }
     }
-    closing_ = true;
-    hung_up_ = true;
+    advance(SessionEvent::kHungUp);
     input_.clear();
     input_.shrink_to_fit();
     host_.client_hung_up(*this);
@@ -265,7 +284,7 @@ void Session::arm_idle_timer(Clock::duration after) {
 // Armed once per timeout, not per request: it looks at the last request when
 // it fires.
 void Session::on_idle_timer() {
-    if (closed_ || closing_) {
+    if (!open()) {
         return;
     }
     const auto timeout = host_.config().idle_timeout;

@@ -15,6 +15,9 @@
 //   so a flood costs neither CPU nor memory.
 // - Half-close: at EOF the deadman runs at once (SessionHost::client_hung_up) but
 //   the connection stays open until every outstanding reply is written.
+//
+// What it waits for and whether it is open is one SessionState (life, input,
+// output; gport/ipc/session_state.hpp), changed only through advance().
 #pragma once
 
 #include <array>
@@ -31,6 +34,7 @@
 #include "gport/ipc/json_rpc.hpp"
 #include "gport/ipc/outbox.hpp"
 #include "gport/ipc/session_host.hpp"
+#include "gport/ipc/session_state.hpp"
 
 namespace gport::ipc {
 
@@ -54,9 +58,9 @@ class Session : public std::enable_shared_from_this<Session> {
     const daemon::ClientInfo& info() const { return state_.info; }
     const Subscriptions& subscriptions() const { return state_.subscriptions; }
     bool opened_attitude_channel() const { return state_.attitude_channel; }
-    bool closed() const { return closed_; }
+    bool closed() const { return lifecycle_.life == Life::kClosed; }
     // The client sent EOF and the deadman has already run for it.
-    bool hung_up() const { return hung_up_; }
+    bool hung_up() const { return lifecycle_.input == Input::kHungUp; }
 
     void deliver_attitude(const Line& line);
     void deliver_event(const Line& line);  // link or motion: never dropped
@@ -65,10 +69,15 @@ class Session : public std::enable_shared_from_this<Session> {
     void reply(std::string line, std::size_t descriptors = 0);
 
   private:
+    // The one way the state changes: false (and logged) when the table
+    // refuses the event, which is a bug; the state is left as it was.
+    bool advance(SessionEvent event);
+    bool open() const { return lifecycle_.life == Life::kOpen; }
+
     // ---- input (session.cpp) ----
     void read();
     void on_read(const boost::system::error_code& error, std::size_t size);
-    void schedule_input();
+    void post_input(SessionEvent event);
     void process_input();
     void handle_line(std::string_view line);
     void request_done();
@@ -105,19 +114,12 @@ class Session : public std::enable_shared_from_this<Session> {
     std::string input_;            // received, not yet handled; lines end in '\n'
     std::size_t consumed_ = 0;     // bytes of input_ already handled
     std::size_t outstanding_ = 0;  // requests whose reply has not been queued
-    bool reading_ = false;
-    bool input_posted_ = false;
-    bool paused_ = false;     // back-pressure: resumes when the outbox drains
-    bool throttled_ = false;  // over the request rate: resumes on throttle_timer_
-    bool closing_ = false;    // no more input; close once replies are written
-    bool hung_up_ = false;
-    bool closed_ = false;
+    SessionState lifecycle_;
 
     std::vector<Line> in_flight_;
     std::size_t in_flight_bytes_ = 0;
     std::size_t accounted_ = 0;  // bytes reported to the server's budget
     std::vector<boost::asio::const_buffer> buffers_;
-    bool writing_ = false;
 
     boost::asio::steady_timer idle_timer_;
     boost::asio::steady_timer throttle_timer_;

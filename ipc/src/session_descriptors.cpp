@@ -93,11 +93,11 @@ bool Session::send_with_descriptors() {
 // The socket is full: the line stays first in the queue and is sent again
 // once the client has read enough. Nothing else is written meanwhile.
 void Session::wait_writable() {
-    writing_ = true;
+    advance(SessionEvent::kWaitWritable);
     socket_.async_wait(Socket::wait_write,
                        [self = shared_from_this()](const boost::system::error_code& error) {
-                           self->writing_ = false;
-                           if (self->closed_) {
+                           self->advance(SessionEvent::kWritable);
+                           if (self->closed()) {
                                return;
                            }
                            if (error) {

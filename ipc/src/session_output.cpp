@@ -23,7 +23,7 @@ constexpr std::size_t kLinesPerWrite = 64;
 // ---- queueing ---------------------------------------------------------------------
 
 void Session::reply(std::string line, std::size_t descriptors) {
-    if (closed_) {
+    if (closed()) {
         return;
     }
     if (!outbox_.push(std::make_shared<const std::string>(std::move(line)), descriptors)) {
@@ -34,7 +34,7 @@ void Session::reply(std::string line, std::size_t descriptors) {
 }
 
 void Session::deliver_event(const Line& line) {
-    if (closed_ || closing_) {
+    if (!open()) {
         return;
     }
     if (!outbox_.push(line)) {
@@ -52,7 +52,7 @@ void Session::overflow() {
 }
 
 void Session::deliver_attitude(const Line& line) {
-    if (closed_ || closing_) {
+    if (!open()) {
         return;
     }
     const auto& rate = state_.subscriptions.max_rate_hz;
@@ -86,7 +86,7 @@ void Session::deliver_attitude(const Line& line) {
 }
 
 void Session::on_rate_timer() {
-    if (closed_ || closing_) {
+    if (!open()) {
         pacer_.disarmed();
         return;
     }
@@ -111,11 +111,12 @@ void Session::queue_attitude(const Line& line) {
 // ---- writing ----------------------------------------------------------------------
 
 void Session::flush() {
-    if (!writing_ && !closed_) {
+    const auto can_write = [this] { return lifecycle_.output == Output::kIdle && !closed(); };
+    if (can_write()) {
         write_queued();
     }
     sync_budget();
-    if (!writing_ && !closed_ && outbox_.empty()) {
+    if (can_write() && outbox_.empty()) {
         drained();
     }
 }
@@ -163,17 +164,17 @@ void Session::write_rest(std::size_t sent) {
     }
     *first += sent;
     buffers_.erase(buffers_.begin(), first);
-    writing_ = true;
+    advance(SessionEvent::kWriteStarted);
     asio::async_write(socket_, buffers_,
                       [self = shared_from_this()](const boost::system::error_code& error,
                                                   std::size_t) { self->on_written(error); });
 }
 
 void Session::on_written(const boost::system::error_code& error) {
-    writing_ = false;
+    advance(SessionEvent::kWritten);
     in_flight_.clear();
     in_flight_bytes_ = 0;
-    if (closed_) {
+    if (closed()) {
         return;
     }
     if (error) {
@@ -187,22 +188,22 @@ void Session::on_written(const boost::system::error_code& error) {
 // a reply written from inside the core never runs a request there), and a
 // closing session closes once no reply is owed.
 void Session::drained() {
-    if (paused_) {
-        paused_ = false;
-        schedule_input();
+    if (lifecycle_.input == Input::kPaused) {
+        post_input(SessionEvent::kUnpaused);
     }
     finish_if_done();
 }
 
 void Session::finish_if_done() {
-    if (closing_ && !closed_ && outstanding_ == 0 && !writing_ && outbox_.empty()) {
+    if (lifecycle_.life == Life::kClosing && outstanding_ == 0 &&
+        lifecycle_.output == Output::kIdle && outbox_.empty()) {
         close();
     }
 }
 
 // Keeps the server's total of queued bytes (its memory budget) current.
 void Session::sync_budget() {
-    const std::size_t now = closed_ ? 0 : outbox_.bytes() + in_flight_bytes_;
+    const std::size_t now = closed() ? 0 : outbox_.bytes() + in_flight_bytes_;
     if (now != accounted_) {
         host_.account(accounted_, now);
         accounted_ = now;
