@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Callable
 
 import pytest
-from conftest import Daemon, link_up
+from conftest import Daemon, eventually, link_up
 
 import gport
 
@@ -118,7 +118,9 @@ def test_indexes_continue_after_a_restart(
         assert second is not None and second.index == first.index + 1
         metas = [c.meta for c in client.captures().captures]
         assert metas == [{"run": 1}, {"run": 2}]
-    assert (tmp_path / "captures.jsonl").read_text().count("\n") == 2
+    # The writer thread appends each line after the reply: wait for it.
+    log = tmp_path / "captures.jsonl"
+    assert eventually(lambda: log.read_text().count("\n") == 2), log.read_text()
 
 
 def test_async_photo_record_and_captures(daemon: Daemon) -> None:
