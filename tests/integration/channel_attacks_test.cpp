@@ -135,13 +135,20 @@ TEST_F(ChannelAttacksTest, AWordWhoseConnectionLeftIsNeverBumpedAgain) {
     gone.reset();
     ASSERT_TRUE(eventually(
         [&] { return client_->call("status")["result"]["attitude_channel_clients"] == 1; }));
+    // A round of the waker thread already under way when the connection
+    // closed may bump its word one last time (channel_waker.hpp). Once the
+    // holder's word moved twice more, a whole round began after the close
+    // and every earlier one has ended: from then on the word must not move.
+    const auto before = held.wake->word().load();
+    ASSERT_TRUE(eventually([&] { return held.wake->word().load() - before >= 2; }));
     const auto word = parked.wake->word().load();
     const auto woken = parkers.woken();
     const auto held_word = held.wake->word().load();
     const auto published = held.ring->reader().published();
     ASSERT_TRUE(eventually([&] { return held.ring->reader().published() > published + 10; }));
     EXPECT_EQ(parked.wake->word().load(), word);
-    EXPECT_EQ(parkers.woken(), woken);
+    // The thread that last bump woke may count itself a moment late.
+    EXPECT_LE(parkers.woken(), woken + 1);
     EXPECT_GT(held.wake->word().load(), held_word + 10);
     EXPECT_TRUE(client_->call("stop").contains("result"));
 }
