@@ -92,7 +92,9 @@ class Bridge {
     void on_camera_command(const Requester& from, const CommandLong& command);
     void camera_request(const Requester& from, const CommandLong& command);
     void start_images(const Requester& from, const CommandLong& command);
-    bool camera_busy(const Requester& from, const CommandLong& command);
+    // gportd unreachable, or a camera call still with it: answers
+    // TEMPORARILY_REJECTED from `compid` (the camera's, or the gimbal's: 0).
+    bool camera_busy(const Requester& from, const CommandLong& command, std::uint8_t compid);
     void take_photo(const std::optional<Requester>& from, std::uint16_t command, bool with_meta);
     void photo_done(const std::optional<Requester>& from, std::uint16_t command,
                     const std::optional<client::Error>& error,

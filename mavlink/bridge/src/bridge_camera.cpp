@@ -63,7 +63,7 @@ void Bridge::on_camera_command(const Requester& from, const CommandLong& command
             break;
         case mav_cmd::kVideoStartCapture:
         case mav_cmd::kVideoStopCapture:
-            if (!camera_busy(from, command)) {
+            if (!camera_busy(from, command, kCameraCompid)) {
                 camera_record(from, command.command, command.command == mav_cmd::kVideoStartCapture,
                               false, true);
             }
@@ -71,7 +71,7 @@ void Bridge::on_camera_command(const Requester& from, const CommandLong& command
         case mav_cmd::kDoDigicamControl:
             if (!digicam_shot(command)) {
                 ack(from, command.command, mav_result::kUnsupported, kCameraCompid);
-            } else if (!camera_busy(from, command)) {
+            } else if (!camera_busy(from, command, kCameraCompid)) {
                 take_photo(from, command.command, true);
             }
             break;
@@ -119,8 +119,7 @@ CameraCaptureStatus Bridge::capture_status() const {
     return make_capture_status(time_boot_ms(), state);
 }
 
-// gportd unreachable, or a camera call still with it: TEMPORARILY_REJECTED.
-bool Bridge::camera_busy(const Requester& from, const CommandLong& command) {
+bool Bridge::camera_busy(const Requester& from, const CommandLong& command, std::uint8_t compid) {
     if (connected_ && !camera_in_flight_) {
         return false;
     }
@@ -133,7 +132,7 @@ bool Bridge::camera_busy(const Requester& from, const CommandLong& command) {
                 command.command, from.header.sysid, from.header.compid);
         });
     }
-    ack(from, command.command, mav_result::kTemporarilyRejected, kCameraCompid);
+    ack(from, command.command, mav_result::kTemporarilyRejected, compid);
     return true;
 }
 
@@ -152,7 +151,7 @@ void Bridge::start_images(const Requester& from, const CommandLong& command) {
         ack(from, command.command, mav_result::kTemporarilyRejected, kCameraCompid);
         return;
     }
-    if (camera_busy(from, command)) {
+    if (camera_busy(from, command, kCameraCompid)) {
         return;
     }
     if (images.count == 1) {

@@ -179,19 +179,7 @@ void Bridge::request_message(const Requester& from, const CommandLong& command) 
 }
 
 void Bridge::camera(const Requester& from, const CommandLong& command) {
-    if (!connected_) {
-        ack(from, command.command, mav_result::kTemporarilyRejected);
-        return;
-    }
-    if (camera_in_flight_) {
-        log_.warn("camera command rejected: another in flight", [&] {
-            return fmt::format(
-                "mavlink: camera command {} from system {} component {} answered "
-                "TEMPORARILY_REJECTED: the previous camera command is still with gportd (one "
-                "at a time)",
-                command.command, from.header.sysid, from.header.compid);
-        });
-        ack(from, command.command, mav_result::kTemporarilyRejected);
+    if (camera_busy(from, command, 0)) {
         return;
     }
     camera_in_flight_ = true;  // cleared by the call's completion (gportd
