@@ -294,6 +294,7 @@ std::variant<ChannelInfo, std::string> Server::open_attitude_channel(ClientState
         client.attitude_channel = true;
         dispatcher_->invalidate_status();
     }
+    session->second->attach_descriptors(std::get<std::size_t>(opened));
     return ChannelInfo{base::kRingVersion, detail::AttitudeChannel::kSlots,
                        detail::AttitudeChannel::kBytes, channel_->published(),
                        std::get<std::size_t>(opened)};
