@@ -337,8 +337,8 @@ void Server::channel_failed(const daemon::ClientInfo& client, const std::string&
 
 void Server::on_attitude(const daemon::AttitudeSample& sample) {
     channel_->publish(sample);
-    channel_->wake();  // the waker thread's, O(1) here: no reader can make it cost more
-    Line line;         // built on first use: nothing is encoded when nobody listens
+    channel_->wake();   // the waker thread's, O(1) here: no reader can make it cost more
+    AttitudeLine line;  // built on first use: nothing is encoded when nobody listens
     for_each_session([&](Session& session) {
         if (session.subscriptions().attitude) {
             if (!line) {

@@ -62,7 +62,7 @@ class Session : public std::enable_shared_from_this<Session> {
     // The client sent EOF and the deadman has already run for it.
     bool hung_up() const { return lifecycle_.input == Input::kHungUp; }
 
-    void deliver_attitude(const Line& line);
+    void deliver_attitude(const AttitudeLine& line);
     void deliver_event(const Line& line);  // link or motion: never dropped
     // The request line being handled opened the attitude channel: its reply
     // line (a batch's one line too) carries `count` descriptors, sent with
@@ -95,7 +95,7 @@ class Session : public std::enable_shared_from_this<Session> {
     void close_after_reply(int code, const std::string& message);
 
     // ---- output (session_output.cpp) ----
-    void queue_attitude(const Line& line);
+    void queue_attitude(const AttitudeLine& line);
     void on_rate_timer();
     void flush();
     void write_queued();
