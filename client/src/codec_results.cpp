@@ -1,11 +1,11 @@
 // Typed results and notifications from gportd's JSON (codec.hpp), and the
 // one way back: an attitude sample as gportd's notification
 // (attitude_feed.hpp).
-#include <cmath>
 #include <utility>
 
 #include "codec.hpp"
 #include "gport/client/attitude_feed.hpp"
+#include "gport/contract/attitude_text.hpp"
 
 namespace gport::client::codec {
 namespace {
@@ -266,39 +266,29 @@ namespace {
 
 using nlohmann::json;
 
-// gportd prints numbers with fmt's shortest form, so a whole value has no
-// fraction and reads back as an integer; the same here.
-json as_printed(double value) {
-    const double whole = std::trunc(value);
-    if (whole == value && std::fabs(value) < 9.0e15) {
-        return static_cast<std::int64_t>(whole);
-    }
-    return value;
-}
-
-json axes_json(const Axes& a) {
-    return {
-        {"roll", as_printed(a.roll)}, {"pitch", as_printed(a.pitch)}, {"yaw", as_printed(a.yaw)}};
+contract::AttitudePayload::Axes payload_axes(const Axes& a) {
+    return {a.roll, a.pitch, a.yaw};
 }
 
 }  // namespace
 
 json attitude_notification(const AttitudeSample& sample) {
-    // "t" always has six decimals in gportd's text, so it reads as a double.
-    json params = {{"seq", sample.seq},
-                   {"t", sample.time},
-                   {"imu", axes_json(sample.imu)},
-                   {"hall", axes_json(sample.hall)}};
+    // gportd's own text (gport/contract/attitude_text.hpp) read back, so a
+    // whole value is an integer as in what gportd sent.
+    contract::AttitudePayload payload;
+    payload.seq = sample.seq;
+    payload.imu = payload_axes(sample.imu);
+    payload.hall = payload_axes(sample.hall);
     if (sample.rates) {
-        params["rates"] = {{"hall", axes_json(sample.rates->hall)},
-                           {"imu",
-                            {{"x", as_printed(sample.rates->imu.x)},
-                             {"y", as_printed(sample.rates->imu.y)},
-                             {"z", as_printed(sample.rates->imu.z)}}}};
+        payload.rates =
+            contract::AttitudePayload::Rates{payload_axes(sample.rates->hall), sample.rates->imu.x,
+                                             sample.rates->imu.y, sample.rates->imu.z};
     }
-    if (sample.dropped > 0) {
-        params["dropped"] = sample.dropped;
-    }
+    payload.dropped = sample.dropped;
+    json params = json::parse(contract::attitude_payload_text(payload));
+    // "t" is held as a double (gportd's six decimals read back), whatever a
+    // server sent: given back as that double, never re-rounded.
+    params["t"] = sample.time;
     return {{"jsonrpc", "2.0"}, {"method", "attitude"}, {"params", std::move(params)}};
 }
 

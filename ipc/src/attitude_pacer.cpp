@@ -4,7 +4,7 @@
 
 namespace gport::ipc {
 
-AttitudePacer::Decision AttitudePacer::offer(const Line& sample, Clock::time_point now,
+AttitudePacer::Decision AttitudePacer::offer(const AttitudeLine& sample, Clock::time_point now,
                                              Clock::duration interval) {
     if (!waking_ && (!last_sent_ || now - *last_sent_ >= interval)) {
         last_sent_ = now;
@@ -19,7 +19,7 @@ AttitudePacer::Decision AttitudePacer::offer(const Line& sample, Clock::time_poi
     return Decision::kHoldAndWake;
 }
 
-Line AttitudePacer::woken(Clock::time_point now) {
+AttitudeLine AttitudePacer::woken(Clock::time_point now) {
     waking_ = false;
     if (!held_) {
         return nullptr;

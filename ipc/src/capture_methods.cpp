@@ -102,7 +102,7 @@ void photo(MethodContext& c, const json& params, Respond respond) {
     const json* meta = checked_meta(params);
     auto outcome = c.api.photo(c.client.info);
     if (!outcome) {
-        respond(RpcError{outcome.error().code, outcome.error().message});
+        respond(Reply::error(outcome.error().code, outcome.error().message));
         return;
     }
     respond(json{{"sent", true}, {"capture", take(c, "photo", meta)}});
@@ -120,7 +120,7 @@ void record(MethodContext& c, const json& params, Respond respond) {
     const json* meta = checked_meta(params);
     auto outcome = c.api.record(c.client.info, request);
     if (!outcome) {
-        respond(RpcError{outcome.error().code, outcome.error().message});
+        respond(Reply::error(outcome.error().code, outcome.error().message));
         return;
     }
     json result{{"sent", outcome->sent}, {"recording", daemon::to_string(outcome->recording)}};

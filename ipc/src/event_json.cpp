@@ -3,10 +3,9 @@
 #include <fmt/format.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstdint>
-#include <iterator>
 
+#include "gport/contract/attitude_text.hpp"
 #include "json_common.hpp"
 
 namespace gport::ipc {
@@ -17,40 +16,8 @@ using detail::client_json;
 using detail::degrees;
 using nlohmann::json;
 
-void append_axes(fmt::memory_buffer& out, const protocol::Axes& axes) {
-    fmt::format_to(std::back_inserter(out), R"({{"roll":{},"pitch":{},"yaw":{}}})",
-                   degrees(axes.roll), degrees(axes.pitch), degrees(axes.yaw));
-}
-
-// "t" is printed from integer microseconds so that it is exact, whatever a
-// double would round it to.
-void append_time(fmt::memory_buffer& out, daemon::WallTime time) {
-    const auto us =
-        std::chrono::duration_cast<std::chrono::microseconds>(time.time_since_epoch()).count();
-    const auto seconds = us / 1'000'000;
-    const auto fraction = us % 1'000'000;
-    if (us < 0) {  // before 1970: a broken clock, still valid JSON
-        fmt::format_to(std::back_inserter(out), "{}", static_cast<double>(us) / 1e6);
-        return;
-    }
-    fmt::format_to(std::back_inserter(out), "{}.{:06}", seconds, fraction);
-}
-
-// A number as attitude_payload prints it: fmt writes a whole double without a
-// fraction ("0", "-1"), which JSON reads as an integer, so attitude_json
-// holds whole values as integers and serialises to the same text.
-json as_printed(double value) {
-    const double whole = std::trunc(value);
-    if (whole == value && std::fabs(value) < 9.0e15) {
-        return static_cast<std::int64_t>(whole);
-    }
-    return value;
-}
-
-json printed_axes(const protocol::Axes& axes) {
-    return {{"roll", as_printed(degrees(axes.roll))},
-            {"pitch", as_printed(degrees(axes.pitch))},
-            {"yaw", as_printed(degrees(axes.yaw))}};
+contract::AttitudePayload::Axes payload_axes(const protocol::Axes& axes) {
+    return {degrees(axes.roll), degrees(axes.pitch), degrees(axes.yaw)};
 }
 
 Line notification(std::string_view topic, json params) {
@@ -60,40 +27,42 @@ Line notification(std::string_view topic, json params) {
 
 }  // namespace
 
-std::string attitude_payload(const daemon::AttitudeSample& sample) {
-    fmt::memory_buffer out;
+contract::AttitudePayload attitude_payload_of(const daemon::AttitudeSample& sample) {
     const auto& a = sample.attitude;
-    fmt::format_to(std::back_inserter(out), R"({{"seq":{},"t":)", sample.seq);
-    append_time(out, sample.wall);
-    fmt::format_to(std::back_inserter(out), R"(,"imu":)");
-    append_axes(out, a.imu);
-    fmt::format_to(std::back_inserter(out), R"(,"hall":)");
-    append_axes(out, a.hall);
+    contract::AttitudePayload payload;
+    payload.seq = sample.seq;
+    payload.t_us =
+        std::chrono::duration_cast<std::chrono::microseconds>(sample.wall.time_since_epoch())
+            .count();
+    payload.imu = payload_axes(a.imu);
+    payload.hall = payload_axes(a.hall);
     if (a.rates) {
-        fmt::format_to(std::back_inserter(out), R"(,"rates":{{"hall":)");
-        append_axes(out, a.rates->hall);
-        fmt::format_to(std::back_inserter(out), R"(,"imu":{{"x":{},"y":{},"z":{}}}}})",
-                       degrees(a.rates->imu_x), degrees(a.rates->imu_y), degrees(a.rates->imu_z));
+        payload.rates =
+            contract::AttitudePayload::Rates{payload_axes(a.rates->hall), degrees(a.rates->imu_x),
+                                             degrees(a.rates->imu_y), degrees(a.rates->imu_z)};
     }
-    out.push_back('}');
-    return fmt::to_string(out);
+    return payload;
 }
 
-Line attitude_line(const daemon::AttitudeSample& sample) {
-    std::string line = R"({"jsonrpc":"2.0","method":"attitude","params":)";
-    line += attitude_payload(sample);
-    line += "}\n";
-    return std::make_shared<const std::string>(std::move(line));
+std::string attitude_payload(const daemon::AttitudeSample& sample) {
+    return contract::attitude_payload_text(attitude_payload_of(sample));
 }
 
-Line with_dropped(const std::string& attitude_notification, std::uint64_t dropped) {
-    // The line ends with the payload's '}', the message's '}' and '\n'.
-    std::string line = attitude_notification;
-    if (line.size() < 3) {
-        return std::make_shared<const std::string>(std::move(line));
-    }
-    line.insert(line.size() - 3, fmt::format(R"(,"dropped":{})", dropped));
-    return std::make_shared<const std::string>(std::move(line));
+AttitudeLine attitude_line(const daemon::AttitudeSample& sample) {
+    auto payload = attitude_payload_of(sample);
+    auto text = contract::attitude_notification_line(payload);
+    return std::make_shared<const AttitudeNotification>(
+        AttitudeNotification{std::move(text), std::move(payload)});
+}
+
+Line text_of(const AttitudeLine& notification) {
+    return {notification, &notification->text};
+}
+
+Line with_dropped(const AttitudeNotification& notification, std::uint64_t dropped) {
+    auto payload = notification.payload;
+    payload.dropped = dropped;
+    return std::make_shared<const std::string>(contract::attitude_notification_line(payload));
 }
 
 Line link_line(const daemon::LinkEvent& event) {
@@ -127,21 +96,9 @@ Line motion_line(const daemon::MotionEvent& event) {
 }
 
 json attitude_json(const daemon::AttitudeSample& sample) {
-    const auto& a = sample.attitude;
-    // "t" always has six decimals, except before 1970 (see append_time).
-    const double t = detail::epoch_seconds(sample.wall);
-    json payload = {{"seq", sample.seq},
-                    {"t", sample.wall.time_since_epoch().count() < 0 ? as_printed(t) : json(t)},
-                    {"imu", printed_axes(a.imu)},
-                    {"hall", printed_axes(a.hall)}};
-    if (a.rates) {
-        payload["rates"] = {{"hall", printed_axes(a.rates->hall)},
-                            {"imu",
-                             {{"x", as_printed(degrees(a.rates->imu_x))},
-                              {"y", as_printed(degrees(a.rates->imu_y))},
-                              {"z", as_printed(degrees(a.rates->imu_z))}}}};
-    }
-    return payload;
+    // The payload's own text read back: whole numbers stay integers, and
+    // the result says what the notification says, to the last digit.
+    return json::parse(attitude_payload(sample));
 }
 
 Line capture_line(const json& capture) {

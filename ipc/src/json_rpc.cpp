@@ -19,12 +19,7 @@ namespace gport::ipc {
 namespace {
 
 using detail::Reply;
-using detail::RpcError;
 using nlohmann::json;
-
-// A JSON-RPC reply object, serialized (no newline), with the descriptors that
-// go with it; `done` receives it, or is not called at all for a notification.
-using ReplyDone = std::function<void(std::string, std::size_t descriptors)>;
 
 std::string dump(const json& value) {
     return detail::json_text(value);
@@ -34,23 +29,6 @@ json error_object(const json& id, int code, std::string_view message) {
     return {{"jsonrpc", "2.0"},
             {"id", id},
             {"error", {{"code", code}, {"message", std::string(message)}}}};
-}
-
-// Members in the order nlohmann writes them (sorted), whatever the result's form.
-std::string reply_object(const json& id, Reply reply) {
-    if (auto* error = std::get_if<RpcError>(&reply)) {
-        return dump(error_object(id, error->code, error->message));
-    }
-    std::string out = "{\"id\":" + dump(id) + ",\"jsonrpc\":\"2.0\",\"result\":";
-    if (auto* raw = std::get_if<detail::RawJson>(&reply)) {
-        out += raw->text;
-    } else if (auto* channel = std::get_if<detail::ChannelResult>(&reply)) {
-        out += dump(channel->result);
-    } else {
-        out += dump(std::get<json>(reply));
-    }
-    out += '}';
-    return out;
 }
 
 // nlohmann's parser recurses once per nesting level; count levels with a
@@ -133,36 +111,36 @@ void run_method(detail::Handler handler, detail::MethodContext& context, const j
     try {
         handler(context, params, respond);
     } catch (const detail::InvalidParams& e) {
-        respond(RpcError{rpc_error::kInvalidParams, e.what()});
+        respond(Reply::error(rpc_error::kInvalidParams, e.what()));
     } catch (const std::exception& e) {
         // A bug, not bad input: report it rather than drop the connection.
-        respond(RpcError{rpc_error::kInternal, fmt::format("internal error: {}", e.what())});
+        respond(Reply::error(rpc_error::kInternal, fmt::format("internal error: {}", e.what())));
     }
 }
 
-void run_request(const json& request, detail::MethodContext& context, const ReplyDone& done) {
+// `done` receives the reply object, serialized (no newline), or is not
+// called at all for a notification.
+void run_request(const json& request, detail::MethodContext& context, const ReplySink& done) {
     if (auto error = envelope_error(request)) {
-        done(dump(*error), 0);
+        done(dump(*error));
         return;
     }
     const auto id_it = request.find("id");
     const bool notification = id_it == request.end();
     const json id = notification ? json(nullptr) : *id_it;
-    detail::Respond respond = [done, id, notification](Reply reply) {
+    detail::Respond respond = [done, id, notification](const Reply& reply) {
         if (!notification) {
-            const auto* channel = std::get_if<detail::ChannelResult>(&reply);
-            const std::size_t descriptors = channel != nullptr ? channel->descriptors : 0;
-            done(reply_object(id, std::move(reply)), descriptors);
+            done(reply.object(id));
         }
     };
     if (!context.client.rate.take(std::chrono::steady_clock::now())) {
-        respond(RpcError{rpc_error::kTooManyRequests, over_rate(context.client.rate)});
+        respond(Reply::error(rpc_error::kTooManyRequests, over_rate(context.client.rate)));
         return;
     }
     const auto& name = request["method"].get_ref<const std::string&>();
     auto handler = detail::find_method(name);
     if (handler == nullptr) {
-        respond(RpcError{rpc_error::kUnknownMethod, unknown_method(name)});
+        respond(Reply::error(rpc_error::kUnknownMethod, unknown_method(name)));
         return;
     }
     auto params = request.find("params");
@@ -178,13 +156,11 @@ void run_request(const json& request, detail::MethodContext& context, const Repl
 // the last (possibly asynchronous) member has answered.
 class Batch {
   public:
-    Batch(std::size_t members, LineSink sink) : replies_(members), sink_(std::move(sink)) {}
+    Batch(std::size_t members, ReplySink sink) : replies_(members), sink_(std::move(sink)) {}
 
-    ReplyDone slot(std::size_t index, const std::shared_ptr<Batch>& self) {
+    ReplySink slot(std::size_t index, const std::shared_ptr<Batch>& self) {
         ++outstanding_;
-        return [self, index](std::string reply, std::size_t descriptors) {
-            self->fill(index, std::move(reply), descriptors);
-        };
+        return [self, index](std::string reply) { self->fill(index, std::move(reply)); };
     }
 
     // Called after every member has been dispatched; members that were
@@ -195,9 +171,8 @@ class Batch {
     }
 
   private:
-    void fill(std::size_t index, std::string reply, std::size_t descriptors) {
+    void fill(std::size_t index, std::string reply) {
         replies_[index] = std::move(reply);
-        descriptors_ += descriptors;
         --outstanding_;
         finish_if_done();
     }
@@ -215,13 +190,12 @@ class Batch {
             }
         }
         if (!out.empty()) {
-            sink_(ReplyLine{out + "]\n", descriptors_});
+            sink_(out + "]\n");
         }
     }
 
     std::vector<std::string> replies_;  // empty: a notification's slot
-    LineSink sink_;
-    std::size_t descriptors_ = 0;  // the channel's, when a member's result carries them
+    ReplySink sink_;
     std::size_t outstanding_ = 0;
     bool dispatched_ = false;
     bool sent_ = false;
@@ -233,6 +207,32 @@ bool is_notification(const json& request) {
 }
 
 }  // namespace
+
+namespace detail {
+
+Reply::Reply(const json& result) : text_(dump(result)) {}
+
+Reply Reply::error(int code, std::string message) {
+    Reply reply;
+    reply.text_ = std::move(message);
+    reply.error_code_ = code;
+    return reply;
+}
+
+Reply Reply::raw(std::string result_text) {
+    Reply reply;
+    reply.text_ = std::move(result_text);
+    return reply;
+}
+
+std::string Reply::object(const json& id) const {
+    if (error_code_) {
+        return dump(error_object(id, *error_code_, text_));
+    }
+    return "{\"id\":" + dump(id) + ",\"jsonrpc\":\"2.0\",\"result\":" + text_ + '}';
+}
+
+}  // namespace detail
 
 bool RequestRate::take(std::chrono::steady_clock::time_point now) {
     if (per_second <= 0) {
@@ -272,17 +272,12 @@ Dispatcher::Dispatcher(daemon::Api& api, std::function<ServerStats()> stats,
     : api_(api), stats_(std::move(stats)), status_cache_(status_max_age) {}
 
 void Dispatcher::handle_line(std::string_view line, ClientState& client, const ReplySink& sink) {
-    handle_line(line, client, LineSink([sink](ReplyLine reply) { sink(std::move(reply.text)); }));
-}
-
-void Dispatcher::handle_line(std::string_view line, ClientState& client, const LineSink& sink) {
     // Whatever is logged while the request runs (here, in the core, in the
     // reply's delivery) carries the client's journal fields.
     const daemon::ClientLogScope scope(client.info);
     if (nested_deeper_than(line, kMaxDepth)) {
-        sink(ReplyLine{error_line(rpc_error::kParse, fmt::format("parse error: nesting deeper "
-                                                                 "than {} levels",
-                                                                 kMaxDepth))});
+        sink(error_line(rpc_error::kParse,
+                        fmt::format("parse error: nesting deeper than {} levels", kMaxDepth)));
         return;
     }
     json request;
@@ -290,7 +285,7 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const L
         request = json::parse(line);
     } catch (const json::exception& e) {
         // parse_error, but also out_of_range for a number too large for a double.
-        sink(ReplyLine{error_line(rpc_error::kParse, fmt::format("parse error: {}", e.what()))});
+        sink(error_line(rpc_error::kParse, fmt::format("parse error: {}", e.what())));
         return;
     }
     detail::MethodContext context{api_, client, stats_, status_cache_, channel_host_, captures_};
@@ -300,24 +295,24 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const L
     const daemon::ClientInfo asker{
         client.info.id, client.info.pid, client.info.uid, client.info.gid, {}};
     if (!request.is_array()) {
-        run_request(request, context, [sink, asker](std::string reply, std::size_t descriptors) {
+        run_request(request, context, [sink, asker](std::string reply) {
             const daemon::ClientLogScope reply_scope(asker);
-            sink(ReplyLine{std::move(reply) + '\n', descriptors});
+            sink(std::move(reply) + '\n');
         });
         return;
     }
     if (request.empty() || request.size() > kMaxBatch) {
-        sink(ReplyLine{error_line(rpc_error::kInvalidRequest,
-                                  fmt::format("a batch must hold 1 to {} requests", kMaxBatch))});
+        sink(error_line(rpc_error::kInvalidRequest,
+                        fmt::format("a batch must hold 1 to {} requests", kMaxBatch)));
         return;
     }
-    auto batch = std::make_shared<Batch>(request.size(), [sink, asker](ReplyLine reply) {
+    auto batch = std::make_shared<Batch>(request.size(), [sink, asker](std::string reply) {
         const daemon::ClientLogScope reply_scope(asker);
         sink(std::move(reply));
     });
     for (std::size_t i = 0; i < request.size(); ++i) {
         if (is_notification(request[i])) {
-            run_request(request[i], context, [](const std::string&, std::size_t) {});
+            run_request(request[i], context, [](const std::string&) {});
         } else {
             run_request(request[i], context, batch->slot(i, batch));
         }

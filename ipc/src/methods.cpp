@@ -23,8 +23,8 @@ namespace {
 
 using nlohmann::json;
 
-RpcError error_of(const daemon::CommandError& error) {
-    return {error.code, error.message};
+Reply error_of(const daemon::CommandError& error) {
+    return Reply::error(error.code, error.message);
 }
 
 // Answers a command whose result is only "the frame went out".
@@ -91,8 +91,8 @@ void status(MethodContext& c, const json& params, Respond respond) {
         const auto text = json_text(shared_status_json(c.api.status(), c.stats()));
         return text.substr(1, text.size() - 2);  // the members, without the braces
     });
-    respond(RawJson{"{\"client\":" + json_text(client_status_json(c.client)) + "," + shared +
-                    ",\"captures\":" + json_text(c.captures.status()) + "}"});
+    respond(Reply::raw("{\"client\":" + json_text(client_status_json(c.client)) + "," + shared +
+                       ",\"captures\":" + json_text(c.captures.status()) + "}"));
 }
 
 json range_json(const config::AxisRange& range) {
@@ -113,7 +113,7 @@ void attitude(MethodContext& c, const json& params, Respond respond) {
     Params(params).only({});
     auto sample = c.api.latest_attitude();
     if (!sample) {
-        respond(RpcError{rpc_error::kLinkDown, "no attitude received from the gimbal yet"});
+        respond(Reply::error(rpc_error::kLinkDown, "no attitude received from the gimbal yet"));
         return;
     }
     respond(attitude_result(*sample));
@@ -172,28 +172,30 @@ void unsubscribe(MethodContext& c, const json& params, Respond respond) {
 }
 
 // The shared-memory attitude channel: the transport sends its descriptors
-// with a connection's first reply ("descriptors":2), none with later ones.
+// with a connection's first reply ("descriptors":2), none with later ones;
+// the server attaches them to this request's reply line at the session.
 void attitude_channel(MethodContext& c, const json& params, Respond respond) {
     Params(params).only({});
     if (c.channel == nullptr) {
-        respond(
-            RpcError{rpc_error::kInternal, std::string(detail::kUnavailable) + "not served here"});
+        respond(Reply::error(rpc_error::kInternal,
+                             std::string(detail::kUnavailable) + "not served here"));
         return;
     }
     // A notification's reply is never sent: it must not use up the
     // connection's one set of descriptors.
     auto opened = c.channel->open_attitude_channel(c.client, !c.notification);
     if (auto* error = std::get_if<std::string>(&opened)) {
-        respond(RpcError{rpc_error::kInternal, std::string(detail::kUnavailable) + *error});
+        respond(Reply::error(rpc_error::kInternal, std::string(detail::kUnavailable) + *error));
         return;
     }
     const auto& info = std::get<ChannelInfo>(opened);
-    respond(ChannelResult{json{{"version", info.version},
-                               {"slots", info.slots},
-                               {"size", info.size},
-                               {"published", info.published},
-                               {"descriptors", info.descriptors}},
-                          info.descriptors});
+    // The server has told the session whether this reply carries the
+    // descriptors; the result says so to the client.
+    respond(json{{"version", info.version},
+                 {"slots", info.slots},
+                 {"size", info.size},
+                 {"published", info.published},
+                 {"descriptors", info.descriptors}});
 }
 
 // ---- motion and camera ------------------------------------------------------------

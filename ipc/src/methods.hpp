@@ -3,33 +3,34 @@
 
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
-#include <variant>
 
 #include "gport/ipc/json_rpc.hpp"
 #include "gport/ipc/status_cache.hpp"
 
 namespace gport::ipc::detail {
 
-struct RpcError {
-    int code = 0;
-    std::string message;
+// A method's answer: a result (a JSON value, or text already serialized:
+// the cached part of `status`, spliced) or an error. Serialized when made,
+// so the reply object is built from text alone.
+class Reply {
+  public:
+    Reply(const nlohmann::json& result);  // NOLINT(google-explicit-constructor): respond(json{...})
+    static Reply error(int code, std::string message);
+    static Reply raw(std::string result_text);
+
+    // The JSON-RPC reply object for `id`, serialized, without a newline;
+    // members in the order nlohmann writes them (sorted), whatever the form.
+    std::string object(const nlohmann::json& id) const;
+
+  private:
+    Reply() = default;
+    std::string text_;  // the result, serialized; or the error's message
+    std::optional<int> error_code_;
 };
 
-// A result already serialized (the cached part of `status`, spliced).
-struct RawJson {
-    std::string text;
-};
-
-// A result whose reply line may carry the attitude channel's descriptors.
-struct ChannelResult {
-    nlohmann::json result;
-    std::size_t descriptors = 0;  // 2 or 0
-};
-
-// A method's answer: its result, or an error.
-using Reply = std::variant<nlohmann::json, RpcError, RawJson, ChannelResult>;
 // Called exactly once per call, possibly later (settings).
 using Respond = std::function<void(Reply)>;
 

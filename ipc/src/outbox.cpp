@@ -41,18 +41,18 @@ bool Outbox::push(Line line, std::size_t descriptors) {
     return true;
 }
 
-std::size_t Outbox::push_attitude(const Line& line) {
+std::size_t Outbox::push_attitude(const AttitudeLine& line) {
     // Room for the line and a ,"dropped":<count> field it may have to carry.
     constexpr std::size_t kDropField = 32;
     const auto before = dropped_;
-    while (!fits(line->size() + kDropField)) {
+    while (!fits(line->text.size() + kDropField)) {
         if (!drop_oldest_attitude()) {
             ++dropped_;  // nothing older to give up: this one goes
             report_drops_ = true;
             return static_cast<std::size_t>(dropped_ - before);
         }
     }
-    append(report_drops_ ? with_dropped(*line, dropped_) : line, true);
+    append(report_drops_ ? with_dropped(*line, dropped_) : text_of(line), true);
     report_drops_ = false;
     return static_cast<std::size_t>(dropped_ - before);
 }

@@ -294,6 +294,7 @@ std::variant<ChannelInfo, std::string> Server::open_attitude_channel(ClientState
         client.attitude_channel = true;
         dispatcher_->invalidate_status();
     }
+    session->second->attach_descriptors(std::get<std::size_t>(opened));
     return ChannelInfo{base::kRingVersion, detail::AttitudeChannel::kSlots,
                        detail::AttitudeChannel::kBytes, channel_->published(),
                        std::get<std::size_t>(opened)};
@@ -336,8 +337,8 @@ void Server::channel_failed(const daemon::ClientInfo& client, const std::string&
 
 void Server::on_attitude(const daemon::AttitudeSample& sample) {
     channel_->publish(sample);
-    channel_->wake();  // the waker thread's, O(1) here: no reader can make it cost more
-    Line line;         // built on first use: nothing is encoded when nobody listens
+    channel_->wake();   // the waker thread's, O(1) here: no reader can make it cost more
+    AttitudeLine line;  // built on first use: nothing is encoded when nobody listens
     for_each_session([&](Session& session) {
         if (session.subscriptions().attitude) {
             if (!line) {

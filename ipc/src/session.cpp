@@ -191,12 +191,23 @@ void Session::handle_line(std::string_view line) {
             self->request_done();
         }
     });
-    host_.dispatcher().handle_line(line, state_, [weak, pending](ReplyLine reply) {
+    // A reply may come later (settings, or a batch waiting for one): it
+    // keeps the count attached while this line was handled.
+    auto attached = std::make_shared<std::size_t>(0);
+    attached_ = attached;
+    host_.dispatcher().handle_line(line, state_, [weak, pending, attached](std::string reply) {
         if (auto self = weak.lock()) {
-            self->reply(std::move(reply.text), reply.descriptors);
+            self->reply(std::move(reply), *attached);
         }
         pending->finish();
     });
+    attached_.reset();
+}
+
+void Session::attach_descriptors(std::size_t count) {
+    if (attached_) {
+        *attached_ += count;
+    }
 }
 
 // Out of request tokens (the client was just refused, or is about to be):

@@ -62,13 +62,17 @@ class Session : public std::enable_shared_from_this<Session> {
     // The client sent EOF and the deadman has already run for it.
     bool hung_up() const { return lifecycle_.input == Input::kHungUp; }
 
-    void deliver_attitude(const Line& line);
+    void deliver_attitude(const AttitudeLine& line);
     void deliver_event(const Line& line);  // link or motion: never dropped
-    // `descriptors`: copies of the attitude channel's descriptor sent with
-    // the line's first byte (session_descriptors.cpp).
-    void reply(std::string line, std::size_t descriptors = 0);
+    // The request line being handled opened the attitude channel: its reply
+    // line (a batch's one line too) carries `count` descriptors, sent with
+    // its first byte (session_descriptors.cpp). The server calls this from
+    // ChannelHost::open_attitude_channel, inside handle_line.
+    void attach_descriptors(std::size_t count);
 
   private:
+    // Queues a reply line with the descriptors attached to its request.
+    void reply(std::string line, std::size_t descriptors = 0);
     // The one way the state changes: false (and logged) when the table
     // refuses the event, which is a bug; the state is left as it was.
     bool advance(SessionEvent event);
@@ -91,7 +95,7 @@ class Session : public std::enable_shared_from_this<Session> {
     void close_after_reply(int code, const std::string& message);
 
     // ---- output (session_output.cpp) ----
-    void queue_attitude(const Line& line);
+    void queue_attitude(const AttitudeLine& line);
     void on_rate_timer();
     void flush();
     void write_queued();
@@ -114,6 +118,9 @@ class Session : public std::enable_shared_from_this<Session> {
     std::string input_;            // received, not yet handled; lines end in '\n'
     std::size_t consumed_ = 0;     // bytes of input_ already handled
     std::size_t outstanding_ = 0;  // requests whose reply has not been queued
+    // The descriptors attach_descriptors gave the request line being
+    // handled; null between lines.
+    std::shared_ptr<std::size_t> attached_;
     SessionState lifecycle_;
 
     std::vector<Line> in_flight_;

@@ -51,7 +51,7 @@ void Session::overflow() {
     close();
 }
 
-void Session::deliver_attitude(const Line& line) {
+void Session::deliver_attitude(const AttitudeLine& line) {
     if (!open()) {
         return;
     }
@@ -98,7 +98,7 @@ void Session::on_rate_timer() {
 
 // Over the server's memory budget, a client that has not read what it has
 // loses the sample (counted like any drop) instead of queueing more.
-void Session::queue_attitude(const Line& line) {
+void Session::queue_attitude(const AttitudeLine& line) {
     const bool refuse = host_.over_budget() && !outbox_.empty();
     if (const auto dropped = refuse ? outbox_.drop_attitude() : outbox_.push_attitude(line);
         dropped > 0) {

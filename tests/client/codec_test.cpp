@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "connect_error.hpp"
 #include "gport/client/attitude_feed.hpp"
 
@@ -137,6 +139,21 @@ TEST(ClientCodec, AttitudeNotificationIsWhatGportdSends) {
     const auto without = attitude_notification(plain)["params"];
     EXPECT_FALSE(without.contains("dropped")) << "gportd sends it only after a drop";
     EXPECT_FALSE(without.contains("rates"));
+}
+
+// A hostile server's numbers that are not finite (1e999 reads as infinity)
+// print as null, as nlohmann writes them, and never throw.
+TEST(ClientCodec, AttitudeNotificationOfNumbersThatAreNotFinite) {
+    AttitudeSample sample;
+    sample.seq = 7;
+    sample.time = std::numeric_limits<double>::infinity();
+    sample.hall.roll = std::numeric_limits<double>::quiet_NaN();
+    sample.imu.yaw = -std::numeric_limits<double>::infinity();
+    const auto made = attitude_notification(sample);
+    EXPECT_TRUE(made["params"]["hall"]["roll"].is_null());
+    EXPECT_TRUE(made["params"]["imu"]["yaw"].is_null());
+    EXPECT_EQ(made["params"]["seq"], 7);
+    EXPECT_EQ(made.dump().find("inf"), std::string::npos);
 }
 
 TEST(ClientCodec, MotionEventsOfEveryKind) {

@@ -12,8 +12,9 @@ using namespace std::chrono_literals;
 using Decision = AttitudePacer::Decision;
 using Clock = AttitudePacer::Clock;
 
-Line sample(int seq) {
-    return std::make_shared<const std::string>("sample " + std::to_string(seq));
+AttitudeLine sample(int seq) {
+    return std::make_shared<const AttitudeNotification>(
+        AttitudeNotification{"sample " + std::to_string(seq), {}});
 }
 
 class AttitudePacerTest : public ::testing::Test {
@@ -50,7 +51,7 @@ TEST_F(AttitudePacerTest, OnlyTheNewestHeldSampleGoesAtTheWake) {
     EXPECT_EQ(pacer.offer(sample(4), t0 + 30ms, kInterval), Decision::kHold);
     const auto sent = pacer.woken(t0 + 100ms);
     ASSERT_NE(sent, nullptr);
-    EXPECT_EQ(*sent, "sample 4");
+    EXPECT_EQ(sent->text, "sample 4");
     EXPECT_FALSE(pacer.holding());
     EXPECT_FALSE(pacer.waking());
 }
@@ -60,7 +61,7 @@ TEST_F(AttitudePacerTest, WhileAWakeIsPendingEvenALateSampleWaitsForIt) {
     ASSERT_EQ(pacer.offer(sample(2), t0 + 10ms, kInterval), Decision::kHoldAndWake);
     // The timer is late: the sample that arrives meanwhile joins the held one.
     EXPECT_EQ(pacer.offer(sample(3), t0 + 150ms, kInterval), Decision::kHold);
-    EXPECT_EQ(*pacer.woken(t0 + 160ms), "sample 3");
+    EXPECT_EQ(pacer.woken(t0 + 160ms)->text, "sample 3");
 }
 
 TEST_F(AttitudePacerTest, TheIntervalCountsFromTheWake) {
@@ -87,7 +88,7 @@ TEST_F(AttitudePacerTest, ACancelledWakeLetsTheNextSampleAskForAnother) {
     pacer.disarmed();
     EXPECT_TRUE(pacer.holding());
     EXPECT_EQ(pacer.offer(sample(3), t0 + 20ms, kInterval), Decision::kHoldAndWake);
-    EXPECT_EQ(*pacer.woken(t0 + 100ms), "sample 3");
+    EXPECT_EQ(pacer.woken(t0 + 100ms)->text, "sample 3");
 }
 
 TEST_F(AttitudePacerTest, ALongerIntervalAppliesToTheNextDecision) {

@@ -2,9 +2,12 @@
 // "Notifications".
 #include "gport/ipc/event_json.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+
+#include "gport/protocol/messages.hpp"
 
 namespace gport::ipc {
 namespace {
@@ -23,21 +26,21 @@ daemon::AttitudeSample sample_with_rates() {
 
 TEST(EventJson, AttitudeNotificationHasTheSpecShape) {
     auto line = attitude_line(sample_with_rates());
-    ASSERT_EQ(line->back(), '\n');
+    ASSERT_EQ(line->text.back(), '\n');
     EXPECT_EQ(
-        *line,
+        line->text,
         R"({"jsonrpc":"2.0","method":"attitude","params":{"seq":1042,"t":1763770000.123456,)"
         R"("imu":{"roll":0,"pitch":0,"yaw":-39.29},"hall":{"roll":-19.21,"pitch":-0.16,"yaw":4.66},)"
         R"("rates":{"hall":{"roll":1.25,"pitch":-0.5,"yaw":0},"imu":{"x":0.12,"y":-2.3,"z":0}}}})"
         "\n");
-    auto parsed = json::parse(*line);
+    auto parsed = json::parse(line->text);
     EXPECT_EQ(parsed["params"]["hall"]["roll"], -19.21);
 }
 
 TEST(EventJson, RatesOnlyWhenTheGimbalSentThem) {
     auto s = sample_with_rates();
     s.attitude.rates.reset();
-    auto parsed = json::parse(*attitude_line(s));
+    auto parsed = json::parse(attitude_line(s)->text);
     EXPECT_FALSE(parsed["params"].contains("rates"));
     EXPECT_EQ(parsed["params"]["seq"], 1042);
 }
@@ -72,11 +75,36 @@ TEST(EventJson, AttitudeJsonSerialisesLikeThePayload) {
 }
 
 TEST(EventJson, DroppedCountGoesIntoParams) {
-    auto line = with_dropped(*attitude_line(sample_with_rates()), 17);
+    const auto shared = attitude_line(sample_with_rates());
+    auto line = with_dropped(*shared, 17);
     auto parsed = json::parse(*line);
     EXPECT_EQ(parsed["params"]["dropped"], 17);
     EXPECT_EQ(parsed["params"]["seq"], 1042);
     EXPECT_EQ(line->back(), '\n');
+    // The bytes clients always got: the shared line with the field last in params.
+    std::string expected = shared->text;
+    expected.insert(expected.size() - 3, R"(,"dropped":17)");
+    EXPECT_EQ(*line, expected);
+    EXPECT_EQ(shared->text.find("dropped"), std::string::npos) << "the shared line is untouched";
+}
+
+// The contract's writer prints every angle and rate the wire can carry as
+// fmt's `{}` did (the text gportd always sent), and whole values as integers.
+TEST(EventJson, EveryWireValuePrintsAsFmtDid) {
+    for (int centi = -32768; centi <= 32767; ++centi) {
+        const double value = protocol::from_centi(static_cast<std::int16_t>(centi));
+        contract::AttitudePayload payload;
+        payload.imu.roll = value;
+        const auto text = contract::attitude_payload_text(payload);
+        const auto expected = fmt::format(R"("imu":{{"roll":{},)", value);
+        ASSERT_NE(text.find(expected), std::string::npos) << centi << ": " << text;
+    }
+    for (const double odd : {1e-5, -2.5e-7, 1e16, 123456789.125, 0.0001}) {
+        contract::AttitudePayload payload;
+        payload.hall.yaw = odd;
+        const auto text = contract::attitude_payload_text(payload);
+        EXPECT_NE(text.find(fmt::format(R"("yaw":{}}})", odd)), std::string::npos) << text;
+    }
 }
 
 TEST(EventJson, LinkAndMotion) {

@@ -11,7 +11,7 @@ namespace {
 
 using nlohmann::json;
 
-Line attitude(int seq) {
+AttitudeLine attitude(int seq) {
     daemon::AttitudeSample s;
     s.seq = static_cast<std::uint64_t>(seq);
     return attitude_line(s);

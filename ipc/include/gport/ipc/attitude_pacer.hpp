@@ -29,13 +29,13 @@ class AttitudePacer {
         kHoldAndWake,  // held; wake at wake_at() and call woken()
     };
 
-    Decision offer(const Line& sample, Clock::time_point now, Clock::duration interval);
+    Decision offer(const AttitudeLine& sample, Clock::time_point now, Clock::duration interval);
 
     // Valid after kHoldAndWake, until woken() or disarmed().
     Clock::time_point wake_at() const { return wake_at_; }
 
     // The wake-up came: the sample to send now (null when none is held).
-    Line woken(Clock::time_point now);
+    AttitudeLine woken(Clock::time_point now);
 
     // The wake-up will not come (its timer was cancelled); the held sample,
     // if any, stays held.
@@ -50,7 +50,7 @@ class AttitudePacer {
   private:
     std::optional<Clock::time_point> last_sent_;  // empty: the next goes at once
     Clock::time_point wake_at_{};
-    Line held_;
+    AttitudeLine held_;
     bool waking_ = false;
 };
 

@@ -101,7 +101,10 @@ class ChannelHost {
     // Makes the channel on first use and counts `client` among its readers
     // (sets client.attitude_channel), with a wake block of its own; the
     // error says why it cannot be made. `deliver`: the reply will be sent,
-    // so it may carry the descriptors (false for a notification).
+    // so it may carry the descriptors (false for a notification). When it
+    // does (ChannelInfo::descriptors 2), the transport attaches them to the
+    // reply line of the request being handled, at the session: they never
+    // pass through the JSON-RPC layer.
     virtual std::variant<ChannelInfo, std::string> open_attitude_channel(ClientState& client,
                                                                          bool deliver) = 0;
 
@@ -112,19 +115,9 @@ class ChannelHost {
     ChannelHost& operator=(const ChannelHost&) = default;
 };
 
-// A reply line, and how many descriptors travel with its first byte: the
-// attitude channel's two (ring, wake block) when an attitude_channel result
-// in it has "descriptors":2, else none.
-struct ReplyLine {
-    std::string text;
-    std::size_t descriptors = 0;
-};
-
 // Receives complete reply lines, each ending in '\n'. May be called after
 // handle_line returned (settings requests answer later).
 using ReplySink = std::function<void(std::string line)>;
-// The same, for a transport that passes descriptors (the server's sessions).
-using LineSink = std::function<void(ReplyLine line)>;
 
 class Dispatcher {
   public:
@@ -135,8 +128,6 @@ class Dispatcher {
 
     // Handles one line (without its '\n'). Replies go to `sink`, zero or
     // more times: never for notifications, once for a request or a batch.
-    void handle_line(std::string_view line, ClientState& client, const LineSink& sink);
-    // The text only: a reply's descriptors are not passed on (tests, fuzzing).
     void handle_line(std::string_view line, ClientState& client, const ReplySink& sink);
 
     // The transport that serves attitude_channel; without one the method

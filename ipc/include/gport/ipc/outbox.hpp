@@ -36,7 +36,7 @@ class Outbox {
     // queued.
     [[nodiscard]] bool push(Line line, std::size_t descriptors = 0);
     // An attitude notification; returns how many attitude lines were dropped.
-    std::size_t push_attitude(const Line& line);
+    std::size_t push_attitude(const AttitudeLine& line);
     // An attitude notification not queued (the server is short of memory):
     // counted and reported like any other drop; returns 1.
     std::size_t drop_attitude();
