@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "gport/base/json_depth.hpp"
 #include "gport/client/error.hpp"
 
 namespace gport::client::detail {
@@ -80,36 +81,12 @@ void LineReader::clear() noexcept {
     scanned_ = 0;
 }
 
-bool nested_deeper_than(std::string_view text, std::size_t limit) noexcept {
-    std::size_t depth = 0;
-    bool in_string = false;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        const char c = text[i];
-        if (in_string) {
-            if (c == '\\') {
-                ++i;  // the escaped character, a quote included
-            } else if (c == '"') {
-                in_string = false;
-            }
-        } else if (c == '"') {
-            in_string = true;
-        } else if (c == '[' || c == '{') {
-            if (++depth > limit) {
-                return true;
-            }
-        } else if ((c == ']' || c == '}') && depth > 0) {
-            --depth;
-        }
-    }
-    return false;
-}
-
 bool blank(std::string_view line) noexcept {
     return line.empty() || line == "\r";
 }
 
 nlohmann::json parse_line(std::string_view line) {
-    if (nested_deeper_than(line, kNestingLimit)) {
+    if (base::nested_deeper_than(line, kNestingLimit)) {
         refuse("a line nested deeper than " + std::to_string(kNestingLimit) +
                " levels (the client's nesting limit, kNestingLimit)");
     }

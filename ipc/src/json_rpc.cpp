@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "gport/base/json_depth.hpp"
 #include "gport/daemon/client_log.hpp"
 #include "json_common.hpp"
 #include "methods.hpp"
@@ -29,34 +30,6 @@ json error_object(const json& id, int code, std::string_view message) {
     return {{"jsonrpc", "2.0"},
             {"id", id},
             {"error", {{"code", code}, {"message", std::string(message)}}}};
-}
-
-// nlohmann's parser recurses once per nesting level; count levels with a
-// flat scan first so that no input can exhaust the stack.
-bool nested_deeper_than(std::string_view text, std::size_t limit) {
-    std::size_t depth = 0;
-    bool in_string = false;
-    bool escaped = false;
-    for (char c : text) {
-        if (in_string) {
-            if (escaped) {
-                escaped = false;
-            } else if (c == '\\') {
-                escaped = true;
-            } else if (c == '"') {
-                in_string = false;
-            }
-        } else if (c == '"') {
-            in_string = true;
-        } else if (c == '[' || c == '{') {
-            if (++depth > limit) {
-                return true;
-            }
-        } else if ((c == ']' || c == '}') && depth > 0) {
-            --depth;
-        }
-    }
-    return false;
 }
 
 // Checks the envelope; an error is the reply to send (with id null when the
@@ -275,7 +248,7 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const R
     // Whatever is logged while the request runs (here, in the core, in the
     // reply's delivery) carries the client's journal fields.
     const daemon::ClientLogScope scope(client.info);
-    if (nested_deeper_than(line, kMaxDepth)) {
+    if (base::nested_deeper_than(line, kMaxDepth)) {
         sink(error_line(rpc_error::kParse,
                         fmt::format("parse error: nesting deeper than {} levels", kMaxDepth)));
         return;

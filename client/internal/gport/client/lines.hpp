@@ -41,10 +41,6 @@ class LineReader {
     std::size_t limit_;
 };
 
-// True when arrays and objects nest deeper than `limit` in `text` (brackets
-// inside strings do not count); one linear pass, no recursion.
-bool nested_deeper_than(std::string_view text, std::size_t limit) noexcept;
-
 // True for a line to skip: empty, or only the '\r' of a CRLF.
 bool blank(std::string_view line) noexcept;
 
