@@ -131,6 +131,10 @@ BAD_LINES = {
         b'{"jsonrpc":"2.0","method":"attitude","params":{"seq":"x","imu":3}}\n',
         "attitude",
     ),
+    "bad capture": (
+        b'{"jsonrpc":"2.0","method":"capture","params":{"index":"x","kind":1}}\n',
+        "capture",
+    ),
 }
 
 
