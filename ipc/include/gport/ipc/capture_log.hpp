@@ -34,10 +34,11 @@ class CaptureSink {
     // Asks for the high-water mark `upto` to be made durable: after a
     // restart no index below it is given again. Never blocks (the writer
     // persists it); marks only grow.
-    virtual void reserve(std::uint64_t upto) = 0;
+    virtual void reserve(std::uint64_t /*upto*/) {}
     // The highest mark known to be durable; nullopt when the log has no
-    // durable storage (its indexes are then per-run, as status says).
-    virtual std::optional<std::uint64_t> reserved() const = 0;
+    // durable storage (its indexes are then per-run, as status says; the
+    // default, for sinks that keep nothing).
+    virtual std::optional<std::uint64_t> reserved() const { return std::nullopt; }
     virtual Stats stats() const = 0;
     // The file written, for status ("" when none).
     virtual std::string path() const = 0;
