@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <variant>
 
 #include "gport/app/capture_writer.hpp"
 #include "gport/ipc/capture_log.hpp"
@@ -22,8 +23,7 @@ namespace {
 using nlohmann::json;
 
 json sample_capture() {
-    return json{{"kind", "photo"},
-                {"utc_us", 1795563183085470},
+    return json{{"utc_us", 1795563183085470},
                 {"mono_us", 24172367794},
                 {"attitude",
                  {{"imu", {{"roll", 0.12}, {"pitch", -30.05}, {"yaw", 12.5}}},
@@ -56,12 +56,33 @@ void BM_CaptureOnTheLoop(benchmark::State& state) {
     log.set_sink(&writer);
     const auto capture = sample_capture();
     for (auto _ : state) {
-        benchmark::DoNotOptimize(log.add(capture));
+        auto prepared = std::get<gport::ipc::CaptureLog::Prepared>(log.prepare(capture));
+        benchmark::DoNotOptimize(log.add(std::move(prepared), "photo"));
     }
     writer.drain();
     std::filesystem::remove_all(dir);
 }
 BENCHMARK(BM_CaptureOnTheLoop);
+
+// One `captures` page on the loop (limit 1000) over 1,000 kept captures
+// with 1 KiB metas: the page is spliced from the kept text and bounded by
+// bytes (CaptureLog::kMaxPageBytes), whatever the log holds.
+void BM_CapturesPageOnTheLoop(benchmark::State& state) {
+    gport::ipc::CaptureLog log;
+    auto capture = sample_capture();
+    capture["meta"]["note"] = std::string(960, 'x');
+    for (int i = 0; i < 1000; ++i) {
+        log.add(std::get<gport::ipc::CaptureLog::Prepared>(log.prepare(capture)), "photo");
+    }
+    std::size_t bytes = 0;
+    for (auto _ : state) {
+        const auto page = log.list(0, gport::ipc::CaptureLog::kMaxLimit);
+        bytes = page.size();
+        benchmark::DoNotOptimize(page.data());
+    }
+    state.counters["page_bytes"] = static_cast<double>(bytes);
+}
+BENCHMARK(BM_CapturesPageOnTheLoop);
 
 // The writer's share: one capture queued, written and fdatasync'd, waited for.
 void BM_CaptureToDisk(benchmark::State& state) {

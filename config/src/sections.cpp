@@ -445,6 +445,15 @@ const std::vector<Section>& sections() {
                    c.captures.keep_files = static_cast<int>(*n);
                }
            }}}},
+        {"camera",
+         {{"max_commands_per_s",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               // 0.1: one every 10 s; 1000: about what the line carries (no
+               // camera takes that many; a flood then waits in gportd's queue).
+               if (auto n = r.number(v, p, 0.1, 1000.0)) {
+                   c.camera.max_commands_per_s = *n;
+               }
+           }}}},
     };
     return kSections;
 }

@@ -63,7 +63,8 @@ Core::Core(asio::io_context& io, const config::Config& config, std::shared_ptr<s
                     return link_down();
                 }),
       quality_timer_(io),
-      shutdown_timer_(io) {
+      shutdown_timer_(io),
+      camera_(config.camera) {
     settings_.on_changed([this](std::uint64_t client, const gp::SettingsBlock& before,
                                 const gp::SettingsBlock& after) {
         log_->info("settings changed by client {}: {}", client, settings_change(before, after));
@@ -82,6 +83,7 @@ void Core::start() {
 void Core::reload(const config::Config& config) {
     arbiter_.set_policy(AccessPolicy(config.access));
     motion_.reload(config);
+    camera_.reload(config.camera);
 }
 
 void Core::add_link_listener(std::function<void(const LinkEvent&)> listener) {

@@ -133,11 +133,16 @@ Outcome<Done> Core::camera(const ClientInfo& client, gp::CameraAction action) {
     if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
         return std::move(*refused);
     }
+    if (!port_.is_open()) {
+        return link_down();
+    }
+    if (auto refused = camera_.admit()) {
+        return std::move(*refused);
+    }
     if (!send(gp::encode(gp::Camera{action}))) {
         return link_down();
     }
-    log_->info("camera {} by pid {}",
-               action == gp::CameraAction::kPhoto ? "photo" : "record toggle", client.pid);
+    camera_.sent(*log_, action == gp::CameraAction::kPhoto ? "photo" : "record toggle", client.pid);
     return Done{};
 }
 

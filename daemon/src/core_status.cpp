@@ -41,6 +41,7 @@ Status Core::status() const {
     s.motion = motion_.status();
     s.controller = arbiter_.holder();
     s.recording = recording_;
+    s.camera = camera_.status();
     return s;
 }
 

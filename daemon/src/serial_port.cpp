@@ -18,8 +18,10 @@ SerialPort::SerialPort(asio::io_context& io, const config::SerialConfig& serial,
                        std::shared_ptr<spdlog::logger> log)
     : port_(io),
       reopen_timer_(io),
+      pace_timer_(io),
       device_(serial.device),
       baud_(serial.baud),
+      byte_time_(std::chrono::nanoseconds(10'000'000'000LL / std::max(serial.baud, 1u))),
       backoff_initial_(link.reconnect_initial),
       backoff_max_(link.reconnect_max),
       backoff_(link.reconnect_initial),
@@ -36,6 +38,8 @@ void SerialPort::start() {
 void SerialPort::stop() {
     stopped_ = true;
     reopen_timer_.cancel();
+    pace_timer_.cancel();
+    pacing_ = false;
     if (port_.is_open()) {
         boost::system::error_code ignored;
         port_.close(ignored);
@@ -72,6 +76,7 @@ void SerialPort::try_open() {
     open_error_.clear();
     healthy_ = false;
     open_failures_log_.reset();
+    line_free_at_ = std::chrono::steady_clock::now();
     log_->info("device {} opened at {} baud", device_, baud_);
     handlers_.on_open();
     read_more();
@@ -158,12 +163,36 @@ bool SerialPort::send(const protocol::Frame& frame, FrameKind kind) {
     return true;
 }
 
+std::chrono::steady_clock::duration SerialPort::line_ahead(
+    std::chrono::steady_clock::time_point now) {
+    auto ahead = std::max(line_free_at_ - now, std::chrono::steady_clock::duration::zero());
+    int queued = 0;  // a pty reports 0; a UART driver its transmit buffer
+    if (::ioctl(port_.native_handle(), TIOCOUTQ, &queued) == 0 && queued > 0) {
+        ahead = std::max<std::chrono::steady_clock::duration>(ahead, queued * byte_time_);
+    }
+    return ahead;
+}
+
 void SerialPort::write_next() {
-    if (in_flight_ || queue_.empty() || !port_.is_open()) {
+    if (in_flight_ || pacing_ || queue_.empty() || !port_.is_open()) {
+        return;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (const auto ahead = line_ahead(now); ahead > kLineSlack) {
+        pacing_ = true;
+        pace_timer_.expires_after(ahead - kLineSlack);
+        pace_timer_.async_wait([this](boost::system::error_code ec) {
+            if (ec == asio::error::operation_aborted) {
+                return;  // stop() or fail() cleared pacing_ themselves
+            }
+            pacing_ = false;
+            write_next();
+        });
         return;
     }
     in_flight_ = queue_.pop();
     const auto bytes = in_flight_->frame.bytes();
+    line_free_at_ = std::max(line_free_at_, now) + static_cast<long>(bytes.size()) * byte_time_;
     asio::async_write(port_, asio::buffer(bytes.data(), bytes.size()),
                       [this](boost::system::error_code ec, std::size_t n) {
                           // Aborted: the port was closed, which already
@@ -192,6 +221,8 @@ void SerialPort::fail(const std::string& reason) {
     ++stats_.failures;
     boost::system::error_code ignored;
     port_.close(ignored);
+    pace_timer_.cancel();
+    pacing_ = false;
     owe_stop_if_unwritten();
     queue_.clear();
     in_flight_.reset();

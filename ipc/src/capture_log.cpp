@@ -1,41 +1,105 @@
 #include "gport/ipc/capture_log.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <map>
+
+#include "gport/base/json_depth.hpp"
+#include "json_common.hpp"
 
 namespace gport::ipc {
 
+using detail::json_text;
 using nlohmann::json;
 
-void CaptureLog::restore(const std::vector<std::string>& lines, std::uint64_t next_index) {
-    for (const auto& line : lines) {
-        auto capture = json::parse(line, nullptr, false);
-        if (!capture.is_object() || !capture.contains("index") ||
-            !capture["index"].is_number_unsigned()) {
-            continue;
-        }
-        next_index_ = std::max(next_index_, capture["index"].get<std::uint64_t>() + 1);
-        keep(std::move(capture));
+namespace {
+
+// A restored line's depth: a capture is an object holding objects (client,
+// attitude.imu) and a meta, itself limited when it was taken.
+constexpr std::size_t kMaxRestoreDepth = 32;
+
+// The capture's index, if `capture` is an object with one in 1..kMaxIndex.
+std::optional<std::uint64_t> index_of(const json& capture) {
+    if (!capture.is_object()) {
+        return std::nullopt;
     }
-    next_index_ = std::max(next_index_, next_index);
+    const auto it = capture.find("index");
+    if (it == capture.end() || !it->is_number_unsigned()) {
+        return std::nullopt;
+    }
+    const auto index = it->get<std::uint64_t>();
+    if (index < 1 || index > CaptureLog::kMaxIndex) {
+        return std::nullopt;
+    }
+    return index;
 }
 
-void CaptureLog::keep(json capture) {
-    captures_.push_back(std::move(capture));
-    while (captures_.size() > kept_) {
+}  // namespace
+
+void CaptureLog::restore(const std::vector<std::string>& lines, std::uint64_t next_index) {
+    std::map<std::uint64_t, std::string> by_index;  // sorted, each index once
+    for (const auto& line : lines) {
+        if (base::nested_deeper_than(line, kMaxRestoreDepth)) {
+            continue;
+        }
+        const auto capture = json::parse(line, nullptr, false);
+        if (auto index = index_of(capture)) {
+            by_index.insert_or_assign(*index, json_text(capture));
+        }
+    }
+    for (auto& [index, text] : by_index) {
+        next_index_ = std::max(next_index_, index + 1);
+        keep(index, std::move(text));
+    }
+    next_index_ = std::min(std::max(next_index_, next_index), kMaxIndex + 1);
+}
+
+void CaptureLog::keep(std::uint64_t index, std::string text) {
+    kept_bytes_ += text.size();
+    captures_.push_back(Kept{index, std::move(text)});
+    while (captures_.size() > kept_ || (kept_bytes_ > kKeptBytes && captures_.size() > 1)) {
+        kept_bytes_ -= captures_.front().text.size();
         captures_.pop_front();
     }
 }
 
-const json& CaptureLog::add(json capture) {
-    json indexed = {{"index", next_index_++}};
-    for (auto& [key, value] : capture.items()) {
-        indexed[key] = std::move(value);
+std::variant<CaptureLog::Prepared, std::string> CaptureLog::prepare(const json& capture) const {
+    if (next_index_ > kMaxIndex) {
+        return fmt::format("the capture log has given every index up to {}; no more captures",
+                           kMaxIndex);
     }
-    ++added_;
-    keep(std::move(indexed));
-    const json& stored = captures_.back();
     if (sink_ != nullptr) {
-        sink_->write(stored.dump());
+        const auto durable = sink_->reserved();
+        if (durable && next_index_ >= *durable) {
+            const auto stats = sink_->stats();
+            return fmt::format(
+                "the capture log cannot make index {} durable ({}: {}); nothing was sent, so "
+                "that an index is never given twice",
+                next_index_, sink_->path(), stats.error.value_or("the writer is behind"));
+        }
+    }
+    auto text = json_text(capture);  // invalid UTF-8 replaced: it always serializes
+    if (!capture.is_object() || text.size() < 2) {
+        return std::string("a capture must be a JSON object");
+    }
+    // The members without the braces: add() puts index and kind first.
+    text.pop_back();
+    text.erase(0, 1);
+    return Prepared{std::move(text)};
+}
+
+const std::string& CaptureLog::add(Prepared prepared, std::string_view kind) {
+    const auto index = next_index_++;
+    // kind is one of gportd's own words: no escaping needed.
+    std::string text = fmt::format("{{\"index\":{},\"kind\":\"{}\"{}{}}}", index, kind,
+                                   prepared.body.empty() ? "" : ",", prepared.body);
+    ++added_;
+    keep(index, std::move(text));
+    const std::string& stored = captures_.back().text;
+    if (sink_ != nullptr) {
+        sink_->write(stored);
+        reserve_ahead();
     }
     if (listener_) {
         listener_(stored);
@@ -43,22 +107,47 @@ const json& CaptureLog::add(json capture) {
     return stored;
 }
 
-json CaptureLog::list(std::uint64_t since, std::size_t limit) const {
-    json out = json::array();
-    // Indexes are increasing: find the first at or after `since`.
-    auto it = std::lower_bound(
-        captures_.begin(), captures_.end(), since,
-        [](const json& c, std::uint64_t i) { return c["index"].get<std::uint64_t>() < i; });
-    std::uint64_t next = std::max(since, next_index_);
-    for (; it != captures_.end() && out.size() < limit; ++it) {
-        out.push_back(*it);
-        next = (*it)["index"].get<std::uint64_t>() + 1;
+void CaptureLog::reserve_ahead() {
+    const auto durable = sink_->reserved();
+    if (!durable) {
+        return;
     }
-    return json{{"captures", std::move(out)}, {"next", next}};
+    const auto mark = std::max(*durable, asked_);
+    if (mark - std::min(mark, next_index_) <= kReserveWhenWithin) {
+        asked_ = std::min(next_index_ + kReserveAhead, kMaxIndex + 1);
+        sink_->reserve(asked_);
+    }
+}
+
+std::string CaptureLog::list(std::uint64_t since, std::size_t limit) const {
+    // Indexes are increasing: find the first at or after `since`.
+    auto it = std::lower_bound(captures_.begin(), captures_.end(), since,
+                               [](const Kept& c, std::uint64_t i) { return c.index < i; });
+    std::uint64_t next = std::max(since, next_index_);
+    std::string page = "{\"captures\":[";
+    std::size_t count = 0;
+    for (; it != captures_.end() && count < limit; ++it, ++count) {
+        if (count > 0 && page.size() + it->text.size() > kMaxPageBytes) {
+            break;
+        }
+        if (count > 0) {
+            page += ',';
+        }
+        page += it->text;
+        next = it->index + 1;
+    }
+    const bool more = it != captures_.end();
+    if (more) {
+        next = it->index;
+    }
+    page += fmt::format("],\"more\":{},\"next\":{}}}", more, next);
+    return page;
 }
 
 json CaptureLog::status() const {
     json out = {{"added", added_}, {"next_index", next_index_}};
+    const auto reserved = sink_ != nullptr ? sink_->reserved() : std::nullopt;
+    out["reserved"] = reserved ? json(*reserved) : json(nullptr);
     if (sink_ == nullptr) {
         out["file"] = nullptr;
         out["written"] = 0;

@@ -49,11 +49,27 @@ const json* checked_meta(const json& params) {
     return &*it;
 }
 
-// Adds the capture to the log and returns the summary the reply carries.
-json take(MethodContext& c, std::string_view kind, const json* meta) {
-    const auto& stored =
-        c.captures.add(capture_json(kind, c.client.info, c.api.latest_attitude(), meta));
-    return json{{"index", stored["index"]}, {"utc_us", stored["utc_us"]}, {"kind", kind}};
+// The capture built before its frame is sent: a request sends and records,
+// or does neither. Empty (and answered -32603, naming why) when no index
+// can be given now.
+std::optional<CaptureLog::Prepared> prepare(MethodContext& c, const json* meta,
+                                            const Respond& respond) {
+    auto prepared = c.captures.prepare(capture_json(c.client.info, c.api.latest_attitude(), meta));
+    if (auto* why = std::get_if<std::string>(&prepared)) {
+        respond(Reply::error(rpc_error::kInternal, std::move(*why)));
+        return std::nullopt;
+    }
+    return std::get<CaptureLog::Prepared>(std::move(prepared));
+}
+
+// Gives the capture its index and returns the summary the reply carries:
+// index, utc_us, kind and the attitude logged with it.
+json take(MethodContext& c, CaptureLog::Prepared prepared, std::string_view kind) {
+    const auto stored = json::parse(c.captures.add(std::move(prepared), kind));
+    return json{{"index", stored["index"]},
+                {"utc_us", stored["utc_us"]},
+                {"kind", kind},
+                {"attitude", stored["attitude"]}};
 }
 
 std::string_view record_kind(daemon::RecordingState now) {
@@ -70,12 +86,11 @@ std::string_view record_kind(daemon::RecordingState now) {
 
 }  // namespace
 
-json capture_json(std::string_view kind, const daemon::ClientInfo& client,
+json capture_json(const daemon::ClientInfo& client,
                   const std::optional<daemon::AttitudeSample>& attitude, const json* meta) {
     const auto wall = std::chrono::system_clock::now();
     const auto mono = std::chrono::steady_clock::now();
-    json out = {{"kind", kind},
-                {"utc_us", micros(wall.time_since_epoch())},
+    json out = {{"utc_us", micros(wall.time_since_epoch())},
                 {"mono_us", micros(mono.time_since_epoch())}};
     if (attitude) {
         const auto age =
@@ -99,13 +114,16 @@ json capture_json(std::string_view kind, const daemon::ClientInfo& client,
 
 void photo(MethodContext& c, const json& params, Respond respond) {
     Params(params).only({"meta"});
-    const json* meta = checked_meta(params);
+    auto prepared = prepare(c, checked_meta(params), respond);
+    if (!prepared) {
+        return;
+    }
     auto outcome = c.api.photo(c.client.info);
     if (!outcome) {
         respond(Reply::error(outcome.error().code, outcome.error().message));
         return;
     }
-    respond(json{{"sent", true}, {"capture", take(c, "photo", meta)}});
+    respond(json{{"sent", true}, {"capture", take(c, std::move(*prepared), "photo")}});
 }
 
 void record(MethodContext& c, const json& params, Respond respond) {
@@ -117,7 +135,10 @@ void record(MethodContext& c, const json& params, Respond respond) {
     if (request.force && !request.on) {
         throw InvalidParams("force needs on: record {\"on\": true|false, \"force\": true}");
     }
-    const json* meta = checked_meta(params);
+    auto prepared = prepare(c, checked_meta(params), respond);
+    if (!prepared) {
+        return;
+    }
     auto outcome = c.api.record(c.client.info, request);
     if (!outcome) {
         respond(Reply::error(outcome.error().code, outcome.error().message));
@@ -125,7 +146,7 @@ void record(MethodContext& c, const json& params, Respond respond) {
     }
     json result{{"sent", outcome->sent}, {"recording", daemon::to_string(outcome->recording)}};
     if (outcome->sent) {
-        result["capture"] = take(c, record_kind(outcome->recording), meta);
+        result["capture"] = take(c, std::move(*prepared), record_kind(outcome->recording));
     }
     respond(std::move(result));
 }
@@ -136,7 +157,8 @@ void captures(MethodContext& c, const json& params, Respond respond) {
     const auto since = p.integer("since", 0, std::numeric_limits<std::int64_t>::max()).value_or(0);
     const auto limit = p.integer("limit", 1, static_cast<std::int64_t>(CaptureLog::kMaxLimit))
                            .value_or(static_cast<std::int64_t>(CaptureLog::kDefaultLimit));
-    respond(c.captures.list(static_cast<std::uint64_t>(since), static_cast<std::size_t>(limit)));
+    respond(Reply::raw(
+        c.captures.list(static_cast<std::uint64_t>(since), static_cast<std::size_t>(limit))));
 }
 
 }  // namespace gport::ipc::detail

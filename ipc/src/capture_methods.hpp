@@ -13,8 +13,9 @@ void photo(MethodContext& c, const nlohmann::json& params, Respond respond);
 void record(MethodContext& c, const nlohmann::json& params, Respond respond);
 void captures(MethodContext& c, const nlohmann::json& params, Respond respond);
 
-// The capture as the log keeps it, without its index (CaptureLog::add gives it).
-nlohmann::json capture_json(std::string_view kind, const daemon::ClientInfo& client,
+// The capture as the log keeps it, without its index and kind
+// (CaptureLog::add gives them).
+nlohmann::json capture_json(const daemon::ClientInfo& client,
                             const std::optional<daemon::AttitudeSample>& attitude,
                             const nlohmann::json* meta);
 

@@ -101,8 +101,13 @@ json attitude_json(const daemon::AttitudeSample& sample) {
     return json::parse(attitude_payload(sample));
 }
 
-Line capture_line(const json& capture) {
-    return notification("capture", capture);
+Line capture_line(std::string_view capture) {
+    // The capture's text as the log keeps it, spliced (members in the order
+    // nlohmann writes them, as every notification).
+    std::string line = R"({"jsonrpc":"2.0","method":"capture","params":)";
+    line.append(capture);
+    line += "}\n";
+    return std::make_shared<const std::string>(std::move(line));
 }
 
 }  // namespace gport::ipc

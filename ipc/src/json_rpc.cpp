@@ -118,8 +118,15 @@ void run_request(const json& request, detail::MethodContext& context, const Repl
     }
     auto params = request.find("params");
     context.notification = notification;
+    const auto started = std::chrono::steady_clock::now();
     run_method(handler, context, params == request.end() ? json(nullptr) : *params, respond);
+    const auto ended = std::chrono::steady_clock::now();
     context.notification = false;
+    context.client.rate.charge(ended - started, ended);
+    if (context.worst != nullptr && ended - started > context.worst->time) {
+        context.worst->time = ended - started;
+        context.worst->method = name;
+    }
     if (name != "status") {
         context.status_cache.invalidate();  // what it changed shows in the next status
     }
@@ -207,13 +214,21 @@ std::string Reply::object(const json& id) const {
 
 }  // namespace detail
 
+double RequestRate::level(std::chrono::steady_clock::time_point now) const {
+    if (!started) {
+        return per_second;
+    }
+    const double elapsed = std::chrono::duration<double>(now - last).count();
+    return std::min(per_second, tokens + std::max(elapsed, 0.0) * per_second);
+}
+
 bool RequestRate::take(std::chrono::steady_clock::time_point now) {
     if (per_second <= 0) {
         return true;
     }
-    const double elapsed = tokens < 0 ? 1.0 : std::chrono::duration<double>(now - last).count();
-    tokens = std::min(per_second, std::max(tokens, 0.0) + elapsed * per_second);
+    tokens = level(now);
     last = now;
+    started = true;
     if (tokens < 1) {
         return false;
     }
@@ -221,14 +236,24 @@ bool RequestRate::take(std::chrono::steady_clock::time_point now) {
     return true;
 }
 
+void RequestRate::charge(std::chrono::steady_clock::duration cost,
+                         std::chrono::steady_clock::time_point now) {
+    if (per_second <= 0 || cost <= kCostPerToken) {
+        return;
+    }
+    const double extra = std::chrono::duration<double>(cost - kCostPerToken) /
+                         std::chrono::duration<double>(kCostPerToken);
+    tokens = std::max(level(now) - extra, -per_second);
+    last = now;
+    started = true;
+}
+
 std::chrono::steady_clock::duration RequestRate::wait_for(
     double needed, std::chrono::steady_clock::time_point now) const {
-    if (per_second <= 0 || tokens < 0) {
+    if (per_second <= 0 || !started) {
         return {};
     }
-    const double elapsed = std::chrono::duration<double>(now - last).count();
-    const double have = std::min(per_second, tokens + elapsed * per_second);
-    const double missing = std::min(needed, per_second) - have;
+    const double missing = std::min(needed, per_second) - level(now);
     if (missing <= 0) {
         return {};
     }
@@ -242,7 +267,16 @@ std::string error_line(int code, std::string_view message) {
 
 Dispatcher::Dispatcher(daemon::Api& api, std::function<ServerStats()> stats,
                        StatusCache::Clock::duration status_max_age)
-    : api_(api), stats_(std::move(stats)), status_cache_(status_max_age) {}
+    : api_(api),
+      server_stats_(std::move(stats)),
+      stats_([this] {
+          auto s = server_stats_();
+          s.worst_request_us = static_cast<std::uint64_t>(
+              std::chrono::duration_cast<std::chrono::microseconds>(worst_.time).count());
+          s.worst_method = worst_.method;
+          return s;
+      }),
+      status_cache_(status_max_age) {}
 
 void Dispatcher::handle_line(std::string_view line, ClientState& client, const ReplySink& sink) {
     // Whatever is logged while the request runs (here, in the core, in the
@@ -261,7 +295,8 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const R
         sink(error_line(rpc_error::kParse, fmt::format("parse error: {}", e.what())));
         return;
     }
-    detail::MethodContext context{api_, client, stats_, status_cache_, channel_host_, captures_};
+    detail::MethodContext context{api_,          client,    stats_, status_cache_,
+                                  channel_host_, captures_, false,  &worst_};
     // A reply may come after this returns (settings): it keeps a copy of the
     // sink, and of who asked, so its delivery is logged with the client's
     // fields too (the groups are not needed for that).

@@ -43,6 +43,8 @@ struct MethodContext {
     CaptureLog& captures;
     // The request running is a notification: its reply is never sent.
     bool notification = false;
+    // Where the time each request holds the loop is kept (nullptr: not kept).
+    Dispatcher::Worst* worst = nullptr;
 };
 
 using Handler = void (*)(MethodContext& context, const nlohmann::json& params, Respond respond);

@@ -69,7 +69,14 @@ json shared_status_json(const daemon::Status& status, const ServerStats& stats) 
             {"dropped_notifications", stats.dropped_notifications},
             {"motion", motion_json(status.motion)},
             {"controller", optional_client(status.controller)},
-            {"recording", daemon::to_string(status.recording)}};
+            {"recording", daemon::to_string(status.recording)},
+            {"camera",
+             {{"max_commands_per_s", status.camera.max_commands_per_s},
+              {"refused", status.camera.refused}}},
+            {"loop",
+             {{"worst_request_us", stats.worst_request_us},
+              {"worst_method",
+               stats.worst_method.empty() ? json(nullptr) : json(stats.worst_method)}}}};
 }
 
 json controller_json(const std::optional<daemon::ClientInfo>& holder,

@@ -87,7 +87,7 @@ Server::Server(asio::io_context& io, daemon::Api& api, config::SocketConfig conf
       accept_pause_(io) {
     ChannelHost& channel_host = *this;
     dispatcher_->set_channel_host(&channel_host);
-    dispatcher_->captures().on_added([this](const nlohmann::json& capture) {
+    dispatcher_->captures().on_added([this](std::string_view capture) {
         publish_event(&Subscriptions::capture, [&] { return capture_line(capture); });
     });
 }

@@ -215,7 +215,7 @@ void Session::attach_descriptors(std::size_t count) {
 // a flood with errors at full speed.
 bool Session::throttle() {
     const auto& rate = state_.rate;
-    if (rate.per_second <= 0 || rate.tokens >= 1 || !open()) {
+    if (rate.per_second <= 0 || rate.has_token() || !open()) {
         return false;
     }
     const auto wait = rate.wait_for(static_cast<double>(kMaxBatch), Clock::now());

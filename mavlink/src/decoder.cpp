@@ -54,15 +54,23 @@ void Decoder::reject(Verdict why) {
     }
 }
 
+Decoder::Verdict Decoder::unknown(const std::uint8_t* p, std::size_t n, std::size_t size) {
+    if (n < size + 1) {
+        return Verdict::kNeedMore;
+    }
+    return is_magic(p[size]) ? Verdict::kUnknownFrame : Verdict::kUnknownId;
+}
+
 Decoder::Verdict Decoder::check_v1(const std::uint8_t* p, std::size_t n, std::size_t& size) {
     if (n < kHeaderSizeV1) {
         return Verdict::kNeedMore;
     }
+    const std::size_t len = p[1];
     const MessageInfo* info = find_message(p[5]);
     if (info == nullptr) {
-        return Verdict::kUnknownId;
+        size = kHeaderSizeV1 + len + kChecksumSize;
+        return unknown(p, n, size);
     }
-    const std::size_t len = p[1];
     if (len != info->base_length) {
         return Verdict::kLength;
     }
@@ -88,15 +96,15 @@ Decoder::Verdict Decoder::check(const std::uint8_t* p, std::size_t n, std::size_
     const std::uint32_t msgid =
         std::uint32_t{p[7]} | std::uint32_t{p[8]} << 8 | std::uint32_t{p[9]} << 16;
     const MessageInfo* info = find_message(msgid);
-    if (info == nullptr) {
-        return Verdict::kUnknownId;
-    }
     const std::size_t len = p[1];
+    const bool is_signed = (p[2] & kIncompatSigned) != 0;
+    size = kHeaderSizeV2 + len + kChecksumSize + (is_signed ? kSignatureSize : 0);
+    if (info == nullptr) {
+        return unknown(p, n, size);
+    }
     if (len > info->full_length) {
         return Verdict::kLength;
     }
-    const bool is_signed = (p[2] & kIncompatSigned) != 0;
-    size = kHeaderSizeV2 + len + kChecksumSize + (is_signed ? kSignatureSize : 0);
     if (n < size) {
         return Verdict::kNeedMore;
     }

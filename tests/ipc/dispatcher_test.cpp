@@ -392,14 +392,48 @@ TEST_F(DispatcherTest, RequestsOverTheRateGetTooManyAndDoNotRun) {
     auto replies = send(batch.dump());
     ASSERT_EQ(replies.size(), 1u);
     ASSERT_EQ(replies[0].size(), 8u);
-    for (int i = 0; i < 5; ++i) {
-        EXPECT_EQ(replies[0][i]["result"]["sent"], true) << i;
-    }
-    for (int i = 5; i < 8; ++i) {
+    // Five tokens; a request that held the loop past RequestRate::kCostPerToken
+    // (a loaded machine) costs more than one, so fewer may run.
+    std::size_t sent = 0;
+    for (int i = 0; i < 8; ++i) {
+        if (replies[0][i].contains("result")) {
+            EXPECT_EQ(replies[0][i]["result"]["sent"], true) << i;
+            EXPECT_EQ(sent, static_cast<std::size_t>(i)) << "the accepted ones come first";
+            ++sent;
+            continue;
+        }
         EXPECT_EQ(code(replies[0][i]), -32005) << i;
         EXPECT_THAT(message(replies[0][i]), HasSubstr("5 per second (socket.max_requests_per_s)"));
     }
-    EXPECT_EQ(api_.calls.size(), 5u) << "refused requests are not carried out";
+    EXPECT_LE(sent, 5u);
+    EXPECT_GE(sent, 3u);
+    EXPECT_EQ(api_.calls.size(), sent) << "refused requests are not carried out";
+}
+
+// A request's cost on the event loop is charged on top of its token: one
+// token per millisecond beyond the first, down to one second's worth of debt.
+TEST(RequestRate, CostIsChargedAsDebtThatRequestsWaitOut) {
+    RequestRate rate;
+    rate.per_second = 100;
+    const auto t0 = std::chrono::steady_clock::time_point{} + std::chrono::seconds(100);
+    ASSERT_TRUE(rate.take(t0));
+    rate.charge(std::chrono::microseconds(900), t0);
+    EXPECT_TRUE(rate.has_token()) << "a request within the budget costs its one token";
+    rate.charge(std::chrono::milliseconds(500), t0);
+    EXPECT_FALSE(rate.has_token()) << "500 ms of loop time is 499 tokens, capped at 100 of debt";
+    EXPECT_GT(rate.wait_for(1, t0), std::chrono::seconds(1));
+    EXPECT_FALSE(rate.take(t0 + std::chrono::milliseconds(900)));
+    EXPECT_TRUE(rate.take(t0 + std::chrono::milliseconds(1100)));
+}
+
+TEST_F(DispatcherTest, StatusNamesTheLongestRequest) {
+    call("photo");
+    const auto loop = call("status")["result"]["loop"];
+    EXPECT_TRUE(loop["worst_request_us"].is_number_unsigned());
+    EXPECT_TRUE(loop["worst_method"].is_string());
+    const auto camera = call("status")["result"]["camera"];
+    EXPECT_TRUE(camera.contains("max_commands_per_s"));
+    EXPECT_TRUE(camera.contains("refused"));
 }
 
 TEST_F(DispatcherTest, BatchesAnswerInOrderInOneLine) {

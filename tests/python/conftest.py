@@ -34,6 +34,8 @@ class Daemon:
         settings: dict[str, Any] = {
             "link": {"stale_ms": 300, "reconnect_initial_ms": 50, "reconnect_max_ms": 200},
             "requests": {"timeout_ms": 200, "retries": 1},
+            # Tests take photos back to back: the camera limit at its highest.
+            "camera": {"max_commands_per_s": 1000},
         }
         for key, value in (config or {}).items():
             settings[key] = {**settings.get(key, {}), **value}

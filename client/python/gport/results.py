@@ -202,7 +202,7 @@ class CaptureClient:
 class Capture:
     """A photo or record toggle that reached the wire, as gportd's capture log
     keeps it (docs/api.md, "Captures"). The ``photo`` and ``record`` replies
-    carry ``index``, ``kind`` and ``utc_us`` only; ``captures()`` and the
+    carry ``index``, ``kind``, ``utc_us`` and ``attitude`` only; ``captures()`` and the
     ``capture`` notification carry everything."""
 
     index: int
@@ -217,11 +217,14 @@ class Capture:
 
 @dataclass(frozen=True)
 class Captures:
-    """The ``captures`` result: the kept captures asked for, oldest first, and
-    ``next``, the ``since`` that asks for the following ones."""
+    """The ``captures`` result: the kept captures asked for, oldest first,
+    ``next``, the ``since`` that asks for the following ones, and ``more``:
+    whether captures at or after ``next`` are kept (a page is bounded by
+    ``limit`` and by 64 KiB; ask again from ``next`` while ``more``)."""
 
     captures: tuple[Capture, ...]
     next: int
+    more: bool = False
 
 
 @dataclass(frozen=True)
@@ -489,7 +492,9 @@ def _capture(raw: Json | None) -> Capture | None:
 
 
 def parse_captures(raw: Json) -> Captures:
-    return Captures(tuple(parse_capture(c) for c in raw["captures"]), int(raw["next"]))
+    return Captures(
+        tuple(parse_capture(c) for c in raw["captures"]), int(raw["next"]), bool(raw.get("more", False))
+    )
 
 
 def parse_control(raw: Json) -> Control:

@@ -113,6 +113,7 @@ async function startGimbal(workRoot, gportdPath, simPath, gportdConfig) {
   fs.writeFileSync(config, JSON.stringify(gportdConfig || {
     link: { stale_ms: 300, reconnect_initial_ms: 50, reconnect_max_ms: 200 },
     requests: { timeout_ms: 200, retries: 1 },
+    camera: { max_commands_per_s: 1000 },
   }));
   const sim = start(workRoot, 'gport-sim', simPath, ['--link', link, '--trace', '--form', '24'],
     { onLine: onTrace });

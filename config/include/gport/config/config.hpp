@@ -136,6 +136,13 @@ struct CapturesConfig {                      // "captures"
     int keep_files = 4;                      // "keep_files": captures.jsonl and .1 ... .N-1
 };
 
+// Camera commands (docs/configuration.md, "camera"): photo and record
+// toggles reach the camera through the gimbal, which cannot take more than a
+// few a second; a flood would only fill the serial line ahead of a stop.
+struct CameraConfig {               // "camera"
+    double max_commands_per_s = 5;  // "max_commands_per_s": photos and record toggles
+};
+
 struct Config {
     SerialConfig serial;
     SocketConfig socket;
@@ -149,6 +156,7 @@ struct Config {
     FailsafeConfig failsafe;
     MotionConfig motion;
     CapturesConfig captures;
+    CameraConfig camera;
     bool simulate = false;  // command line only: --simulate
 };
 

@@ -108,6 +108,12 @@ struct MotionEnd {
 // inside the call that ended the motion.
 using MotionEndCallback = std::function<void(const MotionEnd&)>;
 
+// Camera commands (config "camera"): the limit and what it refused.
+struct CameraStatus {
+    double max_commands_per_s = 0;
+    std::uint64_t refused = 0;  // photos and record toggles over the limit since start
+};
+
 struct Status {
     LinkState link = LinkState::kDown;
     std::string link_reason;
@@ -120,6 +126,7 @@ struct Status {
     std::optional<MotionStatus> motion;                   // a speed or tracked motion
     std::optional<ClientInfo> controller;                 // holder of acquire(), if any
     RecordingState recording = RecordingState::kUnknown;  // assumed, see RecordingState
+    CameraStatus camera;
 };
 
 class Api {

@@ -21,6 +21,7 @@
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
 #include "gport/daemon/core/arbiter.hpp"
+#include "gport/daemon/core/camera_gate.hpp"
 #include "gport/daemon/core/link_monitor.hpp"
 #include "gport/daemon/core/motion.hpp"
 #include "gport/daemon/core/serial_port.hpp"
@@ -123,6 +124,7 @@ class Core final : public Api {
     std::uint64_t bad_messages_ = 0;
     bool stopping_ = false;
     RecordingState recording_ = RecordingState::kUnknown;  // assumed; unknown on each open
+    CameraGate camera_;
 };
 
 }  // namespace gport::daemon

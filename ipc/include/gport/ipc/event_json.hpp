@@ -44,7 +44,7 @@ AttitudeLine attitude_line(const daemon::AttitudeSample& sample);
 Line link_line(const daemon::LinkEvent& event);
 Line motion_line(const daemon::MotionEvent& event);
 // A `capture` notification: its params are the capture as `captures` lists it.
-Line capture_line(const nlohmann::json& capture);
+Line capture_line(std::string_view capture);
 
 // The shared line itself (sharing its ownership, not a copy).
 Line text_of(const AttitudeLine& notification);

@@ -51,17 +51,33 @@ struct Subscriptions {
 };
 
 // A token bucket of requests: `per_second` tokens a second, holding at most
-// one second's worth. per_second 0: no limit.
+// one second's worth, full until first used. per_second 0: no limit. A
+// request takes one token, and what it cost the event loop beyond the loop's
+// budget for one request is charged on top (charge(): one token per
+// kCostPerToken), so a costly request counts as several and a client that
+// sends them waits longer.
 struct RequestRate {
+    static constexpr auto kCostPerToken = std::chrono::milliseconds(1);
+
     double per_second = 0;
-    double tokens = -1;  // below 0 until first used: starts full
+    double tokens = 0;
+    bool started = false;  // false: full
     std::chrono::steady_clock::time_point last{};
 
     // Takes one token; false when none is left.
     bool take(std::chrono::steady_clock::time_point now);
+    // Spends tokens for `cost` of loop time beyond the first kCostPerToken,
+    // even into debt (down to minus one second's worth).
+    void charge(std::chrono::steady_clock::duration cost,
+                std::chrono::steady_clock::time_point now);
+    // At least one token was left when last counted (or never used).
+    bool has_token() const { return !started || tokens >= 1; }
     // How long until `needed` tokens (at most one second's worth) are there.
     std::chrono::steady_clock::duration wait_for(double needed,
                                                  std::chrono::steady_clock::time_point now) const;
+
+  private:
+    double level(std::chrono::steady_clock::time_point now) const;
 };
 
 // Per-connection state the methods read and change.
@@ -80,6 +96,10 @@ struct ServerStats {
     std::size_t attitude_channel_clients = 0;  // connected clients that opened the channel
     // Channels not made or descriptors not sent (EMFILE, ETOOMANYREFS...) since start.
     std::uint64_t attitude_channel_failures = 0;
+    // The longest one request held the event loop since start (a batch's
+    // members each count alone), and its method.
+    std::uint64_t worst_request_us = 0;
+    std::string worst_method{};
 };
 
 // The shared-memory attitude channel as the attitude_channel method reports it.
@@ -125,6 +145,8 @@ class Dispatcher {
     // pass other ages; the server uses the default).
     Dispatcher(daemon::Api& api, std::function<ServerStats()> stats,
                StatusCache::Clock::duration status_max_age = StatusCache::kMaxAge);
+    Dispatcher(const Dispatcher&) = delete;  // its stats function refers to it
+    Dispatcher& operator=(const Dispatcher&) = delete;
 
     // Handles one line (without its '\n'). Replies go to `sink`, zero or
     // more times: never for notifications, once for a request or a batch.
@@ -143,9 +165,18 @@ class Dispatcher {
     // The captures of photo and record (capture_log.hpp).
     CaptureLog& captures() { return captures_; }
 
+    // The longest one request held the loop, and its method (status "loop").
+    struct Worst {
+        std::chrono::steady_clock::duration time{};
+        std::string method;
+    };
+    const Worst& worst_request() const { return worst_; }
+
   private:
     daemon::Api& api_;
-    std::function<ServerStats()> stats_;
+    std::function<ServerStats()> server_stats_;
+    std::function<ServerStats()> stats_;  // server_stats_ and worst_
+    Worst worst_;
     StatusCache status_cache_;
     ChannelHost* channel_host_ = nullptr;
     CaptureLog captures_;

@@ -2,6 +2,14 @@
 // written through a queue with one write in flight (the loop never blocks;
 // write_queue.hpp says which frames wait and which replace each other),
 // and reopened with capped exponential backoff whenever it fails or vanishes.
+//
+// Writes are paced at the line rate: a frame goes to the kernel only once
+// the bytes before it are (nearly) on the wire, by gportd's own account of
+// the line (10 bits a byte at the configured baud) and by the driver's
+// (TIOCOUTQ, where it reports one). So the backlog of a flood waits in
+// gportd's queue, where a stop goes first, not in the kernel's buffer,
+// where it would wait behind every frame handed over before it: a stop
+// waits at most for the frame already on the wire.
 #pragma once
 
 #include <spdlog/logger.h>
@@ -9,6 +17,7 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/serial_port.hpp>
 #include <boost/asio/steady_timer.hpp>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -46,6 +55,10 @@ class SerialPort {
     // At most this many camera and settings frames wait for the device; more
     // means it is stuck. 0x85 frames are never refused (write_queue.hpp).
     static constexpr std::size_t kMaxQueuedFrames = 64;
+    // The next frame goes to the kernel once the bytes before it will be on
+    // the wire within this: a stop then waits at most for this, the frame
+    // being written (a 22-byte 0x85 is 1.9 ms at 115200 baud) and itself.
+    static constexpr auto kLineSlack = std::chrono::milliseconds(1);
 
     SerialPort(boost::asio::io_context& io, const config::SerialConfig& serial,
                const config::LinkConfig& link, Handlers handlers,
@@ -75,14 +88,20 @@ class SerialPort {
     void schedule_reopen();
     void read_more();
     void write_next();
+    // How long until the bytes already handed to the kernel are on the wire.
+    std::chrono::steady_clock::duration line_ahead(std::chrono::steady_clock::time_point now);
     void fail(const std::string& reason);
     void notify_drained();
     void owe_stop_if_unwritten();
 
     boost::asio::serial_port port_;
     boost::asio::steady_timer reopen_timer_;
+    boost::asio::steady_timer pace_timer_;
     std::string device_;
     unsigned baud_;
+    std::chrono::nanoseconds byte_time_;  // one byte on the wire: 10 bits (8N1)
+    std::chrono::steady_clock::time_point line_free_at_{};
+    bool pacing_ = false;  // pace_timer_ is waiting for the line
     config::Millis backoff_initial_;
     config::Millis backoff_max_;
     config::Millis backoff_;

@@ -1,0 +1,46 @@
+// What a camera command must pass before its frame goes to the gimbal: a
+// rate a camera can follow (config camera.max_commands_per_s, over all
+// clients, a burst of one second's worth), and the journal's pace for them
+// (one line per kind, then a summary at most every 10 s, so a flood cannot
+// push gportd's other messages out of journald's rate limit).
+#pragma once
+
+#include <spdlog/logger.h>
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+#include "gport/base/token_bucket.hpp"
+#include "gport/config/config.hpp"
+#include "gport/daemon/api.hpp"
+#include "gport/daemon/core/repeat_limiter.hpp"
+#include "gport/daemon/outcome.hpp"
+
+namespace gport::daemon {
+
+class CameraGate {
+  public:
+    using Clock = std::chrono::steady_clock;
+
+    explicit CameraGate(const config::CameraConfig& config);
+
+    // Empty when a command may go now (its token is spent); else the
+    // kTooManyRequests error naming the limit and when to try again.
+    std::optional<CommandError> admit(Clock::time_point now = Clock::now());
+    // Logs one sent command of `kind` ("photo", "record toggle"), paced.
+    void sent(spdlog::logger& log, std::string_view kind, int pid,
+              Clock::time_point now = Clock::now());
+
+    void reload(const config::CameraConfig& config);
+    CameraStatus status() const;
+
+  private:
+    base::TokenBucket rate_;
+    std::uint64_t refused_ = 0;
+    RepeatLimiter photo_log_;
+    RepeatLimiter record_log_;
+};
+
+}  // namespace gport::daemon

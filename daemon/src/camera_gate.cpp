@@ -1,0 +1,61 @@
+#include "gport/daemon/core/camera_gate.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace gport::daemon {
+
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr auto kLogInterval = 10s;
+
+base::TokenBucket bucket(const config::CameraConfig& config) {
+    // A burst of one second's worth, and at least one command.
+    return base::TokenBucket(config.max_commands_per_s, std::max(1.0, config.max_commands_per_s));
+}
+
+}  // namespace
+
+CameraGate::CameraGate(const config::CameraConfig& config)
+    : rate_(bucket(config)), photo_log_(kLogInterval), record_log_(kLogInterval) {}
+
+std::optional<CommandError> CameraGate::admit(Clock::time_point now) {
+    if (rate_.take(now)) {
+        return std::nullopt;
+    }
+    ++refused_;
+    const auto wait = std::chrono::ceil<std::chrono::milliseconds>(rate_.wait_for(now));
+    return CommandError{
+        ErrorCode::kTooManyRequests,
+        fmt::format("too many camera commands: the limit is {:g} per second over all clients "
+                    "(camera.max_commands_per_s), what a camera can follow; nothing was sent; "
+                    "try again in {} ms",
+                    rate_.rate(), wait.count())};
+}
+
+void CameraGate::sent(spdlog::logger& log, std::string_view kind, int pid, Clock::time_point now) {
+    auto& limiter = kind == "photo" ? photo_log_ : record_log_;
+    if (auto count = limiter.occur(now)) {
+        if (*count == 1) {
+            log.info("camera {} by pid {}", kind, pid);
+        } else {
+            log.info("camera {} by pid {} ({} {} commands in the last {} s)", kind, pid, *count,
+                     kind, std::chrono::duration_cast<std::chrono::seconds>(kLogInterval).count());
+        }
+    }
+}
+
+void CameraGate::reload(const config::CameraConfig& config) {
+    if (config.max_commands_per_s != rate_.rate()) {
+        rate_ = bucket(config);
+    }
+}
+
+CameraStatus CameraGate::status() const {
+    return CameraStatus{rate_.rate(), refused_};
+}
+
+}  // namespace gport::daemon

@@ -1,0 +1,67 @@
+// Camera commands at a rate a camera can follow (issue 30): a flood of
+// photos from any number of clients gets -32005 naming the limit once the
+// burst is spent, nothing more reaches the line, and status counts them.
+#include "gport/daemon/core/camera_gate.hpp"
+
+#include <gmock/gmock.h>
+
+#include "core_fixture.hpp"
+
+namespace gport::testing {
+namespace {
+
+using ::testing::HasSubstr;
+
+TEST(CameraGate, ABurstOfOneSecondThenTheRate) {
+    config::CameraConfig config;
+    config.max_commands_per_s = 4;
+    daemon::CameraGate gate(config);
+    const auto t0 = std::chrono::steady_clock::time_point{} + 100s;
+    for (int i = 0; i < 4; ++i) {
+        EXPECT_FALSE(gate.admit(t0).has_value()) << i;
+    }
+    const auto refused = gate.admit(t0);
+    ASSERT_TRUE(refused.has_value());
+    EXPECT_EQ(refused->code, daemon::ErrorCode::kTooManyRequests);
+    EXPECT_THAT(refused->message, HasSubstr("camera.max_commands_per_s"));
+    EXPECT_THAT(refused->message, HasSubstr("4 per second"));
+    EXPECT_THAT(refused->message, HasSubstr("try again in 250 ms"));
+    EXPECT_FALSE(gate.admit(t0 + 250ms).has_value());
+    EXPECT_EQ(gate.status().refused, 1u);
+}
+
+TEST(CameraGate, ASlowRateStillAllowsOneCommand) {
+    config::CameraConfig config;
+    config.max_commands_per_s = 0.1;
+    daemon::CameraGate gate(config);
+    const auto t0 = std::chrono::steady_clock::time_point{} + 100s;
+    EXPECT_FALSE(gate.admit(t0).has_value());
+    EXPECT_TRUE(gate.admit(t0 + 5s).has_value());
+    EXPECT_FALSE(gate.admit(t0 + 10s).has_value());
+}
+
+TEST_F(CoreFixture, APhotoFloodIsRefusedPastTheCameraLimitAndNothingMoreIsSent) {
+    start({}, [](config::Config& c) { c.camera.max_commands_per_s = 5; });
+    ASSERT_TRUE(run_until([&] { return link_up(); }));
+    int accepted = 0;
+    int refused = 0;
+    for (int i = 0; i < 200; ++i) {
+        auto r = i % 2 == 0 ? core->photo(alice) : core->photo(bob);
+        if (r.ok()) {
+            ++accepted;
+        } else {
+            EXPECT_EQ(r.error().code, daemon::ErrorCode::kTooManyRequests);
+            ++refused;
+        }
+    }
+    EXPECT_GE(accepted, 5);
+    EXPECT_LE(accepted, 7) << "a burst of one second's worth, over all clients";
+    EXPECT_EQ(core->status().camera.refused, static_cast<std::uint64_t>(refused));
+    ASSERT_TRUE(
+        run_until([&] { return frames_with("0x86") == static_cast<std::size_t>(accepted); }));
+    run_for(100ms);
+    EXPECT_EQ(frames_with("0x86"), static_cast<std::size_t>(accepted));
+}
+
+}  // namespace
+}  // namespace gport::testing
