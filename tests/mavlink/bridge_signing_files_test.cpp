@@ -193,5 +193,57 @@ TEST_F(SigningFiles, AnUnwritableStateDirectoryIsReported) {
     EXPECT_NE(error->message.find("signing-timestamp"), std::string::npos);
 }
 
+// Issue 30, item 2: a state directory that others can write (they could
+// plant the timestamp) is refused, naming it, the mode and what to do.
+TEST_F(SigningFiles, AStateDirectoryOthersCanWriteIsRefused) {
+    for (mode_t mode : {0777, 0775, 0733, 01777}) {
+        ASSERT_EQ(::chmod(dir_.c_str(), mode), 0);
+        TimestampFile file(dir_.string());
+        const auto error = file.lock();
+        ASSERT_TRUE(error) << std::oct << mode;
+        EXPECT_NE(error->message.find("state directory " + dir_.string()), std::string::npos)
+            << error->message;
+        EXPECT_NE(error->message.find("-writable"), std::string::npos) << error->message;
+        EXPECT_NE(error->message.find("chmod 700"), std::string::npos) << error->message;
+    }
+    for (mode_t mode : {0700, 0755, 0750}) {
+        ASSERT_EQ(::chmod(dir_.c_str(), mode), 0);
+        TimestampFile file(dir_.string());
+        EXPECT_FALSE(file.lock()) << std::oct << mode;
+    }
+}
+
+TEST_F(SigningFiles, AStateDirectoryOwnedByAnotherUserIsRefused) {
+    if (::geteuid() != 0) {
+        GTEST_SKIP() << "needs root to give the directory to another uid (65534)";
+    }
+    ASSERT_EQ(::chmod(dir_.c_str(), 0700), 0);
+    ASSERT_EQ(::chown(dir_.c_str(), 65534, 65534), 0);
+    TimestampFile file(dir_.string());
+    const auto error = file.lock();
+    ASSERT_TRUE(error);
+    EXPECT_NE(error->message.find("owned by uid 65534"), std::string::npos) << error->message;
+    ASSERT_EQ(::chown(dir_.c_str(), 0, 0), 0);
+    EXPECT_FALSE(file.lock()) << "root's own directory";
+}
+
+// A symbolic link in the timestamp file's place is not followed, nor is a
+// FIFO read.
+TEST_F(SigningFiles, ATimestampFileThatIsALinkOrNoRegularFileIsRefused) {
+    const auto target = dir_ / "elsewhere";
+    std::ofstream(target) << "42\n";
+    const TimestampFile file(dir_.string());
+    fs::create_symlink(target, file.path());
+    const auto linked = file.load();
+    ASSERT_FALSE(linked);
+    EXPECT_NE(linked.error().message.find("symbolic link"), std::string::npos)
+        << linked.error().message;
+    fs::remove(file.path());
+    ASSERT_EQ(::mkfifo(file.path().c_str(), 0600), 0);
+    const auto piped = file.load();  // must not hang
+    ASSERT_FALSE(piped);
+    EXPECT_NE(piped.error().message.find("not a regular file"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace gport::mavlink::bridge

@@ -89,6 +89,36 @@ Result<std::string> read_small(int fd, std::size_t limit) {
     return data;
 }
 
+// Issue 30: a state directory that another user can write lets them plant
+// the timestamp file (or swap it for a link). Owned by us or root, not
+// writable by group or others.
+std::optional<Error> check_directory(int fd, const std::string& directory) {
+    const std::string what_to_do = fmt::format(
+        "; allowed: a directory owned by the user gport-mavlink runs as (uid {}) or root, "
+        "that neither its group nor others may write (e.g. chown that user, chmod 700 {}; the "
+        "units' StateDirectory= makes one)",
+        ::geteuid(), directory);
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) {
+        return Error{fmt::format("state directory {}: cannot be examined: {}", directory,
+                                 errno_text(errno))};
+    }
+    if (st.st_uid != ::geteuid() && st.st_uid != 0) {
+        return Error{
+            fmt::format("state directory {}: is owned by uid {}, who could plant its "
+                        "signing timestamp{}",
+                        directory, st.st_uid, what_to_do)};
+    }
+    if ((st.st_mode & (S_IWGRP | S_IWOTH)) != 0) {
+        return Error{
+            fmt::format("state directory {}: mode {:04o} is {}: others could plant its "
+                        "signing timestamp{}",
+                        directory, st.st_mode & 07777,
+                        loose_permissions(st.st_mode & (S_IWGRP | S_IWOTH)), what_to_do)};
+    }
+    return std::nullopt;
+}
+
 }  // namespace
 
 Result<SecretKey> load_signing_key(const std::string& path) {
@@ -162,6 +192,10 @@ std::optional<Error> TimestampFile::lock() {
         return Error{
             fmt::format("state directory {}: cannot be opened: {}", directory_, errno_text(errno))};
     }
+    if (auto error = check_directory(fd, directory_)) {
+        ::close(fd);
+        return error;
+    }
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
         const int error = errno;
         ::close(fd);
@@ -183,12 +217,22 @@ std::optional<Error> TimestampFile::lock() {
 }
 
 Result<std::uint64_t> TimestampFile::load() const {
-    Fd fd(::open(path_.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK));
+    // O_NOFOLLOW: a symbolic link in its place is refused (ELOOP), not followed.
+    Fd fd(::open(path_.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK | O_NOFOLLOW));
     if (fd.get() < 0 && errno == ENOENT) {
         return std::uint64_t{0};
     }
     if (fd.get() < 0) {
-        return Error{fmt::format("{}: cannot be opened: {}", path_, errno_text(errno))};
+        const int error = errno;
+        return Error{fmt::format("{}: cannot be opened: {}{}", path_, errno_text(error),
+                                 error == ELOOP ? " (a symbolic link: not followed)" : "")};
+    }
+    struct stat st {};
+    if (::fstat(fd.get(), &st) != 0 || !S_ISREG(st.st_mode)) {
+        return Error{
+            fmt::format("{}: is not a regular file; remove it while gport-mavlink is "
+                        "stopped",
+                        path_)};
     }
     auto data = read_small(fd.get(), 64);
     if (!data) {
