@@ -81,12 +81,14 @@ void Bridge::finish() {
     }
     spdlog::info(
         "mavlink: {} frames taken, {} refused by the trust rules, {} ground-station heartbeats "
-        "(not used), {} signed without a key, {} undecodable; decoder: {} bad CRC, {} bad "
+        "(not used), {} signed without a key, {} undecodable, {} positions dropped; decoder: {} "
+        "bad CRC, {} bad "
         "length, {} unknown flags, {} MAVLink 1; signing: {}; {} frames unsent (no peer yet), {} "
         "send failures",
         counters_.accepted, counters_.untrusted, counters_.gcs_heartbeats, counters_.signed_no_key,
-        counters_.undecodable, d.crc_errors, d.length_errors, d.header_errors, d.v1_frames, signing,
-        transport_ ? transport_->unsent() : 0, transport_ ? transport_->send_failures() : 0);
+        counters_.undecodable, counters_.bad_positions, d.crc_errors, d.length_errors,
+        d.header_errors, d.v1_frames, signing, transport_ ? transport_->unsent() : 0,
+        transport_ ? transport_->send_failures() : 0);
 }
 
 // ---- gportd ---------------------------------------------------------------------

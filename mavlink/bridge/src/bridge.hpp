@@ -85,7 +85,7 @@ class Bridge {
     void camera(const Requester& from, const CommandLong& command);
     void record(const Requester& from, std::uint16_t command, bool on, bool force);
     void on_attitude(const Attitude& message);
-    void on_position(const GlobalPositionInt& message);
+    void on_position(const Header& from, const GlobalPositionInt& message);
 
     // The camera component, compid 100 (bridge_camera.cpp)
     bool for_camera(const CommandLong& command) const;
@@ -148,7 +148,8 @@ class Bridge {
     std::optional<double> attitude_yaw_deg_;  // ATTITUDE's, when no AUTOPILOT_STATE came
     std::uint16_t mode_flags_ = gimbal_flags_default();
 
-    // The camera component: the vehicle's newest position, the interval
+    // The camera component: the vehicle's newest position (its autopilot's,
+    // within bounds: position.hpp), the interval
     // capture, the assumed recording, what gportd accepts.
     std::optional<std::pair<GlobalPositionInt, Clock::time_point>> position_;
     std::optional<ImagePlan> images_;
@@ -177,6 +178,7 @@ class Bridge {
         std::uint64_t signed_no_key = 0;   // signed frames while we have no key
         std::uint64_t untrusted = 0;       // refused by the trust rules
         std::uint64_t gcs_heartbeats = 0;  // a ground station's: normal, not used
+        std::uint64_t bad_positions = 0;   // not the autopilot's, or out of bounds (position.hpp)
     } counters_;
 
     static std::uint16_t gimbal_flags_default();

@@ -7,6 +7,7 @@
 
 #include "bridge.hpp"
 #include "gport/mavlink/attitude.hpp"
+#include "gport/mavlink/bridge/position.hpp"
 #include "gport/mavlink/enums.hpp"
 
 namespace gport::mavlink::bridge {
@@ -87,6 +88,11 @@ bool Bridge::admitted(const FrameView& frame, const Message& message) {
             frame.header.sysid);
     }
     const TrustVerdict verdict = trust_.judge(frame.header, frame.msgid);
+    // Only an allowed system's frame moves our signing clock (issue 30): a
+    // key holder we ignore must not push it ahead.
+    if (signing_ && (verdict == TrustVerdict::kTrusted || verdict == TrustVerdict::kNotVehicle)) {
+        signing_->follow(frame);
+    }
     if (verdict == TrustVerdict::kTrusted) {
         return true;
     }
@@ -137,7 +143,7 @@ void Bridge::handle(const Header& from, const Message& message) {
     } else if (const auto* attitude = std::get_if<Attitude>(&message)) {
         on_attitude(*attitude);
     } else if (const auto* position = std::get_if<GlobalPositionInt>(&message)) {
-        on_position(*position);
+        on_position(from, *position);
     }
 }
 
@@ -239,7 +245,18 @@ void Bridge::on_attitude(const Attitude& message) {
     }
 }
 
-void Bridge::on_position(const GlobalPositionInt& message) {
+void Bridge::on_position(const Header& from, const GlobalPositionInt& message) {
+    if (auto problem = position_problem(from, message)) {
+        ++counters_.bad_positions;
+        log_.warn("mavlink: positions dropped", [&] {
+            return fmt::format(
+                "mavlink: dropped GLOBAL_POSITION_INT from system {} component {}: {}; photos "
+                "keep the last valid position while it is under 1 s old (further ones are "
+                "counted, one line a minute)",
+                from.sysid, from.compid, *problem);
+        });
+        return;
+    }
     position_.emplace(message, Clock::now());
 }
 
