@@ -170,6 +170,16 @@ void Bridge::on_notification(const client::Notification& notification) {
 }
 
 void Bridge::dispatch(Command command) {
+    if (std::holds_alternative<IdleCommand>(command)) {
+        if (!idle_logged_) {
+            spdlog::info(
+                "mavlink: the gimbal manager sends no target yet (GIMBAL_DEVICE_SET_ATTITUDE all "
+                "NaN, as PX4 does before its first one); holding still");
+            idle_logged_ = true;
+        }
+        return;
+    }
+    idle_logged_ = false;
     if (const auto* none = std::get_if<NoCommand>(&command)) {
         log_.warn(
             fmt::format("GIMBAL_DEVICE_SET_ATTITUDE ignored: {}", none->kind),

@@ -147,6 +147,7 @@ class Bridge {
     std::optional<Clock::time_point> manager_seen_;
     std::optional<double> attitude_yaw_deg_;  // ATTITUDE's, when no AUTOPILOT_STATE came
     std::uint16_t mode_flags_ = gimbal_flags_default();
+    bool idle_logged_ = false;  // the all-NaN stream said once, until a target comes
 
     // The camera component: the vehicle's newest position (its autopilot's,
     // within bounds: position.hpp), the interval
