@@ -44,7 +44,8 @@ Bridge::Bridge(asio::io_context& io, Options options, std::unique_ptr<SigningSes
       reconnect_timer_(io),
       heartbeat_timer_(io),
       attitude_timer_(io),
-      image_timer_(io) {}
+      image_timer_(io),
+      rate_lease_(std::chrono::milliseconds(options_.lease_ms)) {}
 
 void Bridge::start() {
     transport_ = open_transport(io_, options_.mavlink);
@@ -222,9 +223,13 @@ void Bridge::send_motion(const Command& command) {
                             });
     } else if (const auto* speed = std::get_if<SpeedCommand>(&command)) {
         client::SpeedOptions so;
-        so.lease = std::chrono::milliseconds(options_.lease_ms);
+        so.lease = rate_lease_.current();
         gportd_.async_speed(speed->speed, so,
-                            [this](std::optional<client::Error> e, client::SpeedResult) {
+                            [this, command](std::optional<client::Error> e, client::SpeedResult) {
+                                if (e && lease_refused(*e)) {
+                                    motion_pending_ = motion_pending_.value_or(command);
+                                    e.reset();
+                                }
                                 motion_done(e, "speed");
                             });
     } else {
@@ -233,6 +238,22 @@ void Bridge::send_motion(const Command& command) {
                                  motion_done(e, "center");
                              });
     }
+}
+
+// gportd refused the lease as longer than its keepalive.max_duration_ms
+// (the message names it): the ceiling becomes that, and the speed is sent
+// again.
+bool Bridge::lease_refused(const client::Error& error) {
+    const auto max = max_lease_in(error.message());
+    if (!error.is(client::ErrorCode::kInvalidParams) || !max || *max >= rate_lease_.ceiling()) {
+        return false;
+    }
+    spdlog::info(
+        "gportd allows leases up to {} ms (keepalive.max_duration_ms); rate leases are "
+        "capped there",
+        max->count());
+    rate_lease_.set_ceiling(*max);
+    return true;
 }
 
 void Bridge::motion_done(const std::optional<client::Error>& error, const char* what) {
@@ -291,8 +312,10 @@ void Bridge::heartbeat_tick() {
 void Bridge::attitude_tick() {
     AttitudeInputs in;
     in.sample = sample_;
-    in.vehicle_yaw_deg = vehicle_yaw_deg_;
-    in.vehicle_yaw_rate_dps = vehicle_yaw_rate_dps_;
+    in.vehicle_yaw_deg = vehicle_yaw_deg();
+    if (const auto reading = vehicle_yaw_.at(Clock::now())) {
+        in.vehicle_yaw_rate_dps = reading->rate_dps;
+    }
     in.mode_flags = mode_flags_;
     in.time_boot_ms = time_boot_ms();
     send(make_attitude_status(in, health(), options_.invert));

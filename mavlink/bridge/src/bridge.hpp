@@ -25,7 +25,9 @@
 #include "gport/mavlink/bridge/log_limit.hpp"
 #include "gport/mavlink/bridge/mapping.hpp"
 #include "gport/mavlink/bridge/options.hpp"
+#include "gport/mavlink/bridge/rate_lease.hpp"
 #include "gport/mavlink/bridge/trust.hpp"
+#include "gport/mavlink/bridge/vehicle_yaw.hpp"
 #include "gport/mavlink/decoder.hpp"
 #include "gport/mavlink/messages.hpp"
 #include "logbook.hpp"
@@ -61,6 +63,7 @@ class Bridge {
     void on_notification(const client::Notification& notification);
     void dispatch(Command command);
     void send_motion(const Command& command);
+    bool lease_refused(const client::Error& error);
     void motion_done(const std::optional<client::Error>& error, const char* what);
 
     // MAVLink in (bridge_mavlink.cpp)
@@ -84,7 +87,8 @@ class Bridge {
     void request_message(const Requester& from, const CommandLong& command);
     void camera(const Requester& from, const CommandLong& command);
     void record(const Requester& from, std::uint16_t command, bool on, bool force);
-    void on_attitude(const Attitude& message);
+    void on_attitude(const Header& from, const Attitude& message);
+    std::optional<double> vehicle_yaw_deg();  // fresh, or none; logs a change of source
     void on_position(const Header& from, const GlobalPositionInt& message);
 
     // The camera component, compid 100 (bridge_camera.cpp)
@@ -142,10 +146,10 @@ class Bridge {
     std::string link_state_;
     std::optional<client::AttitudeSample> sample_;
     std::optional<client::Limits> limits_;
-    std::optional<double> vehicle_yaw_deg_;
-    std::optional<double> vehicle_yaw_rate_dps_;
+    VehicleYaw vehicle_yaw_;
+    YawSource yaw_source_ = YawSource::kNone;  // the one last logged
+    RateLease rate_lease_;
     std::optional<Clock::time_point> manager_seen_;
-    std::optional<double> attitude_yaw_deg_;  // ATTITUDE's, when no AUTOPILOT_STATE came
     std::uint16_t mode_flags_ = gimbal_flags_default();
     bool idle_logged_ = false;  // the all-NaN stream said once, until a target comes
 

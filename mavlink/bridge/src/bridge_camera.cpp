@@ -271,8 +271,7 @@ void Bridge::photo_done(const std::optional<Requester>& from, std::uint16_t comm
         ++image_count_;
     }
     image.position = fresh_position();
-    image.q = camera_orientation(sample_, vehicle_yaw_deg_ ? vehicle_yaw_deg_ : attitude_yaw_deg_,
-                                 options_.invert);
+    image.q = camera_orientation(sample_, vehicle_yaw_deg(), options_.invert);
     // To whoever asked (the requester's origin), else (an interval's
     // photos) to the peer.
     send(make_image_captured(image), from ? from->origin : Origin{}, kCameraCompid);
