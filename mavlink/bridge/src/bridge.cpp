@@ -45,7 +45,8 @@ Bridge::Bridge(asio::io_context& io, Options options, std::unique_ptr<SigningSes
       heartbeat_timer_(io),
       attitude_timer_(io),
       image_timer_(io),
-      rate_lease_(std::chrono::milliseconds(options_.lease_ms)) {}
+      rate_lease_(std::chrono::milliseconds(options_.lease_ms)),
+      image_count_(options_.state_dir) {}
 
 void Bridge::start() {
     transport_ = open_transport(io_, options_.mavlink);
@@ -62,6 +63,9 @@ void Bridge::start() {
         options_.sysid ? std::to_string(*options_.sysid)
                        : "auto (adopted from the first autopilot heartbeat: spoofable)",
         to_string(options_.gcs_sysids), signing_ ? "on" : "off");
+    if (options_.camera) {
+        load_image_count();
+    }
     connect();
     heartbeat_tick();
     attitude_tick();

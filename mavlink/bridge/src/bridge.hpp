@@ -22,6 +22,7 @@
 
 #include "gport/client/async_client.hpp"
 #include "gport/mavlink/bridge/camera.hpp"
+#include "gport/mavlink/bridge/image_count.hpp"
 #include "gport/mavlink/bridge/log_limit.hpp"
 #include "gport/mavlink/bridge/mapping.hpp"
 #include "gport/mavlink/bridge/options.hpp"
@@ -112,6 +113,7 @@ class Bridge {
     std::optional<GlobalPositionInt> fresh_position() const;
     CameraCaptureStatus capture_status() const;
     void send_camera_heartbeat(const Origin& to = std::nullopt);
+    void load_image_count();
 
     // MAVLink out: to the peer, or (replies) to a requester's origin; from
     // the gimbal's component (compid 0) or the given one.
@@ -159,7 +161,7 @@ class Bridge {
     std::optional<std::pair<GlobalPositionInt, Clock::time_point>> position_;
     std::optional<ImagePlan> images_;
     std::uint32_t images_taken_ = 0;  // of the running interval capture
-    std::int32_t image_count_ = 0;    // photos taken this run (the fallback image_index)
+    ImageCount image_count_;          // photos taken, kept in the state directory
     std::optional<Clock::time_point> recording_since_;
     bool photo_in_flight_ = false;
     bool meta_supported_ = true;   // false once this gportd refused `meta` as unknown

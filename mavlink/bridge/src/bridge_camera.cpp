@@ -37,6 +37,19 @@ bool Bridge::for_camera(const CommandLong& command) const {
            (command.target_component == mav_comp_id::kAll && is_camera_command(command));
 }
 
+void Bridge::load_image_count() {
+    if (auto error = image_count_.load()) {
+        spdlog::warn("camera: {}; image_index counts from 0 this run and is not kept",
+                     error->message);
+    } else if (!image_count_.kept()) {
+        spdlog::info(
+            "camera: no state directory (--state-dir): image_index counts from 0 each run");
+    } else {
+        spdlog::info("camera: {} images taken so far ({}): the next has image_index {}",
+                     image_count_.count(), image_count_.path(), image_count_.count());
+    }
+}
+
 void Bridge::send_camera_heartbeat(const Origin& to) {
     Heartbeat hb;
     hb.type = mav_type::kCamera;
@@ -115,7 +128,7 @@ CameraCaptureStatus Bridge::capture_status() const {
         state.recording_for =
             std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - *recording_since_);
     }
-    state.image_count = image_count_;
+    state.image_count = image_count_.count();
     return make_capture_status(time_boot_ms(), state);
 }
 
@@ -267,8 +280,15 @@ void Bridge::photo_done(const std::optional<Requester>& from, std::uint16_t comm
     if (error) {
         log_.warn("gportd refused photo", "gportd refused photo: " + error->message());
     } else {
-        image.image_index = capture ? static_cast<std::int32_t>(capture->index) : image_count_;
-        ++image_count_;
+        std::optional<Error> unsaved;
+        image.image_index = image_count_.add(unsaved);
+        spdlog::info("camera: image_index {} is gportd's capture {}", image.image_index,
+                     capture ? std::to_string(capture->index) : std::string("(not reported)"));
+        if (unsaved) {
+            log_.warn("camera: image count not stored",
+                      "camera: the image count could not be stored (" + unsaved->message +
+                          "); after a restart image_index may repeat");
+        }
     }
     image.position = fresh_position();
     image.q = camera_orientation(sample_, vehicle_yaw_deg(), options_.invert);

@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "gport/mavlink/result.hpp"
 #include "gport/mavlink/signing.hpp"
@@ -37,6 +38,18 @@ namespace gport::mavlink::bridge {
 inline constexpr std::size_t kMaxKeyFileSize = 1024;
 
 Result<SecretKey> load_signing_key(const std::string& path);
+
+// The state directory's files (the signing timestamp, the image count:
+// image_count.hpp) share its rules: the directory is ours or root's and
+// writable by neither group nor others (the error says what to do), a file
+// is opened with O_NOFOLLOW and must be a regular file, and is replaced
+// whole (a temporary file, fsync, rename).
+std::optional<Error> check_state_directory(const std::string& directory);
+// The number stored at `path`: 0 when there is no file; an error naming
+// the file, with `invalid` when it holds no decimal number up to `max`.
+Result<std::uint64_t> load_state_number(const std::string& path, std::uint64_t max,
+                                        std::string_view invalid);
+std::optional<Error> save_state_number(const std::string& path, std::uint64_t value);
 
 class TimestampFile {
   public:
