@@ -92,7 +92,7 @@ class Bridge {
     std::optional<double> vehicle_yaw_deg();  // fresh, or none; logs a change of source
     void on_position(const Header& from, const GlobalPositionInt& message);
 
-    // The camera component, compid 100 (bridge_camera.cpp)
+    // The camera component, compid 100 (bridge_camera.cpp; photos: bridge_photo.cpp)
     bool for_camera(const CommandLong& command) const;
     void on_camera_command(const Requester& from, const CommandLong& command);
     void camera_request(const Requester& from, const CommandLong& command);
@@ -102,8 +102,7 @@ class Bridge {
     bool camera_busy(const Requester& from, const CommandLong& command, std::uint8_t compid);
     void take_photo(const std::optional<Requester>& from, std::uint16_t command, bool with_meta);
     void photo_done(const std::optional<Requester>& from, std::uint16_t command,
-                    const std::optional<client::Error>& error,
-                    const std::optional<client::Capture>& capture);
+                    const std::optional<client::Error>& error, const client::PhotoReport& report);
     void camera_record(const Requester& from, std::uint16_t command, bool on, bool force,
                        bool with_meta);
     void image_tick();
