@@ -219,15 +219,18 @@ TEST(AttitudeStatus, NoSampleIsNaNWithFailureFlags) {
     EXPECT_EQ(status.failure_flags, gimbal_error::kCommsError | gimbal_error::kSoftwareError);
 }
 
-TEST(Information, LimitsInRadiansNaNWhenUnlimited) {
-    EXPECT_TRUE(std::isnan(make_information(0, std::nullopt, {}).pitch_min));
+TEST(Information, SoftLimitsInRadiansElseTheGportsRange) {
+    const auto plain = make_information(0, std::nullopt, {});
+    EXPECT_NEAR(plain.yaw_min, to_radians(-170), 1e-6) << "before gportd answered";
+    EXPECT_NEAR(plain.yaw_max, to_radians(170), 1e-6);
+    EXPECT_NEAR(plain.pitch_min, to_radians(-90), 1e-6);
     client::Limits limits;
     limits.roll = {-327.67, 327.67};
     limits.pitch = {-90, 30};
     limits.yaw = {-170, 100};
     const auto info = make_information(0, limits, {false, false, true});
-    EXPECT_TRUE(std::isnan(info.roll_min));
-    EXPECT_TRUE(std::isnan(info.roll_max));
+    EXPECT_NEAR(info.roll_min, to_radians(-45), 1e-6) << "no soft limit: the G-Port's range";
+    EXPECT_NEAR(info.roll_max, to_radians(45), 1e-6);
     EXPECT_NEAR(info.pitch_min, to_radians(-90), 1e-6);
     EXPECT_NEAR(info.pitch_max, to_radians(30), 1e-6);
     EXPECT_NEAR(info.yaw_min, to_radians(-100), 1e-6) << "inverted: -max";

@@ -136,8 +136,9 @@ void Bridge::on_connected() {
     });
     gportd_.async_limits([this](std::optional<client::Error> error, client::Limits limits) {
         if (error) {
-            log_.warn("gportd: limits unknown", "gportd: limits unknown (" + error->message() +
-                                                    "); GIMBAL_DEVICE_INFORMATION says NaN");
+            log_.warn("gportd: limits unknown",
+                      "gportd: limits unknown (" + error->message() +
+                          "); GIMBAL_DEVICE_INFORMATION gives the G-Port's mechanical range");
             return;
         }
         limits_ = limits;

@@ -157,11 +157,11 @@ namespace {
 
 constexpr double kNoLimit = 327.67;  // the protocol's whole range: no soft limit
 
-// min and max in radians, NaN when unlimited.
-std::pair<float, float> range_of(const client::AxisRange& range, bool invert) {
-    if (range.min <= -kNoLimit && range.max >= kNoLimit) {
-        return {kNaN, kNaN};
-    }
+// min and max in radians: gportd's soft limit, else the G-Port's range.
+std::pair<float, float> range_of(const std::optional<client::AxisRange>& soft,
+                                 const client::AxisRange& mechanical, bool invert) {
+    const bool limited = soft && (soft->min > -kNoLimit || soft->max < kNoLimit);
+    const client::AxisRange range = limited ? *soft : mechanical;
     const double min = invert ? -range.max : range.min;
     const double max = invert ? -range.min : range.max;
     return {static_cast<float>(to_radians(min)), static_cast<float>(to_radians(max))};
@@ -181,13 +181,15 @@ GimbalDeviceInformation make_information(std::uint32_t time_boot_ms,
                      gimbal_cap::kHasRollLock | gimbal_cap::kHasPitchAxis |
                      gimbal_cap::kHasPitchLock | gimbal_cap::kHasYawAxis |
                      gimbal_cap::kHasYawFollow | gimbal_cap::kHasYawLock;
-    info.roll_min = info.roll_max = info.pitch_min = info.pitch_max = info.yaw_min = info.yaw_max =
-        kNaN;
-    if (limits) {
-        std::tie(info.roll_min, info.roll_max) = range_of(limits->roll, invert.roll);
-        std::tie(info.pitch_min, info.pitch_max) = range_of(limits->pitch, invert.pitch);
-        std::tie(info.yaw_min, info.yaw_max) = range_of(limits->yaw, invert.yaw);
-    }
+    const auto soft = [&](auto member) -> std::optional<client::AxisRange> {
+        return limits ? std::optional((*limits).*member) : std::nullopt;
+    };
+    std::tie(info.roll_min, info.roll_max) =
+        range_of(soft(&client::Limits::roll), kGportRange.roll, invert.roll);
+    std::tie(info.pitch_min, info.pitch_max) =
+        range_of(soft(&client::Limits::pitch), kGportRange.pitch, invert.pitch);
+    std::tie(info.yaw_min, info.yaw_max) =
+        range_of(soft(&client::Limits::yaw), kGportRange.yaw, invert.yaw);
     return info;
 }
 

@@ -126,10 +126,20 @@ struct AttitudeInputs {
 GimbalDeviceAttitudeStatus make_attitude_status(const AttitudeInputs& inputs, const Health& health,
                                                 const Invert& invert);
 
+// The G-Port's mechanical range (docs/simulator.md, the device's model;
+// yaw ±170° was seen on the device, issue 31), in degrees.
+struct GportRange {
+    client::AxisRange roll{-45, 45};
+    client::AxisRange pitch{-90, 90};
+    client::AxisRange yaw{-170, 170};
+};
+inline constexpr GportRange kGportRange{};
+
 // The GIMBAL_DEVICE_INFORMATION gport-mavlink sends. The angle limits are
 // gportd's soft limits (`limits` method) in radians, flipped with `invert`;
-// NaN ("unknown") for an axis without one (the protocol's ±327.67°) or
-// before gportd answered.
+// the G-Port's mechanical range (kGportRange) for an axis without one (the
+// protocol's ±327.67°) or before gportd answered: an autopilot that knows
+// the range does not aim beyond it (ArduPilot kept ±180° with NaN).
 GimbalDeviceInformation make_information(std::uint32_t time_boot_ms,
                                          const std::optional<client::Limits>& limits,
                                          const Invert& invert);
