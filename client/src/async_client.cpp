@@ -444,6 +444,15 @@ void AsyncClient::async_photo(const CaptureOptions& options, Handler<PhotoResult
     impl_->call("photo", params, typed(std::move(handler), codec::photo_result));
 }
 
+void AsyncClient::async_photo_report(const CaptureOptions& options, Handler<PhotoReport> handler) {
+    json params = json::object();
+    if (auto error = codec::add_meta(params, options)) {
+        asio::post(impl_->io, [handler = std::move(handler), e = *error] { handler(e, {}); });
+        return;
+    }
+    impl_->call("photo", params, typed(std::move(handler), codec::photo_report));
+}
+
 void AsyncClient::async_record(std::optional<bool> on, bool force, const CaptureOptions& options,
                                Handler<RecordResult> handler) {
     json params = codec::record_params(on, force);

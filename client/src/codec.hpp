@@ -48,6 +48,7 @@ AngleResult angle_result(const json& result);
 CenterResult center_result(const json& result);
 RecordResult record_result(const json& result);
 PhotoResult photo_result(const json& result);
+PhotoReport photo_report(const json& result);
 Control control(const json& result);
 Settings settings(const json& result);
 Limits limits(const json& result);

@@ -186,6 +186,20 @@ std::optional<Capture> capture_of(const json& result) {
     return capture;
 }
 
+// capture.attitude: {"imu":{...},"hall":{...},"age_ms":n} or null/absent.
+std::optional<CaptureAttitude> capture_attitude_of(const json& result) {
+    if (!result.is_object() || !result.contains("capture") || !result.at("capture").is_object()) {
+        return std::nullopt;
+    }
+    const json& c = result.at("capture");
+    const auto it = c.find("attitude");
+    if (it == c.end() || !it->is_object()) {
+        return std::nullopt;
+    }
+    return CaptureAttitude{axes(it->at("imu")), axes(it->at("hall")),
+                           it->value("age_ms", std::int64_t{0})};
+}
+
 }  // namespace
 
 RecordResult record_result(const json& result) {
@@ -197,6 +211,12 @@ RecordResult record_result(const json& result) {
 
 PhotoResult photo_result(const json& result) {
     return guarded("photo result", result, [&] { return PhotoResult{capture_of(result)}; });
+}
+
+PhotoReport photo_report(const json& result) {
+    return guarded("photo result", result, [&] {
+        return PhotoReport{capture_of(result), capture_attitude_of(result)};
+    });
 }
 
 Control control(const json& result) {

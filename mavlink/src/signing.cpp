@@ -21,6 +21,11 @@ std::size_t signed_size_of(std::span<const std::uint8_t> frame) {
     return kHeaderSizeV2 + frame[1] + kChecksumSize + kSignatureSize;
 }
 
+// now + SendClock::kMaxLead, saturated at 48 bits.
+std::uint64_t lead_limit(std::uint64_t now) {
+    return std::min(now, kMaxTimestamp - SendClock::kMaxLead) + SendClock::kMaxLead;
+}
+
 }  // namespace
 
 void wipe(std::span<char> secret) {
@@ -75,10 +80,19 @@ std::uint64_t SendClock::next(std::uint64_t now) {
     return last_;
 }
 
-bool SendClock::observe(std::uint64_t accepted, std::uint64_t now) {
-    const std::uint64_t limit = std::min(now, kMaxTimestamp - kMaxLead) + kMaxLead;
+SendClock::Observed SendClock::observe(std::uint64_t accepted, std::uint64_t now) {
+    const std::uint64_t limit = lead_limit(now);
+    const std::uint64_t before = last_;
     last_ = std::max(last_, std::min(accepted, limit));
-    return accepted <= limit;
+    return {last_ - before, accepted > limit};
+}
+
+std::uint64_t SendClock::reference(std::uint64_t now) const {
+    return std::max(now, std::min(last_, lead_limit(now)));
+}
+
+std::uint64_t trusted_floor(std::uint64_t stored, std::uint64_t now) {
+    return std::min(stored, lead_limit(now));
 }
 
 std::optional<SignatureBlock> signature_block_of(std::span<const std::uint8_t> frame) {

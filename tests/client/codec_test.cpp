@@ -64,6 +64,23 @@ TEST(ClientCodec, PhotoAndRecordCarryTheCaptureWhenGportdLogsIt) {
     EXPECT_THROW(photo_result(json::parse(R"({"capture":{"index":"x"}})")), Error);
 }
 
+TEST(ClientCodec, APhotoReportCarriesTheAttitudeGportdLogged) {
+    const auto report = photo_report(json::parse(
+        R"({"capture":{"index":7,"kind":"photo","attitude":{"imu":{"roll":0.5,"pitch":-30.25,)"
+        R"("yaw":12},"hall":{"roll":0.1,"pitch":-29.9,"yaw":20.5},"age_ms":14}}})"));
+    ASSERT_TRUE(report.capture);
+    EXPECT_EQ(report.capture->index, 7U);
+    ASSERT_TRUE(report.attitude);
+    EXPECT_EQ(report.attitude->imu.pitch, -30.25);
+    EXPECT_EQ(report.attitude->hall.yaw, 20.5);
+    EXPECT_EQ(report.attitude->age_ms, 14);
+    EXPECT_FALSE(
+        photo_report(json::parse(R"({"capture":{"index":8,"kind":"photo","attitude":null}})"))
+            .attitude);
+    EXPECT_FALSE(photo_report(json::parse(R"({"capture":{"index":9,"kind":"photo"}})")).attitude);
+    EXPECT_FALSE(photo_report(json::object()).capture);
+}
+
 TEST(ClientCodec, ErrorsBecomeErrorWithTheirCode) {
     try {
         result_of(json::parse(R"({"id":1,"error":{"code":-32003,"message":"held by pid 7"}})"));

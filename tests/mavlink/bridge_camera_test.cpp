@@ -156,3 +156,29 @@ TEST(Camera, MetaIsTheCompactJsonPositionInDegreesAndMetres) {
 
 }  // namespace
 }  // namespace gport::mavlink::bridge
+
+namespace gport::mavlink::bridge {
+namespace {
+
+// Issue 31: CAMERA_IMAGE_CAPTURED's q from the attitude gportd logged for
+// that capture, the bridge's own sample only without one.
+TEST(CaptureSample, TheLoggedAttitudeWinsOverTheBridgesSample) {
+    client::AttitudeSample own;
+    own.imu = {0, -10, 0};
+    own.hall = {0, -10, 5};
+    const client::CaptureAttitude logged{{1, -30, 0}, {0, -30, 20}, 12};
+    const auto used = capture_sample(logged, own);
+    ASSERT_TRUE(used);
+    EXPECT_EQ(used->imu.pitch, -30);
+    EXPECT_EQ(used->hall.yaw, 20);
+    const auto q = camera_orientation(used, 90.0, {});
+    const auto euler = to_euler(q, "q");
+    ASSERT_TRUE(euler);
+    EXPECT_NEAR(euler->pitch, -30, 1e-3);
+    EXPECT_NEAR(euler->yaw, 110, 1e-3);
+    EXPECT_EQ(capture_sample(std::nullopt, own)->imu.pitch, -10);
+    EXPECT_FALSE(capture_sample(std::nullopt, std::nullopt));
+}
+
+}  // namespace
+}  // namespace gport::mavlink::bridge

@@ -77,9 +77,48 @@ TEST(SetAttitude, NaNQuaternionWithRatesIsASpeedInDegreesPerSecond) {
     EXPECT_NEAR(speed->speed.yaw, 30, 1e-4);
 }
 
-TEST(SetAttitude, AllNaNIsNoCommand) {
+TEST(SetAttitude, AllNaNIsTheIdleStream) {
     EXPECT_TRUE(
-        std::holds_alternative<NoCommand>(map_set_attitude(rates_of(kNaN, kNaN, kNaN), {}, {})));
+        std::holds_alternative<IdleCommand>(map_set_attitude(rates_of(kNaN, kNaN, kNaN), {}, {})));
+}
+
+// PX4's DO_GIMBAL_MANAGER_PITCHYAW with NaN angles and rates 10°/s pitch,
+// -20°/s yaw, as its gimbal manager sends it on (issue 31).
+GimbalDeviceSetAttitude px4_rates(float pitch_rad_s, float yaw_rad_s) {
+    GimbalDeviceSetAttitude m = rates_of(kNaN, pitch_rad_s, yaw_rad_s);
+    m.q = {1.0F, 0.0F, 0.0F, 0.0F};
+    m.flags = gimbal_flags::kRollLock | gimbal_flags::kPitchLock | gimbal_flags::kYawInVehicleFrame;
+    return m;
+}
+
+TEST(SetAttitude, RatesWinOverTheNullRotation) {
+    const auto message =
+        px4_rates(static_cast<float>(to_radians(10)), static_cast<float>(to_radians(-20)));
+    EXPECT_TRUE(rates_win(message));
+    const auto command = map_set_attitude(message, {}, std::nullopt);
+    const auto* speed = std::get_if<SpeedCommand>(&command);
+    ASSERT_NE(speed, nullptr);
+    EXPECT_NEAR(speed->speed.roll, 0, 1e-9);
+    EXPECT_NEAR(speed->speed.pitch, 10, 1e-4);
+    EXPECT_NEAR(speed->speed.yaw, -20, 1e-4);
+}
+
+TEST(SetAttitude, ZeroRatesWithTheNullRotationStop) {
+    const auto command = map_set_attitude(px4_rates(0, 0), {}, std::nullopt);
+    const auto* speed = std::get_if<SpeedCommand>(&command);
+    ASSERT_NE(speed, nullptr);
+    EXPECT_EQ(speed->speed.pitch, 0);
+    EXPECT_EQ(speed->speed.yaw, 0);
+}
+
+TEST(SetAttitude, TheNullRotationWithoutRatesIsAnAngle) {
+    auto message = px4_rates(kNaN, kNaN);
+    EXPECT_FALSE(rates_win(message));
+    EXPECT_TRUE(std::holds_alternative<AngleCommand>(map_set_attitude(message, {}, {})));
+    message.q = to_quaternion({0, -30, 0});  // another angle with rates: the angle
+    message.angular_velocity_y = 0.1F;
+    EXPECT_FALSE(rates_win(message));
+    EXPECT_TRUE(std::holds_alternative<AngleCommand>(map_set_attitude(message, {}, {})));
 }
 
 TEST(SetAttitude, NeutralAndRetractCentre) {
@@ -180,15 +219,18 @@ TEST(AttitudeStatus, NoSampleIsNaNWithFailureFlags) {
     EXPECT_EQ(status.failure_flags, gimbal_error::kCommsError | gimbal_error::kSoftwareError);
 }
 
-TEST(Information, LimitsInRadiansNaNWhenUnlimited) {
-    EXPECT_TRUE(std::isnan(make_information(0, std::nullopt, {}).pitch_min));
+TEST(Information, SoftLimitsInRadiansElseTheGportsRange) {
+    const auto plain = make_information(0, std::nullopt, {});
+    EXPECT_NEAR(plain.yaw_min, to_radians(-170), 1e-6) << "before gportd answered";
+    EXPECT_NEAR(plain.yaw_max, to_radians(170), 1e-6);
+    EXPECT_NEAR(plain.pitch_min, to_radians(-90), 1e-6);
     client::Limits limits;
     limits.roll = {-327.67, 327.67};
     limits.pitch = {-90, 30};
     limits.yaw = {-170, 100};
     const auto info = make_information(0, limits, {false, false, true});
-    EXPECT_TRUE(std::isnan(info.roll_min));
-    EXPECT_TRUE(std::isnan(info.roll_max));
+    EXPECT_NEAR(info.roll_min, to_radians(-45), 1e-6) << "no soft limit: the G-Port's range";
+    EXPECT_NEAR(info.roll_max, to_radians(45), 1e-6);
     EXPECT_NEAR(info.pitch_min, to_radians(-90), 1e-6);
     EXPECT_NEAR(info.pitch_max, to_radians(30), 1e-6);
     EXPECT_NEAR(info.yaw_min, to_radians(-100), 1e-6) << "inverted: -max";

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "gport/mavlink/bridge/image_count.hpp"
 #include "gport/mavlink/bridge/signing_files.hpp"
 #include "signing_samples.hpp"
 
@@ -191,6 +192,113 @@ TEST_F(SigningFiles, AnUnwritableStateDirectoryIsReported) {
     const auto error = file.save(1);
     ASSERT_TRUE(error);
     EXPECT_NE(error->message.find("signing-timestamp"), std::string::npos);
+}
+
+// Issue 30, item 2: a state directory that others can write (they could
+// plant the timestamp) is refused, naming it, the mode and what to do.
+TEST_F(SigningFiles, AStateDirectoryOthersCanWriteIsRefused) {
+    for (mode_t mode : {0777, 0775, 0733, 01777}) {
+        ASSERT_EQ(::chmod(dir_.c_str(), mode), 0);
+        TimestampFile file(dir_.string());
+        const auto error = file.lock();
+        ASSERT_TRUE(error) << std::oct << mode;
+        EXPECT_NE(error->message.find("state directory " + dir_.string()), std::string::npos)
+            << error->message;
+        EXPECT_NE(error->message.find("-writable"), std::string::npos) << error->message;
+        EXPECT_NE(error->message.find("chmod 700"), std::string::npos) << error->message;
+    }
+    for (mode_t mode : {0700, 0755, 0750}) {
+        ASSERT_EQ(::chmod(dir_.c_str(), mode), 0);
+        TimestampFile file(dir_.string());
+        EXPECT_FALSE(file.lock()) << std::oct << mode;
+    }
+}
+
+TEST_F(SigningFiles, AStateDirectoryOwnedByAnotherUserIsRefused) {
+    if (::geteuid() != 0) {
+        GTEST_SKIP() << "needs root to give the directory to another uid (65534)";
+    }
+    ASSERT_EQ(::chmod(dir_.c_str(), 0700), 0);
+    ASSERT_EQ(::chown(dir_.c_str(), 65534, 65534), 0);
+    TimestampFile file(dir_.string());
+    const auto error = file.lock();
+    ASSERT_TRUE(error);
+    EXPECT_NE(error->message.find("owned by uid 65534"), std::string::npos) << error->message;
+    ASSERT_EQ(::chown(dir_.c_str(), 0, 0), 0);
+    EXPECT_FALSE(file.lock()) << "root's own directory";
+}
+
+// A symbolic link in the timestamp file's place is not followed, nor is a
+// FIFO read.
+TEST_F(SigningFiles, ATimestampFileThatIsALinkOrNoRegularFileIsRefused) {
+    const auto target = dir_ / "elsewhere";
+    std::ofstream(target) << "42\n";
+    const TimestampFile file(dir_.string());
+    fs::create_symlink(target, file.path());
+    const auto linked = file.load();
+    ASSERT_FALSE(linked);
+    EXPECT_NE(linked.error().message.find("symbolic link"), std::string::npos)
+        << linked.error().message;
+    fs::remove(file.path());
+    ASSERT_EQ(::mkfifo(file.path().c_str(), 0600), 0);
+    const auto piped = file.load();  // must not hang
+    ASSERT_FALSE(piped);
+    EXPECT_NE(piped.error().message.find("not a regular file"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gport::mavlink::bridge
+
+namespace gport::mavlink::bridge {
+namespace {
+
+// The image count (image_count.hpp, issue 31): zero-based image_index,
+// kept across restarts beside the signing timestamp, under its rules.
+TEST_F(SigningFiles, TheImageCountSurvivesARestart) {
+    ImageCount first(dir_.string());
+    ASSERT_FALSE(first.load());
+    EXPECT_TRUE(first.kept());
+    EXPECT_EQ(first.count(), 0);
+    std::optional<Error> error;
+    EXPECT_EQ(first.add(error), 0);  // the first image has index 0, count 1
+    EXPECT_EQ(first.add(error), 1);
+    EXPECT_FALSE(error);
+    EXPECT_EQ(first.count(), 2);
+    ImageCount restarted(dir_.string());
+    ASSERT_FALSE(restarted.load());
+    EXPECT_EQ(restarted.count(), 2);
+    EXPECT_EQ(restarted.add(error), 2);  // contiguous: image_count - 1
+    EXPECT_EQ(restarted.count(), 3);
+}
+
+TEST_F(SigningFiles, WithoutAStateDirectoryTheImageCountIsNotKept) {
+    ImageCount count("");
+    EXPECT_FALSE(count.load());
+    EXPECT_FALSE(count.kept());
+    std::optional<Error> error;
+    EXPECT_EQ(count.add(error), 0);
+    EXPECT_FALSE(error);
+}
+
+TEST_F(SigningFiles, TheImageCountFileFollowsTheStateDirectoryRules) {
+    const auto file = dir_ / ImageCount::kFileName;
+    fs::create_symlink("/etc/hostname", file);
+    ImageCount linked(dir_.string());
+    auto error = linked.load();
+    ASSERT_TRUE(error);
+    EXPECT_NE(error->message.find("symbolic link"), std::string::npos) << error->message;
+    EXPECT_EQ(linked.count(), 0);
+    fs::remove(file);
+    std::ofstream(file) << "twelve\n";
+    error = ImageCount(dir_.string()).load();
+    ASSERT_TRUE(error);
+    EXPECT_NE(error->message.find("does not hold an image count"), std::string::npos);
+    fs::remove(file);
+    ::chmod(dir_.c_str(), 0777);
+    error = ImageCount(dir_.string()).load();
+    ASSERT_TRUE(error);
+    EXPECT_NE(error->message.find("mode 0777"), std::string::npos) << error->message;
+    ::chmod(dir_.c_str(), 0700);
 }
 
 }  // namespace

@@ -62,41 +62,72 @@ TEST(SigningTimestamp, TenMicrosecondsSince2015) {
     EXPECT_EQ(signing_timestamp(t), testing::kNodeHeartbeatTimestamp);
 }
 
+// Issue 30: one frame stamped 23 h ahead from a key holder (or a ground
+// station whose clock is hours ahead) pulls ours at most 30 s ahead of our
+// clock, and the reference for incoming new streams stays within 30 s of
+// it: a vehicle whose clock is right is never "too old".
+TEST(SendClock, AFrameHoursAheadPullsOursAtMost30SecondsAhead) {
+    const std::uint64_t now = 37'000'000'000'000ULL;  // 2026
+    const std::uint64_t hours23 = 23ULL * 3600 * kTimestampsPerSecond;
+    SendClock clock(0, now);
+    const auto observed = clock.observe(now + hours23, now);
+    EXPECT_TRUE(observed.capped);
+    EXPECT_EQ(observed.raised, SendClock::kMaxLead);
+    EXPECT_EQ(clock.current(), now + SendClock::kMaxLead);
+    EXPECT_EQ(clock.reference(now), now + SendClock::kMaxLead);
+    // Repeated, a second later: ours follows the wall clock, no further.
+    EXPECT_TRUE(clock.observe(now + hours23, now + kTimestampsPerSecond).capped);
+    EXPECT_EQ(clock.current(), now + kTimestampsPerSecond + SendClock::kMaxLead);
+    EXPECT_EQ(clock.next(now), now + kTimestampsPerSecond + SendClock::kMaxLead + 1);
+    // 2^48 - 1: no saturation.
+    EXPECT_TRUE(clock.observe(kMaxTimestamp, now).capped);
+    EXPECT_FALSE(clock.saturated());
+}
+
+TEST(SendClock, TheIncomingReferenceStaysWithin30SecondsOfTheClock) {
+    const std::uint64_t now = 37'000'000'000'000ULL;
+    SendClock far(/*floor=*/now + 3600 * kTimestampsPerSecond, now);  // a floor an hour ahead
+    EXPECT_EQ(far.reference(now), now + SendClock::kMaxLead);
+    SendClock behind(/*floor=*/1000, now);
+    EXPECT_EQ(behind.reference(now + 5), now + 5);  // never behind the wall clock
+    SendClock late(0, kMaxTimestamp - 5);
+    EXPECT_EQ(late.reference(kMaxTimestamp - 5), kMaxTimestamp - 5);
+}
+
+// A stored value is trusted up to 30 s ahead of the clock: a planted
+// 2^48 - 1, or a day ahead from an older version, is not.
+TEST(SendClock, AStoredValueFarAheadIsNotTrusted) {
+    const std::uint64_t now = 37'000'000'000'000ULL;
+    EXPECT_EQ(trusted_floor(kMaxTimestamp, now), now + SendClock::kMaxLead);
+    EXPECT_EQ(trusted_floor(now + 23ULL * 3600 * kTimestampsPerSecond, now),
+              now + SendClock::kMaxLead);
+    EXPECT_EQ(trusted_floor(now + SendClock::kMaxLead, now), now + SendClock::kMaxLead);
+    EXPECT_EQ(trusted_floor(now + 1000, now), now + 1000);  // a crash's reservation
+    EXPECT_EQ(trusted_floor(5, now), 5U);  // behind the clock: the clock wins in SendClock
+    EXPECT_EQ(trusted_floor(kMaxTimestamp, kMaxTimestamp - 1), kMaxTimestamp);
+}
+
 TEST(SendClock, NeverBackwardsFollowsTheClockAndAcceptedTimestamps) {
     SendClock clock(/*floor=*/1000, /*now=*/10);  // a clock behind the stored value
     EXPECT_EQ(clock.next(10), 1001U);
     EXPECT_EQ(clock.next(10), 1002U);  // +1 per frame while the clock is behind
     EXPECT_EQ(clock.next(5000), 5000U);
-    EXPECT_EQ(clock.next(4000), 5001U);      // the clock stepped back: still forward
-    EXPECT_TRUE(clock.observe(9000, 5001));  // a correctly signed frame from a peer ahead of us
+    EXPECT_EQ(clock.next(4000), 5001U);  // the clock stepped back: still forward
+    // A correctly signed frame from a peer a little ahead of us (within 30 s).
+    const auto observed = clock.observe(9000, 5001);
+    EXPECT_FALSE(observed.capped);
+    EXPECT_EQ(observed.raised, 9000U - 5001U);
     EXPECT_EQ(clock.next(5002), 9001U);
-    EXPECT_TRUE(clock.observe(10, 5002));  // older: ignored
+    EXPECT_EQ(clock.observe(10, 5002).raised, 0U);  // older: ignored
     EXPECT_EQ(clock.current(), 9001U);
     SendClock fresh(/*floor=*/0, /*now=*/777);
     EXPECT_EQ(fresh.next(777), 778U);
     SendClock saturated(kMaxTimestamp, 0);
     EXPECT_TRUE(saturated.saturated());
     EXPECT_EQ(saturated.next(0), kMaxTimestamp);
-}
-
-// The attack of a key holder with a bad clock (or a forged 2^48 - 1): one
-// accepted frame must not drag our clock to saturation, where every frame
-// repeats one timestamp and receivers refuse all but the first.
-TEST(SendClock, APeersTimestampNeverPullsOursMoreThanADayAhead) {
-    const std::uint64_t now = 37'000'000'000'000ULL;  // 2026
-    SendClock clock(0, now);
-    EXPECT_FALSE(clock.observe(kMaxTimestamp, now));
-    EXPECT_EQ(clock.current(), now + SendClock::kMaxLead);
-    EXPECT_FALSE(clock.saturated());
-    EXPECT_EQ(clock.next(now), now + SendClock::kMaxLead + 1);
-    EXPECT_EQ(clock.next(now), now + SendClock::kMaxLead + 2);  // still increasing
-    // Within a day: taken as it is.
-    SendClock near(0, now);
-    EXPECT_TRUE(near.observe(now + SendClock::kMaxLead, now));
-    EXPECT_EQ(near.current(), now + SendClock::kMaxLead);
     // Our own clock near the end of the range: no overflow, the cap is 2^48 - 1.
     SendClock late(0, kMaxTimestamp - 5);
-    EXPECT_TRUE(late.observe(kMaxTimestamp, kMaxTimestamp - 5));
+    EXPECT_FALSE(late.observe(kMaxTimestamp, kMaxTimestamp - 5).capped);
     EXPECT_TRUE(late.saturated());
 }
 

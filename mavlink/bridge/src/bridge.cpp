@@ -44,7 +44,9 @@ Bridge::Bridge(asio::io_context& io, Options options, std::unique_ptr<SigningSes
       reconnect_timer_(io),
       heartbeat_timer_(io),
       attitude_timer_(io),
-      image_timer_(io) {}
+      image_timer_(io),
+      rate_lease_(std::chrono::milliseconds(options_.lease_ms)),
+      image_count_(options_.state_dir) {}
 
 void Bridge::start() {
     transport_ = open_transport(io_, options_.mavlink);
@@ -61,6 +63,9 @@ void Bridge::start() {
         options_.sysid ? std::to_string(*options_.sysid)
                        : "auto (adopted from the first autopilot heartbeat: spoofable)",
         to_string(options_.gcs_sysids), signing_ ? "on" : "off");
+    if (options_.camera) {
+        load_image_count();
+    }
     connect();
     heartbeat_tick();
     attitude_tick();
@@ -81,13 +86,13 @@ void Bridge::finish() {
     }
     spdlog::info(
         "mavlink: {} frames taken, {} refused by the trust rules, {} ground-station heartbeats "
-        "(not used), {} signed without a key, {} undecodable; decoder: {} bad CRC, {} bad "
-        "length, {} unknown flags, {} MAVLink 1, {} of messages not decoded here (skipped whole); "
-        "signing: {}; {} frames unsent (no peer yet), {} send failures",
+        "(not used), {} signed without a key, {} undecodable, {} positions dropped; decoder: {} "
+        "bad CRC, {} bad length, {} unknown flags, {} MAVLink 1, {} of messages not decoded here "
+        "(skipped whole); signing: {}; {} frames unsent (no peer yet), {} send failures",
         counters_.accepted, counters_.untrusted, counters_.gcs_heartbeats, counters_.signed_no_key,
-        counters_.undecodable, d.crc_errors, d.length_errors, d.header_errors, d.v1_frames,
-        d.unknown_frames, signing, transport_ ? transport_->unsent() : 0,
-        transport_ ? transport_->send_failures() : 0);
+        counters_.undecodable, counters_.bad_positions, d.crc_errors, d.length_errors,
+        d.header_errors, d.v1_frames, d.unknown_frames, signing,
+        transport_ ? transport_->unsent() : 0, transport_ ? transport_->send_failures() : 0);
 }
 
 // ---- gportd ---------------------------------------------------------------------
@@ -130,8 +135,9 @@ void Bridge::on_connected() {
     });
     gportd_.async_limits([this](std::optional<client::Error> error, client::Limits limits) {
         if (error) {
-            log_.warn("gportd: limits unknown", "gportd: limits unknown (" + error->message() +
-                                                    "); GIMBAL_DEVICE_INFORMATION says NaN");
+            log_.warn("gportd: limits unknown",
+                      "gportd: limits unknown (" + error->message() +
+                          "); GIMBAL_DEVICE_INFORMATION gives the G-Port's mechanical range");
             return;
         }
         limits_ = limits;
@@ -169,6 +175,16 @@ void Bridge::on_notification(const client::Notification& notification) {
 }
 
 void Bridge::dispatch(Command command) {
+    if (std::holds_alternative<IdleCommand>(command)) {
+        if (!idle_logged_) {
+            spdlog::info(
+                "mavlink: the gimbal manager sends no target yet (GIMBAL_DEVICE_SET_ATTITUDE all "
+                "NaN, as PX4 does before its first one); holding still");
+            idle_logged_ = true;
+        }
+        return;
+    }
+    idle_logged_ = false;
     if (const auto* none = std::get_if<NoCommand>(&command)) {
         log_.warn(
             fmt::format("GIMBAL_DEVICE_SET_ATTITUDE ignored: {}", none->kind),
@@ -211,9 +227,13 @@ void Bridge::send_motion(const Command& command) {
                             });
     } else if (const auto* speed = std::get_if<SpeedCommand>(&command)) {
         client::SpeedOptions so;
-        so.lease = std::chrono::milliseconds(options_.lease_ms);
+        so.lease = rate_lease_.current();
         gportd_.async_speed(speed->speed, so,
-                            [this](std::optional<client::Error> e, client::SpeedResult) {
+                            [this, command](std::optional<client::Error> e, client::SpeedResult) {
+                                if (e && lease_refused(*e)) {
+                                    motion_pending_ = motion_pending_.value_or(command);
+                                    e.reset();
+                                }
                                 motion_done(e, "speed");
                             });
     } else {
@@ -222,6 +242,22 @@ void Bridge::send_motion(const Command& command) {
                                  motion_done(e, "center");
                              });
     }
+}
+
+// gportd refused the lease as longer than its keepalive.max_duration_ms
+// (the message names it): the ceiling becomes that, and the speed is sent
+// again.
+bool Bridge::lease_refused(const client::Error& error) {
+    const auto max = max_lease_in(error.message());
+    if (!error.is(client::ErrorCode::kInvalidParams) || !max || *max >= rate_lease_.ceiling()) {
+        return false;
+    }
+    spdlog::info(
+        "gportd allows leases up to {} ms (keepalive.max_duration_ms); rate leases are "
+        "capped there",
+        max->count());
+    rate_lease_.set_ceiling(*max);
+    return true;
 }
 
 void Bridge::motion_done(const std::optional<client::Error>& error, const char* what) {
@@ -280,8 +316,10 @@ void Bridge::heartbeat_tick() {
 void Bridge::attitude_tick() {
     AttitudeInputs in;
     in.sample = sample_;
-    in.vehicle_yaw_deg = vehicle_yaw_deg_;
-    in.vehicle_yaw_rate_dps = vehicle_yaw_rate_dps_;
+    in.vehicle_yaw_deg = vehicle_yaw_deg();
+    if (const auto reading = vehicle_yaw_.at(Clock::now())) {
+        in.vehicle_yaw_rate_dps = reading->rate_dps;
+    }
     in.mode_flags = mode_flags_;
     in.time_boot_ms = time_boot_ms();
     send(make_attitude_status(in, health(), options_.invert));

@@ -22,10 +22,13 @@
 
 #include "gport/client/async_client.hpp"
 #include "gport/mavlink/bridge/camera.hpp"
+#include "gport/mavlink/bridge/image_count.hpp"
 #include "gport/mavlink/bridge/log_limit.hpp"
 #include "gport/mavlink/bridge/mapping.hpp"
 #include "gport/mavlink/bridge/options.hpp"
+#include "gport/mavlink/bridge/rate_lease.hpp"
 #include "gport/mavlink/bridge/trust.hpp"
+#include "gport/mavlink/bridge/vehicle_yaw.hpp"
 #include "gport/mavlink/decoder.hpp"
 #include "gport/mavlink/messages.hpp"
 #include "logbook.hpp"
@@ -61,6 +64,7 @@ class Bridge {
     void on_notification(const client::Notification& notification);
     void dispatch(Command command);
     void send_motion(const Command& command);
+    bool lease_refused(const client::Error& error);
     void motion_done(const std::optional<client::Error>& error, const char* what);
 
     // MAVLink in (bridge_mavlink.cpp)
@@ -84,10 +88,11 @@ class Bridge {
     void request_message(const Requester& from, const CommandLong& command);
     void camera(const Requester& from, const CommandLong& command);
     void record(const Requester& from, std::uint16_t command, bool on, bool force);
-    void on_attitude(const Attitude& message);
-    void on_position(const GlobalPositionInt& message);
+    void on_attitude(const Header& from, const Attitude& message);
+    std::optional<double> vehicle_yaw_deg();  // fresh, or none; logs a change of source
+    void on_position(const Header& from, const GlobalPositionInt& message);
 
-    // The camera component, compid 100 (bridge_camera.cpp)
+    // The camera component, compid 100 (bridge_camera.cpp; photos: bridge_photo.cpp)
     bool for_camera(const CommandLong& command) const;
     void on_camera_command(const Requester& from, const CommandLong& command);
     void camera_request(const Requester& from, const CommandLong& command);
@@ -97,8 +102,7 @@ class Bridge {
     bool camera_busy(const Requester& from, const CommandLong& command, std::uint8_t compid);
     void take_photo(const std::optional<Requester>& from, std::uint16_t command, bool with_meta);
     void photo_done(const std::optional<Requester>& from, std::uint16_t command,
-                    const std::optional<client::Error>& error,
-                    const std::optional<client::Capture>& capture);
+                    const std::optional<client::Error>& error, const client::PhotoReport& report);
     void camera_record(const Requester& from, std::uint16_t command, bool on, bool force,
                        bool with_meta);
     void image_tick();
@@ -108,6 +112,7 @@ class Bridge {
     std::optional<GlobalPositionInt> fresh_position() const;
     CameraCaptureStatus capture_status() const;
     void send_camera_heartbeat(const Origin& to = std::nullopt);
+    void load_image_count();
 
     // MAVLink out: to the peer, or (replies) to a requester's origin; from
     // the gimbal's component (compid 0) or the given one.
@@ -142,18 +147,20 @@ class Bridge {
     std::string link_state_;
     std::optional<client::AttitudeSample> sample_;
     std::optional<client::Limits> limits_;
-    std::optional<double> vehicle_yaw_deg_;
-    std::optional<double> vehicle_yaw_rate_dps_;
+    VehicleYaw vehicle_yaw_;
+    YawSource yaw_source_ = YawSource::kNone;  // the one last logged
+    RateLease rate_lease_;
     std::optional<Clock::time_point> manager_seen_;
-    std::optional<double> attitude_yaw_deg_;  // ATTITUDE's, when no AUTOPILOT_STATE came
     std::uint16_t mode_flags_ = gimbal_flags_default();
+    bool idle_logged_ = false;  // the all-NaN stream said once, until a target comes
 
-    // The camera component: the vehicle's newest position, the interval
+    // The camera component: the vehicle's newest position (its autopilot's,
+    // within bounds: position.hpp), the interval
     // capture, the assumed recording, what gportd accepts.
     std::optional<std::pair<GlobalPositionInt, Clock::time_point>> position_;
     std::optional<ImagePlan> images_;
     std::uint32_t images_taken_ = 0;  // of the running interval capture
-    std::int32_t image_count_ = 0;    // photos taken this run (the fallback image_index)
+    ImageCount image_count_;          // photos taken, kept in the state directory
     std::optional<Clock::time_point> recording_since_;
     bool photo_in_flight_ = false;
     bool meta_supported_ = true;   // false once this gportd refused `meta` as unknown
@@ -177,6 +184,7 @@ class Bridge {
         std::uint64_t signed_no_key = 0;   // signed frames while we have no key
         std::uint64_t untrusted = 0;       // refused by the trust rules
         std::uint64_t gcs_heartbeats = 0;  // a ground station's: normal, not used
+        std::uint64_t bad_positions = 0;   // not the autopilot's, or out of bounds (position.hpp)
     } counters_;
 
     static std::uint16_t gimbal_flags_default();

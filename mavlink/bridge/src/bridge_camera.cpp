@@ -13,16 +13,6 @@
 
 namespace gport::mavlink::bridge {
 
-namespace {
-
-std::uint64_t utc_now_us() {
-    return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(
-                                          std::chrono::system_clock::now().time_since_epoch())
-                                          .count());
-}
-
-}  // namespace
-
 // Addressed to the camera: its component id, or broadcast and a camera
 // command (a broadcast photo is taken once, by the camera, not by both).
 bool Bridge::for_camera(const CommandLong& command) const {
@@ -35,6 +25,19 @@ bool Bridge::for_camera(const CommandLong& command) const {
     }
     return command.target_component == kCameraCompid ||
            (command.target_component == mav_comp_id::kAll && is_camera_command(command));
+}
+
+void Bridge::load_image_count() {
+    if (auto error = image_count_.load()) {
+        spdlog::warn("camera: {}; image_index counts from 0 this run and is not kept",
+                     error->message);
+    } else if (!image_count_.kept()) {
+        spdlog::info(
+            "camera: no state directory (--state-dir): image_index counts from 0 each run");
+    } else {
+        spdlog::info("camera: {} images taken so far ({}): the next has image_index {}",
+                     image_count_.count(), image_count_.path(), image_count_.count());
+    }
 }
 
 void Bridge::send_camera_heartbeat(const Origin& to) {
@@ -115,7 +118,7 @@ CameraCaptureStatus Bridge::capture_status() const {
         state.recording_for =
             std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - *recording_since_);
     }
-    state.image_count = image_count_;
+    state.image_count = image_count_.count();
     return make_capture_status(time_boot_ms(), state);
 }
 
@@ -206,76 +209,6 @@ void Bridge::stop_images() {
     }
     images_.reset();
     image_timer_.cancel();
-}
-
-std::optional<GlobalPositionInt> Bridge::fresh_position() const {
-    if (!position_ || Clock::now() - position_->second >= kPositionMaxAge) {
-        return std::nullopt;
-    }
-    return position_->first;
-}
-
-client::CaptureOptions Bridge::capture_options(bool with_meta) const {
-    client::CaptureOptions options;
-    if (with_meta && meta_supported_) {
-        options.meta = position_meta(fresh_position());
-    }
-    return options;
-}
-
-// True when gportd refused the call for its `meta` (an older gportd without
-// the capture log: "unknown parameter"): the call is repeated without it.
-bool Bridge::meta_refused(const client::Error& error, const client::CaptureOptions& sent) {
-    if (sent.meta.empty() || !error.is(client::ErrorCode::kInvalidParams) ||
-        std::string_view(error.message()).find("meta") == std::string_view::npos) {
-        return false;
-    }
-    if (std::string_view(error.message()).find("unknown parameter") != std::string_view::npos) {
-        meta_supported_ = false;
-    }
-    spdlog::info("gportd refused the capture's meta ({}); repeating without it", error.message());
-    return true;
-}
-
-void Bridge::take_photo(const std::optional<Requester>& from, std::uint16_t command,
-                        bool with_meta) {
-    camera_in_flight_ = true;  // cleared by the call's completion
-    photo_in_flight_ = true;
-    const auto options = capture_options(with_meta);
-    gportd_.async_photo(options, [this, from, command, options](std::optional<client::Error> e,
-                                                                client::PhotoResult result) {
-        if (e && meta_refused(*e, options)) {
-            take_photo(from, command, false);
-            return;
-        }
-        photo_done(from, command, e, result.capture);
-    });
-}
-
-void Bridge::photo_done(const std::optional<Requester>& from, std::uint16_t command,
-                        const std::optional<client::Error>& error,
-                        const std::optional<client::Capture>& capture) {
-    camera_in_flight_ = false;
-    photo_in_flight_ = false;
-    if (from) {
-        ack(*from, command, error ? mav_result::kDenied : mav_result::kAccepted, kCameraCompid);
-    }
-    ImageCapture image;
-    image.time_boot_ms = time_boot_ms();
-    image.time_utc_us = capture && capture->utc_us ? *capture->utc_us : utc_now_us();
-    image.success = !error;
-    if (error) {
-        log_.warn("gportd refused photo", "gportd refused photo: " + error->message());
-    } else {
-        image.image_index = capture ? static_cast<std::int32_t>(capture->index) : image_count_;
-        ++image_count_;
-    }
-    image.position = fresh_position();
-    image.q = camera_orientation(sample_, vehicle_yaw_deg_ ? vehicle_yaw_deg_ : attitude_yaw_deg_,
-                                 options_.invert);
-    // To whoever asked (the requester's origin), else (an interval's
-    // photos) to the peer.
-    send(make_image_captured(image), from ? from->origin : Origin{}, kCameraCompid);
 }
 
 // record on/off with the position as meta; forced once when gportd does not

@@ -7,6 +7,7 @@
 
 #include "bridge.hpp"
 #include "gport/mavlink/attitude.hpp"
+#include "gport/mavlink/bridge/position.hpp"
 #include "gport/mavlink/enums.hpp"
 
 namespace gport::mavlink::bridge {
@@ -87,6 +88,11 @@ bool Bridge::admitted(const FrameView& frame, const Message& message) {
             frame.header.sysid);
     }
     const TrustVerdict verdict = trust_.judge(frame.header, frame.msgid);
+    // Only an allowed system's frame moves our signing clock (issue 30): a
+    // key holder we ignore must not push it ahead.
+    if (signing_ && (verdict == TrustVerdict::kTrusted || verdict == TrustVerdict::kNotVehicle)) {
+        signing_->follow(frame);
+    }
     if (verdict == TrustVerdict::kTrusted) {
         return true;
     }
@@ -135,9 +141,9 @@ void Bridge::handle(const Header& from, const Message& message) {
             on_autopilot_state(*state);
         }
     } else if (const auto* attitude = std::get_if<Attitude>(&message)) {
-        on_attitude(*attitude);
+        on_attitude(from, *attitude);
     } else if (const auto* position = std::get_if<GlobalPositionInt>(&message)) {
-        on_position(*position);
+        on_position(from, *position);
     }
 }
 
@@ -221,25 +227,65 @@ void Bridge::record(const Requester& from, std::uint16_t cmd, bool on, bool forc
 }
 
 void Bridge::on_set_attitude(const GimbalDeviceSetAttitude& message) {
-    dispatch(map_set_attitude(message, options_.invert, vehicle_yaw_deg_));
+    auto command = map_set_attitude(message, options_.invert, vehicle_yaw_deg());
+    if (std::holds_alternative<SpeedCommand>(command)) {
+        rate_lease_.on_rate(Clock::now());
+    }
+    dispatch(std::move(command));
 }
 
 void Bridge::on_autopilot_state(const AutopilotStateForGimbalDevice& message) {
     if (auto euler = to_euler(message.q, "q")) {
-        vehicle_yaw_deg_ = euler->yaw;
-    }
-    if (!std::isnan(message.angular_velocity_z)) {
-        vehicle_yaw_rate_dps_ = to_degrees(message.angular_velocity_z);
-    }
-}
-
-void Bridge::on_attitude(const Attitude& message) {
-    if (std::isfinite(message.yaw)) {
-        attitude_yaw_deg_ = to_degrees(message.yaw);
+        const float rate = message.angular_velocity_z;
+        vehicle_yaw_.from_autopilot_state(
+            euler->yaw, std::isfinite(rate) ? std::optional(to_degrees(rate)) : std::nullopt,
+            Clock::now());
     }
 }
 
-void Bridge::on_position(const GlobalPositionInt& message) {
+// ATTITUDE from the vehicle's autopilot only (as positions: position.hpp).
+void Bridge::on_attitude(const Header& from, const Attitude& message) {
+    if (from.sysid != trust_.vehicle() || from.compid != mav_comp_id::kAutopilot1 ||
+        !std::isfinite(message.yaw)) {
+        return;
+    }
+    const float rate = message.yawspeed;
+    vehicle_yaw_.from_attitude(to_degrees(message.yaw),
+                               std::isfinite(rate) ? std::optional(to_degrees(rate)) : std::nullopt,
+                               Clock::now());
+}
+
+std::optional<double> Bridge::vehicle_yaw_deg() {
+    const auto now = Clock::now();
+    const YawSource source = vehicle_yaw_.source(now);
+    if (source != yaw_source_) {
+        spdlog::info(
+            "mavlink: the vehicle's yaw (earth-frame targets, the camera's heading) now "
+            "from {}{}",
+            to_string(source),
+            source == YawSource::kAttitude ? " (no fresh AUTOPILOT_STATE_FOR_GIMBAL_DEVICE)"
+            : source == YawSource::kNone
+                ? ": none fresh from the vehicle's autopilot; earth-frame targets are "
+                  "refused until one comes"
+                : "");
+        yaw_source_ = source;
+    }
+    const auto reading = vehicle_yaw_.at(now);
+    return reading ? std::optional(reading->yaw_deg) : std::nullopt;
+}
+
+void Bridge::on_position(const Header& from, const GlobalPositionInt& message) {
+    if (auto problem = position_problem(from, message)) {
+        ++counters_.bad_positions;
+        log_.warn("mavlink: positions dropped", [&] {
+            return fmt::format(
+                "mavlink: dropped GLOBAL_POSITION_INT from system {} component {}: {}; photos "
+                "keep the last valid position while it is under 1 s old (further ones are "
+                "counted, one line a minute)",
+                from.sysid, from.compid, *problem);
+        });
+        return;
+    }
     position_.emplace(message, Clock::now());
 }
 

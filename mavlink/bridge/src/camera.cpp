@@ -158,6 +158,19 @@ Quaternion camera_orientation(const std::optional<client::AttitudeSample>& sampl
     return to_quaternion({angles.roll, angles.pitch, yaw});
 }
 
+std::optional<client::AttitudeSample> capture_sample(
+    const std::optional<client::CaptureAttitude>& logged,
+    const std::optional<client::AttitudeSample>& own) {
+    if (!logged) {
+        return own;
+    }
+    client::AttitudeSample sample;
+    sample.imu = logged->imu;
+    sample.hall = logged->hall;
+    sample.age_ms = logged->age_ms;
+    return sample;
+}
+
 CameraImageCaptured make_image_captured(const ImageCapture& capture) {
     CameraImageCaptured m;
     m.time_utc = capture.time_utc_us;

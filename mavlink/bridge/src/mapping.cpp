@@ -27,11 +27,30 @@ float to_rad_s(double degrees_per_second) {
     return static_cast<float>(to_radians(degrees_per_second));
 }
 
+bool any_rate(const GimbalDeviceSetAttitude& message) {
+    return std::isfinite(message.angular_velocity_x) || std::isfinite(message.angular_velocity_y) ||
+           std::isfinite(message.angular_velocity_z);
+}
+
+SpeedCommand speed_of(const GimbalDeviceSetAttitude& message, const Invert& invert) {
+    return {
+        apply(invert, {rate_dps(message.angular_velocity_x), rate_dps(message.angular_velocity_y),
+                       rate_dps(message.angular_velocity_z)})};
+}
+
 }  // namespace
 
 client::Axes apply(const Invert& invert, const client::Axes& axes) {
     return {flip(invert.roll, axes.roll), flip(invert.pitch, axes.pitch),
             flip(invert.yaw, axes.yaw)};
+}
+
+bool is_identity(const Quaternion& q) {
+    return std::abs(q[0]) == 1.0F && q[1] == 0.0F && q[2] == 0.0F && q[3] == 0.0F;
+}
+
+bool rates_win(const GimbalDeviceSetAttitude& message) {
+    return is_identity(message.q) && any_rate(message);
 }
 
 bool yaw_in_earth_frame(std::uint16_t flags) {
@@ -47,6 +66,9 @@ Command map_set_attitude(const GimbalDeviceSetAttitude& message, const Invert& i
     if ((message.flags & (gimbal_flags::kRetract | gimbal_flags::kNeutral)) != 0) {
         return CenterCommand{};
     }
+    if (rates_win(message)) {
+        return speed_of(message, invert);
+    }
     if (!is_nan(message.q)) {
         const auto euler = to_euler(message.q, "q");
         if (!euler) {
@@ -57,20 +79,17 @@ Command map_set_attitude(const GimbalDeviceSetAttitude& message, const Invert& i
             if (!vehicle_yaw_deg) {
                 return NoCommand{"earth-frame yaw without the vehicle's yaw",
                                  "an earth-frame yaw target needs the vehicle's yaw, and no "
-                                 "AUTOPILOT_STATE_FOR_GIMBAL_DEVICE has been received"};
+                                 "AUTOPILOT_STATE_FOR_GIMBAL_DEVICE nor ATTITUDE from the "
+                                 "vehicle's autopilot in the last second"};
             }
             yaw = wrap_degrees(yaw - *vehicle_yaw_deg);
         }
         return AngleCommand{apply(invert, {euler->roll, euler->pitch, yaw})};
     }
-    const float x = message.angular_velocity_x;
-    const float y = message.angular_velocity_y;
-    const float z = message.angular_velocity_z;
-    if (std::isnan(x) && std::isnan(y) && std::isnan(z)) {
-        return NoCommand{"no attitude and no rate",
-                         "neither an attitude nor a rate is given (all NaN)"};
+    if (!any_rate(message)) {
+        return IdleCommand{};
     }
-    return SpeedCommand{apply(invert, {rate_dps(x), rate_dps(y), rate_dps(z)})};
+    return speed_of(message, invert);
 }
 
 bool AngleFilter::pass(const client::Axes& target) {
@@ -138,11 +157,11 @@ namespace {
 
 constexpr double kNoLimit = 327.67;  // the protocol's whole range: no soft limit
 
-// min and max in radians, NaN when unlimited.
-std::pair<float, float> range_of(const client::AxisRange& range, bool invert) {
-    if (range.min <= -kNoLimit && range.max >= kNoLimit) {
-        return {kNaN, kNaN};
-    }
+// min and max in radians: gportd's soft limit, else the G-Port's range.
+std::pair<float, float> range_of(const std::optional<client::AxisRange>& soft,
+                                 const client::AxisRange& mechanical, bool invert) {
+    const bool limited = soft && (soft->min > -kNoLimit || soft->max < kNoLimit);
+    const client::AxisRange range = limited ? *soft : mechanical;
     const double min = invert ? -range.max : range.min;
     const double max = invert ? -range.min : range.max;
     return {static_cast<float>(to_radians(min)), static_cast<float>(to_radians(max))};
@@ -162,13 +181,15 @@ GimbalDeviceInformation make_information(std::uint32_t time_boot_ms,
                      gimbal_cap::kHasRollLock | gimbal_cap::kHasPitchAxis |
                      gimbal_cap::kHasPitchLock | gimbal_cap::kHasYawAxis |
                      gimbal_cap::kHasYawFollow | gimbal_cap::kHasYawLock;
-    info.roll_min = info.roll_max = info.pitch_min = info.pitch_max = info.yaw_min = info.yaw_max =
-        kNaN;
-    if (limits) {
-        std::tie(info.roll_min, info.roll_max) = range_of(limits->roll, invert.roll);
-        std::tie(info.pitch_min, info.pitch_max) = range_of(limits->pitch, invert.pitch);
-        std::tie(info.yaw_min, info.yaw_max) = range_of(limits->yaw, invert.yaw);
-    }
+    const auto soft = [&](auto member) -> std::optional<client::AxisRange> {
+        return limits ? std::optional((*limits).*member) : std::nullopt;
+    };
+    std::tie(info.roll_min, info.roll_max) =
+        range_of(soft(&client::Limits::roll), kGportRange.roll, invert.roll);
+    std::tie(info.pitch_min, info.pitch_max) =
+        range_of(soft(&client::Limits::pitch), kGportRange.pitch, invert.pitch);
+    std::tie(info.yaw_min, info.yaw_max) =
+        range_of(soft(&client::Limits::yaw), kGportRange.yaw, invert.yaw);
     return info;
 }
 

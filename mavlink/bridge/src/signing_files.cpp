@@ -89,6 +89,36 @@ Result<std::string> read_small(int fd, std::size_t limit) {
     return data;
 }
 
+// Issue 30: a state directory that another user can write lets them plant
+// the timestamp file (or swap it for a link). Owned by us or root, not
+// writable by group or others.
+std::optional<Error> check_directory(int fd, const std::string& directory) {
+    const std::string what_to_do = fmt::format(
+        "; allowed: a directory owned by the user gport-mavlink runs as (uid {}) or root, "
+        "that neither its group nor others may write (e.g. chown that user, chmod 700 {}; the "
+        "units' StateDirectory= makes one)",
+        ::geteuid(), directory);
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) {
+        return Error{fmt::format("state directory {}: cannot be examined: {}", directory,
+                                 errno_text(errno))};
+    }
+    if (st.st_uid != ::geteuid() && st.st_uid != 0) {
+        return Error{
+            fmt::format("state directory {}: is owned by uid {}, who could plant its "
+                        "signing timestamp{}",
+                        directory, st.st_uid, what_to_do)};
+    }
+    if ((st.st_mode & (S_IWGRP | S_IWOTH)) != 0) {
+        return Error{
+            fmt::format("state directory {}: mode {:04o} is {}: others could plant its "
+                        "signing timestamp{}",
+                        directory, st.st_mode & 07777,
+                        loose_permissions(st.st_mode & (S_IWGRP | S_IWOTH)), what_to_do)};
+    }
+    return std::nullopt;
+}
+
 }  // namespace
 
 Result<SecretKey> load_signing_key(const std::string& path) {
@@ -140,6 +170,15 @@ Result<SecretKey> load_signing_key(const std::string& path) {
     return key;
 }
 
+std::optional<Error> check_state_directory(const std::string& directory) {
+    Fd fd(::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+    if (fd.get() < 0) {
+        return Error{
+            fmt::format("state directory {}: cannot be opened: {}", directory, errno_text(errno))};
+    }
+    return check_directory(fd.get(), directory);
+}
+
 TimestampFile::TimestampFile(const std::string& directory)
     : directory_(directory.empty() ? "." : directory),
       path_(directory.empty() || directory.back() == '/' ? directory + kFileName
@@ -162,6 +201,10 @@ std::optional<Error> TimestampFile::lock() {
         return Error{
             fmt::format("state directory {}: cannot be opened: {}", directory_, errno_text(errno))};
     }
+    if (auto error = check_directory(fd, directory_)) {
+        ::close(fd);
+        return error;
+    }
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
         const int error = errno;
         ::close(fd);
@@ -182,40 +225,57 @@ std::optional<Error> TimestampFile::lock() {
     return std::nullopt;
 }
 
-Result<std::uint64_t> TimestampFile::load() const {
-    Fd fd(::open(path_.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK));
+Result<std::uint64_t> load_state_number(const std::string& path, std::uint64_t max,
+                                        std::string_view invalid) {
+    // O_NOFOLLOW: a symbolic link in its place is refused (ELOOP), not followed.
+    Fd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK | O_NOFOLLOW));
     if (fd.get() < 0 && errno == ENOENT) {
         return std::uint64_t{0};
     }
     if (fd.get() < 0) {
-        return Error{fmt::format("{}: cannot be opened: {}", path_, errno_text(errno))};
+        const int error = errno;
+        return Error{fmt::format("{}: cannot be opened: {}{}", path, errno_text(error),
+                                 error == ELOOP ? " (a symbolic link: not followed)" : "")};
+    }
+    struct stat st {};
+    if (::fstat(fd.get(), &st) != 0 || !S_ISREG(st.st_mode)) {
+        return Error{
+            fmt::format("{}: is not a regular file; remove it while gport-mavlink is "
+                        "stopped",
+                        path)};
     }
     auto data = read_small(fd.get(), 64);
     if (!data) {
-        return Error{fmt::format("{}: {}", path_, data.error().message)};
+        return Error{fmt::format("{}: {}", path, data.error().message)};
     }
     const std::string_view text = trim(*data);
     std::uint64_t value = 0;
     const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (text.empty() || error != std::errc() || end != text.data() + text.size() ||
-        value > kMaxTimestamp) {
-        return Error{fmt::format(
-            "{}: does not hold a signing timestamp (one decimal number under 2^48); remove "
-            "it only if this machine's clock is right (the next start then begins at the "
-            "clock)",
-            path_)};
+    if (text.empty() || error != std::errc() || end != text.data() + text.size() || value > max) {
+        return Error{fmt::format("{}: {}", path, invalid)};
     }
     return value;
 }
 
+Result<std::uint64_t> TimestampFile::load() const {
+    return load_state_number(
+        path_, kMaxTimestamp,
+        "does not hold a signing timestamp (one decimal number under 2^48); remove it only if "
+        "this machine's clock is right (the next start then begins at the clock)");
+}
+
 std::optional<Error> TimestampFile::save(std::uint64_t timestamp) const {
+    return save_state_number(path_, timestamp);
+}
+
+std::optional<Error> save_state_number(const std::string& path, std::uint64_t value) {
     // A unique name (O_EXCL, mode 0600): nothing else's file is reused.
-    std::string temporary = path_ + ".XXXXXX";
+    std::string temporary = path + ".XXXXXX";
     Fd fd(::mkostemp(temporary.data(), O_CLOEXEC));
     if (fd.get() < 0) {
         return Error{fmt::format("{}: cannot be created: {}", temporary, errno_text(errno))};
     }
-    const std::string text = std::to_string(timestamp) + "\n";
+    const std::string text = std::to_string(value) + "\n";
     const ssize_t n = ::write(fd.get(), text.data(), text.size());
     if (n != static_cast<ssize_t>(text.size())) {
         const int error = n < 0 ? errno : ENOSPC;
@@ -227,14 +287,14 @@ std::optional<Error> TimestampFile::save(std::uint64_t timestamp) const {
         ::unlink(temporary.c_str());
         return Error{fmt::format("{}: cannot be synced: {}", temporary, errno_text(error))};
     }
-    if (::rename(temporary.c_str(), path_.c_str()) != 0) {
+    if (::rename(temporary.c_str(), path.c_str()) != 0) {
         const int error = errno;
         ::unlink(temporary.c_str());
-        return Error{fmt::format("{}: cannot be replaced: {}", path_, errno_text(error))};
+        return Error{fmt::format("{}: cannot be replaced: {}", path, errno_text(error))};
     }
     // The rename itself reaches the disk with the directory.
-    const auto slash = path_.rfind('/');
-    const std::string directory = slash == std::string::npos ? "." : path_.substr(0, slash + 1);
+    const auto slash = path.rfind('/');
+    const std::string directory = slash == std::string::npos ? "." : path.substr(0, slash + 1);
     Fd dir(::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
     if (dir.get() >= 0) {
         ::fsync(dir.get());

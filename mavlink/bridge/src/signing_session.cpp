@@ -15,6 +15,10 @@ std::uint64_t now_timestamp() {
     return signing_timestamp(std::chrono::system_clock::now());
 }
 
+double seconds(std::uint64_t timestamps) {
+    return static_cast<double>(timestamps) / kTimestampsPerSecond;
+}
+
 std::string describe(const FrameView& frame) {
     return fmt::format("{} from system {} component {}", message_name(frame.msgid),
                        frame.header.sysid, frame.header.compid);
@@ -54,7 +58,7 @@ Result<std::unique_ptr<SigningSession>> SigningSession::open(SecretKey key,
     }
     const std::uint64_t now = now_timestamp();
     std::unique_ptr<SigningSession> session(
-        new SigningSession(std::move(key), std::move(file), *stored, now, log));
+        new SigningSession(std::move(key), std::move(file), trusted_floor(*stored, now), now, log));
     // The exact start value: checks that the file can be written, without
     // reserving anything before a frame is sent.
     const std::uint64_t start = session->clock_.current();
@@ -63,37 +67,31 @@ Result<std::unique_ptr<SigningSession>> SigningSession::open(SecretKey key,
         return *error;
     }
     session->reserved_ = start;
-    if (session->clock_.saturated()) {
+    session->explain_start(*stored, now);
+    return session;
+}
+
+void SigningSession::explain_start(std::uint64_t stored, std::uint64_t now) const {
+    const std::uint64_t start = clock_.current();
+    if (stored > start + kReservation) {
+        // More than a crash's reservation above what we take: not ours.
         spdlog::error(
-            "signing: the stored timestamp in {} is saturated at 2^48 - 1: every frame will "
-            "repeat it and receivers take only the first. If this machine's clock is right, "
-            "stop gport-mavlink, remove the file and start it again",
-            session->file_.path());
-    } else if (*stored > now + kAheadWarning) {
-        spdlog::warn(
             "signing: the stored timestamp {} in {} is {:.0f} s ahead of this machine's clock: "
-            "until the clock catches up, a peer whose clock is right starts its streams more "
-            "than a minute behind ours and is refused as \"too old\". Is the clock right? (If "
-            "it is, the value came from a peer's clock or an old bug; removing the file while "
-            "gport-mavlink is stopped makes peers that saw our earlier frames refuse the next "
-            "ones as replays until they restart.)",
-            *stored, session->file_.path(),
-            static_cast<double>(*stored - now) / kTimestampsPerSecond);
+            "not trusted beyond {:.0f} s ahead (our frames never run further ahead, so it was "
+            "planted, or set by a peer's clock through an older gport-mavlink); starting at "
+            "{}. If this machine's clock went back instead, set it right (NTP, GPS): peers "
+            "that saw our earlier frames refuse lower timestamps as replays until they restart",
+            stored, file_.path(), seconds(stored - now), seconds(SendClock::kMaxLead), start);
     }
     spdlog::info(
         "signing: on (link id {}); only correctly signed frames are taken; outgoing timestamps "
         "above {} (stored {}, clock {}), kept in {}",
-        kLinkId, session->clock_.current(), *stored, now, session->file_.path());
-    return session;
+        kLinkId, start, stored, now, file_.path());
 }
 
-SigningSession::SigningSession(SecretKey key, TimestampFile file, std::uint64_t stored,
+SigningSession::SigningSession(SecretKey key, TimestampFile file, std::uint64_t floor,
                                std::uint64_t now, Logbook& log)
-    : key_(key),
-      verifier_(std::move(key)),
-      file_(std::move(file)),
-      clock_(stored, now),
-      log_(log) {}
+    : key_(key), verifier_(std::move(key)), file_(std::move(file)), clock_(floor, now), log_(log) {}
 
 std::optional<Error> SigningSession::reserve(std::uint64_t timestamp) {
     // After a failed write, one attempt a second, not one per frame: each
@@ -112,24 +110,39 @@ std::optional<Error> SigningSession::reserve(std::uint64_t timestamp) {
 }
 
 bool SigningSession::admit(const FrameView& frame) {
-    const std::uint64_t local = std::max(clock_.current(), now_timestamp());
-    const Verdict verdict = verifier_.check(frame.bytes, local);
+    const Verdict verdict = verifier_.check(frame.bytes, clock_.reference(now_timestamp()));
     ++counts_[static_cast<std::size_t>(verdict.check)];
     if (verdict.check == SignatureCheck::kAccepted) {
-        if (!clock_.observe(verdict.timestamp, now_timestamp())) {
-            log_.note(spdlog::level::err, "signing: a peer's timestamp is over a day ahead", [&] {
-                return fmt::format(
-                    "signing: {} carries timestamp {}, more than a day ahead of our clock: "
-                    "ours is raised to a day ahead at most (not further, or it could saturate "
-                    "at 2^48 - 1 and repeat one timestamp for good); is that sender's clock, "
-                    "or this machine's, wrong?",
-                    describe(frame), verdict.timestamp);
-            });
-        }
         return true;
     }
     report(frame, verdict);
     return false;
+}
+
+void SigningSession::follow(const FrameView& frame) {
+    const auto block = signature_block_of(frame.bytes);
+    if (!block) {
+        return;
+    }
+    const std::uint64_t now = now_timestamp();
+    const auto observed = clock_.observe(block->timestamp, now);
+    if (observed.capped) {
+        log_.note(spdlog::level::err, "signing: a peer's timestamp is far ahead", [&] {
+            return fmt::format(
+                "signing: {} carries timestamp {}, {:.0f} s ahead of our clock: ours follows "
+                "it to {:.0f} s ahead at most; is that sender's clock, or this machine's, wrong?",
+                describe(frame), block->timestamp, seconds(block->timestamp - now),
+                seconds(SendClock::kMaxLead));
+        });
+    } else if (observed.raised > kNotedStep) {
+        log_.note(spdlog::level::warn, "signing: timestamp moved by a peer", [&] {
+            return fmt::format(
+                "signing: {} moved our timestamp {:.1f} s forward, to {:.1f} s ahead of our "
+                "clock",
+                describe(frame), seconds(observed.raised),
+                seconds(clock_.current() > now ? clock_.current() - now : 0));
+        });
+    }
 }
 
 void SigningSession::report(const FrameView& frame, const Verdict& verdict) {

@@ -4,14 +4,15 @@
 // kept monotonic across restarts by the timestamp file.
 //
 // Persistence: the file always holds a value at or above every timestamp
-// sent (the reservation in memory is updated only once it is on disk; a
-// failed write is retried once a second, logged, and signing goes on). The
-// state directory is locked for the session: a second process sharing it
-// is refused at start. At start the clock starts at max(now, stored), and that exact
-// value is written back (checking that the file can be written without
-// advancing it; a failure stops the start); a warning says when the stored
-// value is more than 60 s ahead of the clock (peers with a right clock are
-// then refused as "too old"). The first frame actually sent, and then
+// sent (while this machine's clock does not go back: see below; the reservation in memory is
+// updated only once it is on disk; a failed write is retried once a second, logged, and signing
+// goes on). The state directory is locked for the session: a second process sharing it is refused
+// at start. At start the clock starts at max(now, stored), the stored value trusted up to
+// SendClock::kMaxLead (30 s) ahead of the clock only (trusted_floor(): a planted 2^48 - 1 is not
+// taken), and that exact value is written back (checking that the file can be written without
+// advancing it; a failure stops the start); an error says when the stored
+// value was not trusted (more than a reservation above the start). The
+// first frame actually sent, and then
 // every one within 10 s of the reservation, writes a reservation 30 s
 // ahead (about every 20 s while the clock drives it). Every exit that
 // unwinds (a clean one, or an exception caught in main(): exit 71) writes
@@ -39,17 +40,25 @@ class SigningSession {
     static constexpr std::uint8_t kLinkId = 0;
     static constexpr std::uint64_t kReservation = 30 * kTimestampsPerSecond;
     static constexpr std::uint64_t kHeadroom = 10 * kTimestampsPerSecond;
-    // A stored value further ahead of the clock than this is warned about.
-    static constexpr std::uint64_t kAheadWarning = 60 * kTimestampsPerSecond;
+    // A step of our clock by a peer's frame larger than this is logged.
+    static constexpr std::uint64_t kNotedStep = 1 * kTimestampsPerSecond;
 
     // Reads the stored timestamp and writes the exact start value back; the
     // error names the file and the cause.
     static Result<std::unique_ptr<SigningSession>> open(SecretKey key, const std::string& state_dir,
                                                         Logbook& log);
 
-    // True when the frame may be acted on; otherwise it is counted and
-    // logged (per kind) and must be dropped.
+    // True when the frame's signature is good (key, stream, age: the
+    // Verifier, against SendClock::reference()); otherwise it is counted
+    // and logged (per kind) and must be dropped. Does not move our clock.
     bool admit(const FrameView& frame);
+
+    // An admitted frame that the trust rules allow (from the vehicle or a
+    // ground station): our clock follows its timestamp, at most
+    // SendClock::kMaxLead ahead of the wall clock (logged, limited, when it
+    // moves by more than a second, or the frame is further ahead). Frames
+    // of systems we ignore never move it (issue 30).
+    void follow(const FrameView& frame);
 
     // Fills in a frame built signed.
     void sign(Frame& frame);
@@ -66,8 +75,9 @@ class SigningSession {
     const Counts& counts() const { return counts_; }
 
   private:
-    SigningSession(SecretKey key, TimestampFile file, std::uint64_t stored, std::uint64_t now,
+    SigningSession(SecretKey key, TimestampFile file, std::uint64_t floor, std::uint64_t now,
                    Logbook& log);
+    void explain_start(std::uint64_t stored, std::uint64_t now) const;
     std::optional<Error> reserve(std::uint64_t timestamp);
     void report(const FrameView& frame, const Verdict& verdict);
     std::string drop_text(const FrameView& frame, const Verdict& verdict) const;

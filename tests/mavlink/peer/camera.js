@@ -216,20 +216,31 @@ async function main() {
   `an interval of 0.1 s is DENIED (${tooFast && tooFast.data.result}) and logged with what is allowed`);
 
   // 6b. Positions from a ground station (trusted for commands, not for
-  //     vehicle state) and a rogue are not used; the vehicle's, once over
-  //     1 s old, is not either: zeros.
+  //     vehicle state), a rogue, another component of the vehicle's system
+  //     (issue 30: the autopilot, compid 1, alone) and the autopilot's own
+  //     out of bounds (INT32_MAX latitude, INT32_MIN altitude) are not used;
+  //     the vehicle's valid one, once over 1 s old, is not either: zeros.
   clearInterval(streams);
   await sleep(1300);
   const spoof = position();
   spoof.lat = 100000000; spoof.lon = 200000000;
-  gcs.send(spoof); rogue.send(spoof);
+  const companion = new Peer({ sysid: 1, compid: 191 });
+  await companion.bind(); companion.target(port);
+  const wild = position();
+  wild.lat = 2147483647; wild.alt = -2147483648;
+  gcs.send(spoof); rogue.send(spoof); companion.send(spoof); vehicle.send(wild);
   await sleep(100);
   t0 = Date.now();
   gcs.send(cam(IMAGE_START, [0, 0, 1]));
   const stale = await until(() => fromCamera(gcs, t0, 'CAMERA_IMAGE_CAPTURED')[0], 5000, 'CAMERA_IMAGE_CAPTURED').catch(() => null);
   check(stale && stale.data.captureResult === 1 && stale.data.lat === 0 && stale.data.lon === 0 &&
-    stale.data.alt === 0, `spoofed positions (ground station, rogue) ignored, the vehicle's 1.4 s old not used: ` +
+    stale.data.alt === 0, `spoofed positions (ground station, rogue, vehicle component 191, the autopilot's ` +
+    `lat 214.7483647 / alt -2147483.648) ignored, the vehicle's 1.4 s old not used: ` +
     `lat/lon/alt ${stale && [stale.data.lat, stale.data.lon, stale.data.alt].join('/')}`);
+  const dropped = (re) => bridge.lines.some((l) => /dropped GLOBAL_POSITION_INT/.test(l) && re.test(l));
+  check(dropped(/component 191 is not the vehicle's autopilot/) || dropped(/lat 214.7483647 is outside/),
+    `a dropped position is logged naming why: ${bridge.lines.find((l) => /dropped GLOBAL_POSITION_INT/.test(l))}`);
+  companion.close();
 
   // 7. Video: start and stop, two record frames, the status says so.
   t0 = Date.now();

@@ -201,8 +201,8 @@ async function main() {
   check(info.data.vendorName.replace(/\0+$/, '') === 'HEQUAV' && info.data.modelName.replace(/\0+$/, '') === 'G-Port',
     `information: vendor ${info.data.vendorName}, model ${info.data.modelName}, cap_flags ${info.data.capFlags}`);
   check(near(info.data.pitchMin, rad(-90), 1e-6) && near(info.data.pitchMax, rad(30), 1e-6) &&
-    Number.isNaN(info.data.rollMin) && Number.isNaN(info.data.yawMax),
-  `information limits from gportd's config: pitch ${info.data.pitchMin}..${info.data.pitchMax} rad, roll/yaw NaN (unlimited)`);
+    near(info.data.rollMin, rad(-45), 1e-6) && near(info.data.yawMax, rad(170), 1e-6),
+  `information limits from gportd's config: pitch ${info.data.pitchMin}..${info.data.pitchMax} rad; roll/yaw without a soft limit: the G-Port's range (roll min ${info.data.rollMin}, yaw max ${info.data.yawMax} rad)`);
 
   // Attitude status at the configured rate.
   t0 = Date.now();

@@ -69,6 +69,8 @@ class GPORT_CLIENT_API AsyncClient {
     // With `meta` (CaptureOptions) and the capture gportd logged. A meta
     // that is no JSON object completes with kInvalidParams, nothing sent.
     void async_photo(const CaptureOptions& options, Handler<PhotoResult> handler);
+    // The same with the attitude gportd logged for the capture (1.4.0).
+    void async_photo_report(const CaptureOptions& options, Handler<PhotoReport> handler);
     void async_record(std::optional<bool> on, bool force, const CaptureOptions& options,
                       Handler<RecordResult> handler);
     void async_acquire(Handler<Control> handler);

@@ -159,6 +159,23 @@ struct PhotoResult {
     std::optional<Capture> capture{};
 };
 
+// The attitude gportd logged with a capture (its `capture.attitude`):
+// IMU and hall angles in degrees and how old the sample was. New in 1.4.0
+// beside Capture, not in it: a member added to Capture would change the
+// layout of PhotoResult and RecordResult (SOVERSION 1).
+struct CaptureAttitude {
+    Axes imu{};
+    Axes hall{};
+    std::int64_t age_ms = 0;
+};
+
+// async_photo_report's result (1.4.0): the capture and its attitude (none
+// when gportd had no sample, or is older and does not send one).
+struct PhotoReport {
+    std::optional<Capture> capture{};
+    std::optional<CaptureAttitude> attitude{};
+};
+
 struct RecordResult {
     bool sent = false;
     std::string recording{};  // "on", "off" or "unknown" after the call

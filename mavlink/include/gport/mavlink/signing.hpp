@@ -72,28 +72,48 @@ std::uint64_t signing_timestamp(std::chrono::system_clock::time_point time);
 
 // The timestamp of a node's outgoing frames: each at least one more than the
 // previous one, kept up with the clock (so that receivers that restart, and
-// apply the one-minute rule to our new stream, accept it), raised to any
-// greater timestamp accepted from the network (the specification's rule)
-// but never above now + kMaxLead by it, and never below `floor`, the
-// persisted value every earlier one stayed under (the start is max(clock,
-// persisted)). Saturates at 48 bits: then every frame carries the same
-// timestamp and receivers take only the first (saturated() says so).
+// apply the one-minute rule to our new stream, accept it), raised to a
+// greater timestamp of a frame the node obeys (the specification's rule;
+// the caller decides which frames those are) but never above now +
+// kMaxLead by it, and never below `floor`, the persisted value every
+// earlier one stayed under (the start is max(clock, floor); trusted_floor()
+// bounds a stored value). Saturates at 48 bits: then every frame carries the
+// same timestamp and receivers take only the first (saturated() says so).
 //
-// Why the cap: one accepted frame from a key holder with a wrong clock (or
-// a timestamp of 2^48 - 1) would otherwise drag our clock there for good
-// (it is persisted): saturated, every frame repeats the last timestamp.
+// Why the lead is bounded (issue 30): one accepted frame from a key holder
+// with a wrong clock, or a forged one stamped hours ahead, would otherwise
+// drag our clock there (and it is persisted): peers whose clocks are right
+// would then start new streams more than a minute behind ours and be
+// refused as "too old", and our own frames would pull every peer that
+// follows our timestamp ahead too. kMaxLead is half the one-minute window:
+// a peer whose clock is right stays 30 s inside it whatever a key holder
+// sent us.
 class SendClock {
   public:
-    // How far ahead of our clock a peer's timestamp may pull ours: a day.
-    static constexpr std::uint64_t kMaxLead = 24ULL * 3600 * kTimestampsPerSecond;
+    // How far ahead of our wall clock ours may be pulled by a peer, and how
+    // far ahead of it the reference for incoming new streams may be: 30 s.
+    static constexpr std::uint64_t kMaxLead = 30 * kTimestampsPerSecond;
 
     SendClock(std::uint64_t floor, std::uint64_t now);
     // The timestamp for the next frame: max(previous + 1, now).
     std::uint64_t next(std::uint64_t now);
-    // A correctly signed incoming frame's timestamp: ours if greater, but
-    // not above now + kMaxLead. False when it was capped (the peer's clock
-    // is more than a day ahead of ours).
-    bool observe(std::uint64_t accepted, std::uint64_t now);
+
+    // What observe() did: how far it raised ours, and whether the peer's
+    // timestamp was beyond now + kMaxLead (ours stops there).
+    struct Observed {
+        std::uint64_t raised = 0;
+        bool capped = false;
+    };
+    // The timestamp of a correctly signed frame from a system we obey: ours
+    // if greater, but not above now + kMaxLead.
+    Observed observe(std::uint64_t accepted, std::uint64_t now);
+
+    // Our timestamp as the reference of the incoming one-minute rule
+    // (Verifier::check's `local`): ours, but not behind the wall clock nor
+    // more than kMaxLead ahead of it, so that however far a stored value or
+    // a peer put ours, a sender whose clock is right is never "too old".
+    std::uint64_t reference(std::uint64_t now) const;
+
     // The greatest timestamp issued or observed so far.
     std::uint64_t current() const { return last_; }
     // At 2^48 - 1: every frame now repeats the same timestamp.
@@ -102,6 +122,15 @@ class SendClock {
   private:
     std::uint64_t last_;
 };
+
+// The floor a stored timestamp gives at start: the stored value, but at
+// most now + SendClock::kMaxLead. A node that follows these rules with a
+// clock that does not go back never sent anything above that (its frames
+// stay within kMaxLead of its clock), so the peers that saw its frames
+// still see newer ones; anything higher (a file planted at 2^48 - 1, a
+// value from an older version that followed a peer a day ahead, or a
+// reservation beyond what was sent) is not trusted beyond it.
+std::uint64_t trusted_floor(std::uint64_t stored, std::uint64_t now);
 
 // ---- signatures --------------------------------------------------------------
 

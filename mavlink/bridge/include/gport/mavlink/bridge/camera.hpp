@@ -65,6 +65,13 @@ bool digicam_shot(const CommandLong& command);
 Quaternion camera_orientation(const std::optional<client::AttitudeSample>& sample,
                               std::optional<double> vehicle_yaw_deg, const Invert& invert);
 
+// The sample a photo's orientation is made from: the attitude gportd
+// logged with the capture, else (an older gportd, or none logged) `own`,
+// the bridge's newest sample.
+std::optional<client::AttitudeSample> capture_sample(
+    const std::optional<client::CaptureAttitude>& logged,
+    const std::optional<client::AttitudeSample>& own);
+
 struct ImageCapture {
     std::uint64_t time_utc_us = 0;
     std::uint32_t time_boot_ms = 0;

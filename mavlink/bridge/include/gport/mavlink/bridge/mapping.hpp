@@ -35,21 +35,35 @@ struct SpeedCommand {  // gportd `speed`, degrees per second
     client::Axes speed{};
 };
 struct CenterCommand {};      // gportd `center` (RETRACT or NEUTRAL)
+struct IdleCommand {};        // all NaN: the manager has no target yet (PX4 streams it)
 struct NoCommand {            // nothing to send
     std::string_view kind{};  // why, in fixed words (one log kind per value: log_limit.hpp)
     std::string reason{};     // why, with the values
 };
-using Command = std::variant<NoCommand, AngleCommand, SpeedCommand, CenterCommand>;
+using Command = std::variant<NoCommand, AngleCommand, SpeedCommand, CenterCommand, IdleCommand>;
 
 // True when the message asks for earth-frame yaw: YAW_IN_EARTH_FRAME, or
 // (the protocol's older convention) YAW_LOCK without either frame flag.
 bool yaw_in_earth_frame(std::uint16_t flags);
 
+// True for the null rotation, [±1, 0, 0, 0] exactly.
+bool is_identity(const Quaternion& q);
+
+// True when a set-attitude message's rates are taken over its quaternion:
+// the quaternion is the null rotation and at least one rate is finite.
+// PX4's gimbal manager sends DO_GIMBAL_MANAGER_PITCHYAW with NaN angles (a
+// rate command) as q = [1, 0, 0, 0] plus the rates (its input_mavlink
+// turns NaN angles into 0), where the protocol asks for a NaN quaternion;
+// a manager that wants the centre sends no rates (docs/mavlink.md, "Rates
+// and the quaternion").
+bool rates_win(const GimbalDeviceSetAttitude& message);
+
 // The command for a set-attitude message. `vehicle_yaw_deg` is the
-// autopilot's yaw (AUTOPILOT_STATE_FOR_GIMBAL_DEVICE), needed to turn an
-// earth-frame yaw into a vehicle-frame one; without it such a target is a
-// NoCommand. A NaN rate axis counts as 0; all rates NaN with a NaN
-// quaternion is a NoCommand.
+// vehicle's yaw (AUTOPILOT_STATE_FOR_GIMBAL_DEVICE, else the autopilot's
+// ATTITUDE: vehicle_yaw.hpp), needed to turn an earth-frame yaw into a
+// vehicle-frame one; without it such a target is a NoCommand. A NaN rate
+// axis counts as 0; rates win over a null-rotation quaternion (rates_win);
+// all rates NaN with a NaN quaternion is an IdleCommand.
 Command map_set_attitude(const GimbalDeviceSetAttitude& message, const Invert& invert,
                          std::optional<double> vehicle_yaw_deg);
 
@@ -112,10 +126,20 @@ struct AttitudeInputs {
 GimbalDeviceAttitudeStatus make_attitude_status(const AttitudeInputs& inputs, const Health& health,
                                                 const Invert& invert);
 
+// The G-Port's mechanical range (docs/simulator.md, the device's model;
+// yaw ±170° was seen on the device, issue 31), in degrees.
+struct GportRange {
+    client::AxisRange roll{-45, 45};
+    client::AxisRange pitch{-90, 90};
+    client::AxisRange yaw{-170, 170};
+};
+inline constexpr GportRange kGportRange{};
+
 // The GIMBAL_DEVICE_INFORMATION gport-mavlink sends. The angle limits are
 // gportd's soft limits (`limits` method) in radians, flipped with `invert`;
-// NaN ("unknown") for an axis without one (the protocol's ±327.67°) or
-// before gportd answered.
+// the G-Port's mechanical range (kGportRange) for an axis without one (the
+// protocol's ±327.67°) or before gportd answered: an autopilot that knows
+// the range does not aim beyond it (ArduPilot kept ±180° with NaN).
 GimbalDeviceInformation make_information(std::uint32_t time_boot_ms,
                                          const std::optional<client::Limits>& limits,
                                          const Invert& invert);

@@ -16,11 +16,18 @@
 // torn one. The directory is locked (flock) by the one process using it:
 // two processes sharing a state directory would publish each other's
 // values (one's timestamps below the other's file); the second is refused.
+// Before that it is checked (issue 30): owned by the effective user or
+// root, and writable by neither group nor others, or another user could
+// plant the file; the file is read with O_NOFOLLOW (a symbolic link in its
+// place is refused) and must be a regular file. A planted value is bounded
+// anyway: the session trusts a stored timestamp only up to 30 s ahead of
+// the clock (trusted_floor(), signing.hpp).
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "gport/mavlink/result.hpp"
 #include "gport/mavlink/signing.hpp"
@@ -31,6 +38,18 @@ namespace gport::mavlink::bridge {
 inline constexpr std::size_t kMaxKeyFileSize = 1024;
 
 Result<SecretKey> load_signing_key(const std::string& path);
+
+// The state directory's files (the signing timestamp, the image count:
+// image_count.hpp) share its rules: the directory is ours or root's and
+// writable by neither group nor others (the error says what to do), a file
+// is opened with O_NOFOLLOW and must be a regular file, and is replaced
+// whole (a temporary file, fsync, rename).
+std::optional<Error> check_state_directory(const std::string& directory);
+// The number stored at `path`: 0 when there is no file; an error naming
+// the file, with `invalid` when it holds no decimal number up to `max`.
+Result<std::uint64_t> load_state_number(const std::string& path, std::uint64_t max,
+                                        std::string_view invalid);
+std::optional<Error> save_state_number(const std::string& path, std::uint64_t value);
 
 class TimestampFile {
   public:
@@ -44,14 +63,16 @@ class TimestampFile {
     ~TimestampFile();  // releases the lock
     const std::string& path() const { return path_; }
 
-    // Locks the directory for this object's lifetime (an exclusive flock,
-    // not waited for); the error names the directory and says that another
-    // process (another gport-mavlink) holds it, or why it cannot be locked.
+    // Checks the directory (owner, mode: see above) and locks it for this
+    // object's lifetime (an exclusive flock, not waited for); the error
+    // names the directory and says what is wrong and what to do, or that
+    // another process (another gport-mavlink) holds it.
     std::optional<Error> lock();
 
     // The stored timestamp; 0 when the file does not exist yet (first
     // start). An error names the file and the problem when it cannot be
-    // read or does not hold one number of at most 48 bits.
+    // read, is a symbolic link or no regular file, or does not hold one
+    // number of at most 48 bits.
     Result<std::uint64_t> load() const;
 
     // Stores `timestamp`; the error names the file and the cause.

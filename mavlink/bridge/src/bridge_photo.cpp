@@ -1,0 +1,105 @@
+// The camera component's photos: gportd `photo` with the vehicle's
+// position as its `meta`, then the ACK and CAMERA_IMAGE_CAPTURED with the
+// image_index (image_count.hpp) and the attitude gportd logged for the
+// capture (docs/mavlink.md, "The camera component").
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "bridge.hpp"
+#include "gport/mavlink/enums.hpp"
+
+namespace gport::mavlink::bridge {
+
+namespace {
+
+std::uint64_t utc_now_us() {
+    return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(
+                                          std::chrono::system_clock::now().time_since_epoch())
+                                          .count());
+}
+
+}  // namespace
+
+std::optional<GlobalPositionInt> Bridge::fresh_position() const {
+    if (!position_ || Clock::now() - position_->second >= kPositionMaxAge) {
+        return std::nullopt;
+    }
+    return position_->first;
+}
+
+client::CaptureOptions Bridge::capture_options(bool with_meta) const {
+    client::CaptureOptions options;
+    if (with_meta && meta_supported_) {
+        options.meta = position_meta(fresh_position());
+    }
+    return options;
+}
+
+// True when gportd refused the call for its `meta` (an older gportd without
+// the capture log: "unknown parameter"): the call is repeated without it.
+bool Bridge::meta_refused(const client::Error& error, const client::CaptureOptions& sent) {
+    if (sent.meta.empty() || !error.is(client::ErrorCode::kInvalidParams) ||
+        std::string_view(error.message()).find("meta") == std::string_view::npos) {
+        return false;
+    }
+    if (std::string_view(error.message()).find("unknown parameter") != std::string_view::npos) {
+        meta_supported_ = false;
+    }
+    spdlog::info("gportd refused the capture's meta ({}); repeating without it", error.message());
+    return true;
+}
+
+void Bridge::take_photo(const std::optional<Requester>& from, std::uint16_t command,
+                        bool with_meta) {
+    camera_in_flight_ = true;  // cleared by the call's completion
+    photo_in_flight_ = true;
+    const auto options = capture_options(with_meta);
+    gportd_.async_photo_report(
+        options,
+        [this, from, command, options](std::optional<client::Error> e, client::PhotoReport report) {
+            if (e && meta_refused(*e, options)) {
+                take_photo(from, command, false);
+                return;
+            }
+            photo_done(from, command, e, report);
+        });
+}
+
+void Bridge::photo_done(const std::optional<Requester>& from, std::uint16_t command,
+                        const std::optional<client::Error>& error,
+                        const client::PhotoReport& report) {
+    const auto& capture = report.capture;
+    camera_in_flight_ = false;
+    photo_in_flight_ = false;
+    if (from) {
+        ack(*from, command, error ? mav_result::kDenied : mav_result::kAccepted, kCameraCompid);
+    }
+    ImageCapture image;
+    image.time_boot_ms = time_boot_ms();
+    image.time_utc_us = capture && capture->utc_us ? *capture->utc_us : utc_now_us();
+    image.success = !error;
+    if (error) {
+        log_.warn("gportd refused photo", "gportd refused photo: " + error->message());
+    } else {
+        std::optional<Error> unsaved;
+        image.image_index = image_count_.add(unsaved);
+        spdlog::info("camera: image_index {} is gportd's capture {}", image.image_index,
+                     capture ? std::to_string(capture->index) : std::string("(not reported)"));
+        if (unsaved) {
+            log_.warn("camera: image count not stored",
+                      "camera: the image count could not be stored (" + unsaved->message +
+                          "); after a restart image_index may repeat");
+        }
+    }
+    image.position = fresh_position();
+    // The attitude gportd logged with the capture, else our newest sample.
+    image.q = camera_orientation(capture_sample(report.attitude, sample_), vehicle_yaw_deg(),
+                                 options_.invert);
+    // To whoever asked (the requester's origin), else (an interval's
+    // photos) to the peer.
+    send(make_image_captured(image), from ? from->origin : Origin{}, kCameraCompid);
+}
+
+}  // namespace gport::mavlink::bridge

@@ -1,0 +1,93 @@
+// The vehicle's yaw for earth-frame targets (vehicle_yaw.hpp) and the lease
+// of rate commands (rate_lease.hpp), issue 31.
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include "gport/mavlink/bridge/rate_lease.hpp"
+#include "gport/mavlink/bridge/vehicle_yaw.hpp"
+
+namespace gport::mavlink::bridge {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+TEST(VehicleYaw, NoneWithoutAReading) {
+    VehicleYaw yaw;
+    EXPECT_FALSE(yaw.at(Clock::now()));
+    EXPECT_EQ(yaw.source(Clock::now()), YawSource::kNone);
+    EXPECT_EQ(to_string(YawSource::kNone), "none");
+}
+
+// PX4's Onboard link: ATTITUDE, no AUTOPILOT_STATE_FOR_GIMBAL_DEVICE.
+TEST(VehicleYaw, AttitudeAloneServesWhileFresh) {
+    VehicleYaw yaw;
+    const auto t0 = Clock::now();
+    yaw.from_attitude(42.5, 3.0, t0);
+    const auto reading = yaw.at(t0 + 900ms);
+    ASSERT_TRUE(reading);
+    EXPECT_EQ(reading->yaw_deg, 42.5);
+    EXPECT_EQ(reading->rate_dps, 3.0);
+    EXPECT_EQ(reading->source, YawSource::kAttitude);
+    EXPECT_EQ(to_string(reading->source), "ATTITUDE");
+    EXPECT_FALSE(yaw.at(t0 + VehicleYaw::kMaxAge));
+}
+
+TEST(VehicleYaw, AutopilotStateWinsWhileFreshThenAttitude) {
+    VehicleYaw yaw;
+    const auto t0 = Clock::now();
+    yaw.from_autopilot_state(10, std::nullopt, t0);
+    yaw.from_attitude(11, std::nullopt, t0 + 500ms);
+    EXPECT_EQ(yaw.at(t0 + 600ms)->yaw_deg, 10);
+    EXPECT_EQ(yaw.source(t0 + 600ms), YawSource::kAutopilotState);
+    EXPECT_EQ(yaw.at(t0 + 1200ms)->yaw_deg, 11);  // the state is stale, ATTITUDE is not
+    EXPECT_EQ(yaw.source(t0 + 1200ms), YawSource::kAttitude);
+    EXPECT_EQ(yaw.source(t0 + 1600ms), YawSource::kNone);
+}
+
+TEST(RateLease, AFastStreamKeepsTheFloor) {
+    RateLease lease(500ms);
+    auto t = Clock::now();
+    for (int i = 0; i < 10; ++i, t += 20ms) {
+        EXPECT_EQ(lease.on_rate(t), 500ms);
+    }
+}
+
+// PX4's Onboard link: SET_ATTITUDE about every 1.7 s (36 in 60 s, jittery).
+TEST(RateLease, ASlowStreamGetsOneAndAHalfItsLongestInterval) {
+    RateLease lease(500ms);
+    auto t = Clock::now();
+    EXPECT_EQ(lease.on_rate(t), 500ms);
+    EXPECT_EQ(lease.on_rate(t += 1700ms), 2550ms);
+    EXPECT_EQ(lease.on_rate(t += 1400ms), 2550ms);
+    EXPECT_EQ(lease.on_rate(t += 2000ms), 3000ms);
+    // Once the longest has left the last 4, the lease follows the link down.
+    for (int i = 0; i < 4; ++i) {
+        lease.on_rate(t += 100ms);
+    }
+    EXPECT_EQ(lease.current(), 500ms);
+}
+
+TEST(RateLease, APauseIsANewStreamAndTheCeilingHolds) {
+    RateLease lease(500ms);
+    auto t = Clock::now();
+    lease.on_rate(t);
+    EXPECT_EQ(lease.on_rate(t += 30s), 500ms);  // a pause: not counted
+    EXPECT_EQ(lease.on_rate(t += 4500ms), RateLease::kDefaultCeiling);
+    lease.set_ceiling(2000ms);  // gportd's keepalive.max_duration_ms
+    EXPECT_EQ(lease.current(), 2000ms);
+    lease.set_ceiling(300ms);  // below the floor: the ceiling wins
+    EXPECT_EQ(lease.current(), 300ms);
+}
+
+TEST(RateLease, GportdsLimitIsReadFromItsRefusal) {
+    EXPECT_EQ(max_lease_in("lease_ms must be an integer from 1 to 2000 "
+                           "(keepalive.max_duration_ms)"),
+              2000ms);
+    EXPECT_FALSE(max_lease_in("yaw = 80 °/s is faster than the soft limit"));
+    EXPECT_FALSE(max_lease_in("lease_ms must be an integer from 1 to x"));
+}
+
+}  // namespace
+}  // namespace gport::mavlink::bridge
