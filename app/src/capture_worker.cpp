@@ -68,6 +68,7 @@ void CaptureWorker::push(std::string line) {
         const std::lock_guard lock(mutex_);
         if (queue_.size() < queue_limit_) {
             queue_.push_back(std::move(line));
+            ++accepted_;
             wake_.notify_one();
             return;
         }
@@ -202,10 +203,13 @@ bool CaptureWorker::write_lines(std::deque<std::string>& lines) {
             return false;  // counted by stop()
         }
         --in_flight_;
+        ++taken_;
         if (!error) {
             ++stats_.written;
             unsynced_ = true;
-            stats_.error = sticky_error_;
+            if (taken_ > error_until_) {  // queued after the last loss: the disk is back
+                stats_.error = sticky_error_;
+            }
         }
     }
     return true;
@@ -266,7 +270,8 @@ void CaptureWorker::sync(bool now) {
     if (!now && time < last_sync_ + CaptureWriter::kSyncInterval) {
         return;
     }
-    if (fd_ >= 0 && ::fdatasync(fd_) != 0) {
+    // EINVAL: a file that cannot be synced (a FIFO): nothing is lost by that.
+    if (fd_ >= 0 && ::fdatasync(fd_) != 0 && errno != EINVAL) {
         lost(0, fmt::format("cannot sync {}: {}; the lines written in the last {} ms may be lost",
                             files_.file(0), std::strerror(errno),
                             CaptureWriter::kSyncInterval.count()));
@@ -324,6 +329,7 @@ void CaptureWorker::lost(std::uint64_t lines, const std::string& message) {
         const std::lock_guard lock(mutex_);
         stats_.dropped += lines;
         stats_.error = message;
+        error_until_ = accepted_;
         lost_unlogged_ += lines;
         const auto now = Clock::now();
         if (last_logged_ && now - *last_logged_ < kLogInterval) {

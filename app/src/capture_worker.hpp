@@ -88,6 +88,12 @@ class CaptureWorker {
     std::optional<std::uint64_t> durable_mark_;
     ipc::CaptureSink::Stats stats_;
     std::optional<std::string> sticky_error_;  // no durable storage: status says so for good
+    // The error stays until a line queued after it is written: lines
+    // accepted into the queue, lines the thread has dealt with, and the
+    // count accepted at the last loss.
+    std::uint64_t accepted_ = 0;
+    std::uint64_t taken_ = 0;
+    std::uint64_t error_until_ = 0;
     std::uint64_t lost_unlogged_ = 0;
     std::optional<Clock::time_point> last_logged_;
 

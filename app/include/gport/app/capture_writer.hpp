@@ -5,8 +5,9 @@
 // bounded queue (CaptureWriter; ipc::CaptureSink::write never blocks).
 // Lines are written as they come and fdatasync'd in groups, at most every
 // kSyncInterval. Every line lost (queue full, a write that failed, the
-// writer abandoned at exit) is counted, its cause kept for status and
-// logged (at most once a minute, with the count).
+// writer abandoned at exit) is counted, its cause kept for status (until a
+// line queued after it is written) and logged (at most once a minute, with
+// the count).
 #pragma once
 
 #include <spdlog/logger.h>
