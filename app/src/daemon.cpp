@@ -109,6 +109,9 @@ class Daemon {
         wait_for_signal();
         log_->info("gportd {} ready", kVersion);
         io_.run();
+        if (capture_writer_ != nullptr) {  // every client gone: no capture after this
+            capture_writer_->finish(server_->captures().next_index());
+        }
         log_->info("gportd stopped");
         return 0;
     }
@@ -155,8 +158,9 @@ class Daemon {
         return dirs.substr(0, dirs.find(':'));
     }
 
-    // Restores the indexes and the newest captures from the files, then
-    // hands the log its writer; before io_.run(), so before any capture.
+    // Checks the state directory, restores the indexes and the newest
+    // captures from the files, then hands the log its writer; before
+    // io_.run(), so before any capture.
     void start_captures() {
         const auto dir = state_dir();
         if (dir.empty() || dir.front() != '/') {
@@ -166,15 +170,11 @@ class Daemon {
                       "directory (--state-dir, captures.dir or the unit's StateDirectory=)");
             return;
         }
-        CaptureFiles files{dir, config_.captures.max_file_bytes, config_.captures.keep_files};
-        const auto restored = read_captures(files, ipc::CaptureLog::kKept);
-        for (const auto& problem : restored.problems) {
-            log_->warn("capture log: {}", problem);
-        }
-        server_->captures().restore(restored.lines, restored.next_index);
-        capture_writer_.emplace(files, log_);
-        server_->captures().set_sink(&*capture_writer_);
-        log_->info("capture log: {} (next index {})", files.file(0), restored.next_index);
+        const CaptureFiles files{dir, config_.captures.max_file_bytes, config_.captures.keep_files};
+        auto opened = open_capture_log(files, server_->captures(), log_);
+        capture_sink_ = std::move(opened.sink);
+        capture_writer_ = opened.writer;
+        server_->captures().set_sink(capture_sink_.get());
     }
 
     void on_link(const LinkEvent& event) {
@@ -267,7 +267,8 @@ class Daemon {
     asio::signal_set signals_;
     std::optional<sim::PtySimulator> simulator_;
     std::optional<Core> core_;
-    std::optional<CaptureWriter> capture_writer_;  // outlives the server, its user
+    std::unique_ptr<ipc::CaptureSink> capture_sink_;  // outlives the server, its user
+    CaptureWriter* capture_writer_ = nullptr;         // the sink, when it writes files
     std::optional<ipc::Server> server_;
     int exit_status_ = kExitFailure;
     bool stopping_ = false;
