@@ -26,6 +26,16 @@ std::string number(const json& value) {
     return value.is_number() ? value.dump() : std::string();
 }
 
+// A non-negative integer (parsed JSON holds one as unsigned, a built one
+// may hold it as signed).
+std::optional<std::uint64_t> index_of(const json& value) {
+    if (value.is_number_unsigned() ||
+        (value.is_number_integer() && value.get<std::int64_t>() >= 0)) {
+        return value.get<std::uint64_t>();
+    }
+    return std::nullopt;
+}
+
 std::string utc_of(const json& capture) {
     const auto& us = member(capture, "utc_us");
     return us.is_number_integer() ? utc_text(us.get<std::int64_t>()) : std::string();
@@ -78,8 +88,8 @@ CapturesPage read_captures_page(const json& result, std::uint64_t since) {
     if (const auto& list = member(result, "captures"); list.is_array()) {
         page.captures.assign(list.begin(), list.end());
     }
-    if (const auto& next = member(result, "next"); next.is_number_unsigned()) {
-        page.next = next.get<std::uint64_t>();
+    if (const auto next = index_of(member(result, "next"))) {
+        page.next = *next;
     }
     const auto& more = member(result, "more");
     page.more =
@@ -88,8 +98,7 @@ CapturesPage read_captures_page(const json& result, std::uint64_t since) {
 }
 
 std::optional<std::uint64_t> capture_index(const json& capture) {
-    const auto& index = member(capture, "index");
-    return index.is_number_unsigned() ? std::optional(index.get<std::uint64_t>()) : std::nullopt;
+    return index_of(member(capture, "index"));
 }
 
 std::string utc_text(std::int64_t utc_us) {
