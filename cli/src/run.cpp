@@ -222,8 +222,12 @@ class Runner {
             out_ << (inv_.csv ? captures_csv_header() : captures_table_header());
         }
         std::uint64_t since = inv_.since;
-        if (const int s = list_captures(since); s != kExitOk || !inv_.follow) {
-            return s;
+        const int listed = list_captures(since);
+        if (inv_.follow && listed == kExitInterrupted) {
+            return kExitOk;  // Ctrl-C ends a follow, also while it still lists
+        }
+        if (listed != kExitOk || !inv_.follow) {
+            return listed;
         }
         for (;;) {
             for (const auto& capture : followed_) {
