@@ -5,6 +5,7 @@
 
 #include <regex>
 
+#include "gport/cli/printable.hpp"
 #include "gport/contract/limits.hpp"
 
 namespace gport::cli {
@@ -27,6 +28,16 @@ T get(const json& object, const char* key, T fallback) {
     } catch (const json::exception&) {
         return fallback;
     }
+}
+
+// A string member as printable text (gportd's words, a peer's text).
+std::string word(const json& object, const char* key, const char* fallback) {
+    return printable(get(object, key, std::string(fallback)));
+}
+
+// Any member as printable text: a string as it is, anything else as JSON.
+std::string shown(const json& value) {
+    return printable(value.is_string() ? value.get<std::string>() : json_line(value));
 }
 
 std::string axes(const json& a) {
@@ -75,11 +86,11 @@ std::string motion(const json& m) {
         return "none";
     }
     if (m.contains("target")) {  // a tracked angle or centre motion
-        return fmt::format("{} to {} deg, {} ms so far, owner {}", get(m, "mode", std::string("?")),
+        return fmt::format("{} to {} deg, {} ms so far, owner {}", word(m, "mode", "?"),
                            axes(m["target"]), get(m, "elapsed_ms", 0ll),
                            client(m.value("owner", json())));
     }
-    return fmt::format("{} {} deg/s, {} ms left, owner {}", get(m, "mode", std::string("?")),
+    return fmt::format("{} {} deg/s, {} ms left, owner {}", word(m, "mode", "?"),
                        axes(m.value("speed", json::object())), get(m, "time_left_ms", 0ll),
                        client(m.value("owner", json())));
 }
@@ -88,16 +99,14 @@ std::string status(const json& s) {
     const auto link = s.value("link", json::object());
     const auto c = s.value("counters", json::object());
     std::string out;
-    out += fmt::format("link:      {} ({})\n", get(link, "state", std::string("?")),
-                       get(link, "reason", std::string("")));
-    const auto error = get(s, "device_error", std::string());
-    out += fmt::format("device:    {} ({})\n", get(s, "device", std::string("?")),
+    out += fmt::format("link:      {} ({})\n", word(link, "state", "?"), word(link, "reason", ""));
+    const auto error = word(s, "device_error", "");
+    out += fmt::format("device:    {} ({})\n", word(s, "device", "?"),
                        get(s, "device_open", false) ? "open"
                        : error.empty()              ? "closed"
                                                     : "closed: " + error);
-    out += fmt::format("daemon:    gportd {}, API {}, up {}\n",
-                       get(s, "daemon_version", std::string("?")), get(s, "api_version", 0),
-                       duration(get(s, "uptime_ms", 0ll)));
+    out += fmt::format("daemon:    gportd {}, API {}, up {}\n", word(s, "daemon_version", "?"),
+                       get(s, "api_version", 0), duration(get(s, "uptime_ms", 0ll)));
     const auto age = s.value("attitude_age_ms", json());
     out += fmt::format("attitude:  {}\n", age.is_number()
                                               ? fmt::format("{} ms old", age.get<long long>())
@@ -107,7 +116,7 @@ std::string status(const json& s) {
     out += fmt::format("control:   {}\n", s.value("controller", json()).is_object()
                                               ? "held by " + client(s["controller"])
                                               : std::string("free (last command wins)"));
-    out += fmt::format("recording: {} (assumed)\n", get(s, "recording", std::string("unknown")));
+    out += fmt::format("recording: {} (assumed)\n", word(s, "recording", "unknown"));
     out +=
         fmt::format("frames:    in {} ({} bytes), out {} ({} bytes), attitude {}\n",
                     get(c, "frames_in", 0ull), get(c, "bytes_in", 0ull), get(c, "frames_out", 0ull),
@@ -128,8 +137,7 @@ std::string position(const std::string& command, const json& result) {
     }
     std::string clamped;
     for (const auto& axis : result.value("clamped", json::array())) {
-        clamped += (clamped.empty() ? "" : ", ") +
-                   (axis.is_string() ? axis.get<std::string>() : axis.dump());
+        clamped += (clamped.empty() ? "" : ", ") + shown(axis);
     }
     if (!clamped.empty()) {
         out += " (clamped: " + clamped + ")";
@@ -138,7 +146,7 @@ std::string position(const std::string& command, const json& result) {
     const auto ended = result.value("ended", json());
     if (ended.is_object()) {
         const auto at = ended.value("attitude", json());
-        out += fmt::format("ended: {} after {} ms; {}\n", get(ended, "reason", std::string("?")),
+        out += fmt::format("ended: {} after {} ms; {}\n", word(ended, "reason", "?"),
                            get(ended, "elapsed_ms", 0ll),
                            at.is_object() ? "hall " + axes(at.value("hall", json::object()))
                                           : std::string("no attitude received"));
@@ -195,31 +203,31 @@ std::string format_result(const std::string& command, const json& result) {
     if (command == "watch") {
         std::string topics;
         for (const auto& t : result.value("topics", json::array())) {
-            topics += (topics.empty() ? "" : ", ") + t.get<std::string>();
+            topics += (topics.empty() ? "" : ", ") + shown(t);
         }
         return fmt::format("watching {} (Ctrl-C to stop)\n", topics.empty() ? "nothing" : topics);
     }
     if (command == "record" && result.contains("recording")) {
         return fmt::format("record: {}; recording {} (assumed)\n",
                            get(result, "sent", true) ? "sent" : "nothing sent",
-                           get(result, "recording", std::string("unknown")));
+                           word(result, "recording", "unknown"));
     }
     return fmt::format("{}: sent\n", command);
 }
 
 std::string format_notification(const json& message) {
-    const auto topic = get(message, "method", std::string("?"));
+    const auto topic = word(message, "method", "?");
     const auto params = message.value("params", json::object());
     if (topic == "attitude") {
         return "attitude  " + attitude(params) + "\n";
     }
     if (topic == "link") {
-        return fmt::format("link      {} ({})\n", get(params, "state", std::string("?")),
-                           get(params, "reason", std::string("")));
+        return fmt::format("link      {} ({})\n", word(params, "state", "?"),
+                           word(params, "reason", ""));
     }
     if (topic == "motion") {
-        std::string out = fmt::format("motion    {} {}", get(params, "change", std::string("?")),
-                                      get(params, "mode", std::string("?")));
+        std::string out =
+            fmt::format("motion    {} {}", word(params, "change", "?"), word(params, "mode", "?"));
         if (params.contains("speed")) {
             out += " " + axes(params["speed"]) + " deg/s";
         }
@@ -229,16 +237,16 @@ std::string format_notification(const json& message) {
             out += " " + axes(params["angle"]) + " deg";
         }
         if (params.contains("reason")) {
-            out += ", reason " + get(params, "reason", std::string("?"));
+            out += ", reason " + word(params, "reason", "?");
         }
         return out + ", owner " + client(params.value("owner", json())) + "\n";
     }
-    return message.dump() + "\n";
+    return json_line(message) + "\n";
 }
 
 std::string format_error(const json& error) {
     return fmt::format("error {}: {}", get(error, "code", 0),
-                       get(error, "message", std::string("(no message)")));
+                       word(error, "message", "(no message)"));
 }
 
 }  // namespace gport::cli
@@ -249,7 +257,7 @@ std::string format_error(const client::Error& error) {
     if (error.code() == static_cast<int>(client::ErrorCode::kTransport) ||
         error.code() == static_cast<int>(client::ErrorCode::kTimeout) ||
         error.code() == static_cast<int>(client::ErrorCode::kBadReply)) {
-        return error.what();
+        return printable(error.what());
     }
     return format_error(json{{"code", error.code()}, {"message", error.message()}});
 }

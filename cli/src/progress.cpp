@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "gport/cli/printable.hpp"
+
 namespace gport::cli {
 
 using nlohmann::json;
@@ -32,8 +34,11 @@ void Progress::end(const json& motion, bool quiet) {
     shown_ = false;
     if (!quiet) {
         const auto reason = motion.value("reason", json());
-        out_ << fmt::format("ended: {}\n", reason.is_string() ? reason.get<std::string>()
-                                                              : motion.value("change", "?"));
+        const auto change = motion.value("change", json("?"));
+        out_ << fmt::format("ended: {}\n",
+                            printable(reason.is_string()   ? reason.get<std::string>()
+                                      : change.is_string() ? change.get<std::string>()
+                                                           : json_line(change)));
     }
     out_.flush();
 }

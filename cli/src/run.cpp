@@ -10,6 +10,7 @@
 #include "gport/cli/captures.hpp"
 #include "gport/cli/monitor.hpp"
 #include "gport/cli/output.hpp"
+#include "gport/cli/printable.hpp"
 #include "gport/cli/progress.hpp"
 #include "gport/client/attitude_feed.hpp"
 #include "gport/client/connection.hpp"
@@ -68,9 +69,9 @@ class Runner {
         json response;
         const int status = call(inv_.method, inv_.params, result, &response);
         if (inv_.raw && !response.is_null()) {
-            out_ << response.dump() << "\n";
+            out_ << json_line(response) << "\n";
         } else if (status == kExitOk) {
-            out_ << result.dump() << "\n";
+            out_ << json_line(result) << "\n";
         }
         out_.flush();
         return status;
@@ -84,7 +85,7 @@ class Runner {
         try {
             reply = conn_.call(method, params, [this](const json& n) { notification(n); });
         } catch (const client::Error& e) {  // kTimeout: no reply within the call timeout
-            err_ << "gportctl: " << e.message() << "\n";
+            err_ << "gportctl: " << printable(e.message()) << "\n";
             return kExitUnavailable;
         }
         if (!reply) {
@@ -116,7 +117,8 @@ class Runner {
     // Why the connection is gone: the library's reason (a line over its
     // limits, a request gportd did not read), else gportd closed it.
     std::string lost() const {
-        return conn_.failure().empty() ? "the daemon closed the connection" : conn_.failure();
+        return conn_.failure().empty() ? "the daemon closed the connection"
+                                       : printable(conn_.failure());
     }
 
     // gportd's keepalive.max_duration_ms is known only to the daemon: its
@@ -147,13 +149,13 @@ class Runner {
             }
             return fmt::format(
                 "{}: {} ms is longer than gportd allows: {} ms (its keepalive.max_duration_ms)",
-                option, params[param].dump(), range);
+                option, params[param].dump(), printable(range));
         }
         return std::nullopt;
     }
 
     void print(const json& result) {
-        out_ << (inv_.json ? result.dump() + "\n" : format_result(inv_.command, result));
+        out_ << (inv_.json ? json_line(result) + "\n" : format_result(inv_.command, result));
         out_.flush();
     }
 
@@ -168,7 +170,7 @@ class Runner {
             return;
         }
         if (inv_.json) {
-            out_ << message.dump() << "\n";
+            out_ << json_line(message) << "\n";
         } else {
             if (inv_.timestamps) {
                 out_ << format_timestamp(std::chrono::system_clock::now()) << " ";
@@ -179,15 +181,36 @@ class Runner {
     }
 
     void print_capture(const json& capture) {
-        out_ << (inv_.json  ? capture.dump() + "\n"
+        out_ << (inv_.json  ? json_line(capture) + "\n"
                  : inv_.csv ? capture_csv_row(capture)
                             : capture_table_row(capture));
         out_.flush();
     }
 
-    // Pages through the captures from --since (at most --limit); with
-    // --follow, subscribed first so nothing falls between the list and the
-    // tail, then each capture notification not listed yet.
+    // Pages through the captures from `since` with each reply's `next`
+    // until gportd says there are no more (a page may hold fewer than asked
+    // for: gportd bounds it in bytes too), or --limit were printed.
+    int list_captures(std::uint64_t& since) {
+        long left = inv_.limit.value_or(std::numeric_limits<long>::max());
+        for (bool more = true; more && left > 0;) {
+            json result;
+            const json params = {{"since", since}, {"limit", std::min(left, kCapturesPage)}};
+            if (const int s = call("captures", params, result); s != kExitOk) {
+                return s;
+            }
+            const auto page = read_captures_page(result, since);
+            for (auto it = page.captures.begin(); it != page.captures.end() && left > 0; ++it) {
+                print_capture(*it);
+                --left;
+            }
+            since = page.next;
+            more = page.more;
+        }
+        return kExitOk;
+    }
+
+    // The listing; with --follow, subscribed first so nothing falls between
+    // the list and the tail, then each capture notification not listed yet.
     int captures() {
         json ignored;
         if (inv_.follow) {
@@ -199,32 +222,18 @@ class Runner {
             out_ << (inv_.csv ? captures_csv_header() : captures_table_header());
         }
         std::uint64_t since = inv_.since;
-        long left = inv_.limit.value_or(std::numeric_limits<long>::max());
-        while (left > 0) {
-            json page;
-            const long ask = std::min(left, kCapturesPage);
-            if (const int s = call("captures", {{"since", since}, {"limit", ask}}, page);
-                s != kExitOk) {
-                return s;
-            }
-            const auto& list = page.value("captures", json::array());
-            for (const auto& capture : list) {
-                print_capture(capture);
-            }
-            left -= static_cast<long>(list.size());
-            since = page.value("next", since);
-            if (list.size() < static_cast<std::size_t>(ask)) {
-                break;
-            }
+        const int listed = list_captures(since);
+        if (inv_.follow && listed == kExitInterrupted) {
+            return kExitOk;  // Ctrl-C ends a follow, also while it still lists
         }
-        if (!inv_.follow) {
-            return kExitOk;
+        if (listed != kExitOk || !inv_.follow) {
+            return listed;
         }
         for (;;) {
             for (const auto& capture : followed_) {
-                if (capture.value("index", std::uint64_t{0}) >= since) {
+                if (const auto index = capture_index(capture); index && *index >= since) {
                     print_capture(capture);
-                    since = capture.value("index", since) + 1;
+                    since = *index + 1;
                 }
             }
             followed_.clear();
@@ -470,7 +479,7 @@ int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
     try {
         opened.emplace(Connection::open(invocation.socket));
     } catch (const client::Error& e) {
-        err << "gportctl: " << e.what() << "\n";
+        err << "gportctl: " << printable(e.what()) << "\n";
         return kExitUnavailable;
     }
     auto& conn = *opened;

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/mount.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -12,23 +13,20 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "harness.hpp"
+#include "rfc4180.hpp"
 
 namespace gport::testing {
 namespace {
 
-// The n-th comma-separated cell of a CSV line.
+// The n-th field of a CSV line with every field quoted; "<not RFC 4180>" if
+// it is not one.
 std::string split_cell(const std::string& line, std::size_t n) {
-    std::stringstream row(line + ",");
-    std::string cell;
-    for (std::size_t i = 0; i <= n; ++i) {
-        std::getline(row, cell, ',');
-    }
-    return cell;
+    const auto fields = quoted_csv_fields(line);
+    return fields && n < fields->size() ? (*fields)[n] : "<not RFC 4180>";
 }
 
 class CapturesEndToEnd : public ::testing::Test {
@@ -135,11 +133,7 @@ TEST_F(CapturesEndToEnd, GportctlCapturesCsvMatchesTheRun) {
         lines[0],
         "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,hall_yaw,lat,lon,alt_m");
     for (std::size_t i = 0; i < 3; ++i) {
-        std::vector<std::string> cells;
-        std::stringstream row(lines[i + 1] + ",");
-        for (std::string cell; std::getline(row, cell, ',');) {
-            cells.push_back(cell);
-        }
+        const auto cells = quoted_csv_fields(lines[i + 1]).value_or(std::vector<std::string>{});
         ASSERT_EQ(cells.size(), 12u) << lines[i + 1];
         const auto& c = listed[i];
         EXPECT_EQ(cells[0], c["index"].dump());
@@ -160,13 +154,81 @@ TEST_F(CapturesEndToEnd, GportctlCapturesCsvMatchesTheRun) {
     const auto [since_status, since_lines] = gportctl({"captures", "--csv", "--since", "3"});
     EXPECT_EQ(since_status, 0);
     ASSERT_EQ(since_lines.size(), 2u);
-    EXPECT_TRUE(since_lines[1].starts_with("3,"));
+    EXPECT_TRUE(since_lines[1].starts_with("\"3\","));
     const auto [table_status, table] = gportctl({"captures", "--limit", "1"});
     EXPECT_EQ(table_status, 0);
     ASSERT_EQ(table.size(), 2u) << "a header and one capture";
     EXPECT_TRUE(contains(table[1], "photo"));
     const auto [both, refusal] = gportctl({"captures", "--csv", "--json"});
     EXPECT_EQ(both, 64);
+}
+
+// No C0 control (the line's end is gone already), no DEL, no C1 control.
+bool has_raw_control(std::string_view line) {
+    for (std::size_t i = 0; i < line.size(); ++i) {
+        const auto c = static_cast<unsigned char>(line[i]);
+        const auto next = i + 1 < line.size() ? static_cast<unsigned char>(line[i + 1]) : 0;
+        if (c < 0x20 || c == 0x7F || (c == 0xC2 && next >= 0x80 && next <= 0x9F)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+// Issue 30: a crafted log (a formula in kind, controls in the client's name
+// and in meta) and a client whose process name clears the screen, retitles
+// the terminal and sends an 8-bit CSI: gportctl prints them as escapes, its
+// CSV quotes every field and defuses the formula.
+TEST_F(CapturesEndToEnd, AHostileLogAndProcessNameReachNoTerminalOrSpreadsheet) {
+    std::filesystem::create_directory(state_);
+    std::ofstream(state_ + "/captures.jsonl")
+        << R"({"index":1,"kind":"=cmd|'/C calc'!A0","utc_us":1795563183085470,"mono_us":1,)"
+        << R"("attitude":null,"client":{"pid":1,"uid":0,"name":"\u001b[2J\u001b]0;x\u0007"},)"
+        << R"("meta":{"lat":"=1+1","lon":-30.5,"note":"\u009b31m"}})"
+        << "\n";
+    start();
+    char own[16] = {};
+    ASSERT_EQ(::prctl(PR_GET_NAME, own), 0);
+    // Valid UTF-8: a name that is not makes gportd's photo fail with -32603
+    // as it writes the log line (ipc/src/capture_log.cpp, reported apart);
+    // invalid UTF-8 cannot reach gportctl through JSON (tests/cli cover it).
+    ASSERT_EQ(::prctl(PR_SET_NAME, "\x1b[2J\x1b]0;t\x07\xc2\x9b"), 0);
+    const auto photo = client_->call("photo");
+    ::prctl(PR_SET_NAME, own);
+    ASSERT_EQ(photo["result"]["capture"]["index"], 2) << photo;
+
+    const auto [status, table] = gportctl({"captures"});
+    ASSERT_EQ(status, 0);
+    ASSERT_EQ(table.size(), 3u);
+    for (const auto& line : table) {
+        EXPECT_FALSE(has_raw_control(line)) << line;
+    }
+    EXPECT_TRUE(contains(table[1], "\\x1b[2J\\x1b]0;x\\x07 (pid 1)")) << table[1];
+    EXPECT_TRUE(contains(table[2], "\\x1b[2J\\x1b]0;t\\x07\\u009b (pid ")) << table[2];
+
+    const auto [csv_status, csv] = gportctl({"captures", "--csv"});
+    ASSERT_EQ(csv_status, 0);
+    ASSERT_EQ(csv.size(), 3u);
+    for (std::size_t i = 1; i < csv.size(); ++i) {
+        EXPECT_FALSE(has_raw_control(csv[i]));
+        const auto cells = quoted_csv_fields(csv[i]);
+        ASSERT_TRUE(cells) << "not RFC 4180 with every field quoted: " << csv[i];
+        ASSERT_EQ(cells->size(), 12u);
+    }
+    EXPECT_EQ(split_cell(csv[1], 2), "'=cmd|'/C calc'!A0");
+    EXPECT_EQ(split_cell(csv[1], 9), "") << "a string is no latitude";
+    EXPECT_EQ(split_cell(csv[1], 10), "-30.5") << "a negative number stays a number";
+    EXPECT_EQ(split_cell(csv[2], 2), "photo");
+
+    const auto [json_status, jsons] = gportctl({"--json", "captures"});
+    ASSERT_EQ(json_status, 0);
+    ASSERT_EQ(jsons.size(), 2u);
+    for (const auto& line : jsons) {
+        EXPECT_FALSE(has_raw_control(line)) << line;
+    }
+    EXPECT_EQ(Json::parse(jsons[0])["meta"]["note"],
+              "\xc2\x9b"
+              "31m");
 }
 
 TEST_F(CapturesEndToEnd, GportctlCapturesFollowListsThenTails) {

@@ -10,6 +10,7 @@
 #include "feed.hpp"
 #include "gport/cli/options.hpp"
 #include "gport/cli/output.hpp"
+#include "gport/cli/printable.hpp"
 #include "keys.hpp"
 #include "render.hpp"
 #include "terminal.hpp"
@@ -138,7 +139,7 @@ int run_monitor(const MonitorOptions& options, std::ostream& out, std::ostream& 
         status = monitor::full_screen_possible() ? full_screen(options, feed, interrupted)
                                                  : plain(options, feed, out, interrupted);
     } catch (const std::exception& error) {  // the terminal is restored by now
-        err << "gportctl: monitor: " << error.what() << "\n";
+        err << "gportctl: monitor: " << printable(error.what()) << "\n";
         status = kExitError;
     }
     feed.close();

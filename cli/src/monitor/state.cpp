@@ -5,6 +5,7 @@
 #include <type_traits>
 #include <variant>
 
+#include "gport/cli/printable.hpp"
 #include "text.hpp"
 
 namespace gport::cli::monitor {
@@ -42,6 +43,26 @@ std::string describe(const client::MotionEvent& event, const std::string& owner)
         text += (event.change == "ended" ? ": " : ", ") + *event.reason;
     }
     return text;
+}
+
+// Every text of the model that gportd, a client or the system supplied, made
+// printable (issue 30): both renderers draw only what the model holds.
+void make_printable(MonitorModel& m) {
+    for (auto* text : {&m.socket, &m.connection_error, &m.daemon_version, &m.link_state,
+                       &m.link_reason, &m.device, &m.controller, &m.recording}) {
+        *text = printable(*text);
+    }
+    if (m.motion) {
+        m.motion->mode = printable(m.motion->mode);
+        m.motion->owner = printable(m.motion->owner);
+    }
+    if (m.last_end) {
+        m.last_end->mode = printable(m.last_end->mode);
+        m.last_end->reason = printable(m.last_end->reason);
+    }
+    for (auto& event : m.events) {
+        event.text = printable(event.text);
+    }
 }
 
 }  // namespace
@@ -213,6 +234,7 @@ MonitorModel MonitorState::model(const Now& now) const {
         m.motion = view;
     }
     m.events.assign(events_.begin(), events_.end());
+    make_printable(m);
     return m;
 }
 
