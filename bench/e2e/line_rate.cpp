@@ -158,6 +158,7 @@ std::vector<LineScenario> line_scenarios(const std::string& names) {
         {"photo", "photo", 8, false, false},
         {"captures", "captures", 32, true, true},
         {"batches", "batches", 1, true, true},
+        {"every", "every", 16, true, true},
     };
     std::vector<LineScenario> chosen;
     std::stringstream list(names);
@@ -171,7 +172,7 @@ std::vector<LineScenario> line_scenarios(const std::string& names) {
         }
         if (!found) {
             throw std::runtime_error("--line-rate: unknown scenario '" + name +
-                                     "' (idle, photo, captures, batches, all)");
+                                     "' (idle, photo, captures, batches, every, all)");
         }
     }
     return chosen;
