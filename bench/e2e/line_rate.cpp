@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -133,7 +134,8 @@ LineResult run_scenario(const Options& options, const LineScenario& s) {
     if (options.keep_logs) {
         std::cerr << "bench_e2e: " << s.name << ": gportd's log kept in " << d.log_path << "\n";
     } else {
-        std::system(("rm -rf '" + dir + "'").c_str());
+        std::error_code ignored;
+        std::filesystem::remove_all(dir, ignored);
     }
     return r;
 }
@@ -197,7 +199,9 @@ int run_line_rate(const Options& options) {
     raise_fd_limit();
     const auto scenarios = line_scenarios(options.line_rate);
     std::cout << "stop on the wire at " << kBaud << " baud (sent -> zero-speed 0x85 read by the "
-              << "gimbal), ms; attitude gap, ms; pty backlog, bytes\n"
+              << "gimbal), ms; attitude gap, ms; pty backlog, bytes; read-only floods as uid "
+              << options.reader_uid << (options.reader_uid == 0 ? " (they may command)" : "")
+              << "\n"
               << "scenario  stops lost      p50      p99      max  att. gap  stale  backlog\n"
               << std::flush;
     int failures = 0;
