@@ -10,6 +10,12 @@
 # peer processes with 500 threads each parked on their wake words, one of
 # them disconnected; clients asking for the channel in batches of 32 that
 # never read; a prober that must get both descriptors every 2 s.
+# The line-rate attacks (bench/e2e/soak_line_rate.hpp, issue 30): the
+# simulator drains the line at 115200 baud (gport-sim --baud) as the real
+# UART does, and in turn, 4 s each with 2 s between, 8 connections flood
+# `photo` with 1 KiB metas, 32 read-only peers (uid 65534 when run as root)
+# flood `captures` (limit 1000), and one read-only peer sends batches of 32
+# `captures` (limit 800), each reconnecting when gportd closes it.
 #
 #   scripts/soak.sh [SECONDS] [BUILD_DIR]        (defaults: 600, ./build)
 #
@@ -25,7 +31,9 @@
 # gportd counted as sent is in the trace, and no other. Prints the figures
 # and PASS or FAIL; exits 0 on PASS. Environment: SOAK_WRITE_MODE
 # (merge, the default, or split) chooses how the simulator chunks its
-# output; SOAK_KEEP=1 keeps the work directory (trace, logs, JSON).
+# output; SOAK_BAUD (default 115200; 0: a pty that drains at once, as
+# before issue 30) the line rate; SOAK_KEEP=1 keeps the work directory
+# (trace, logs, JSON).
 set -euo pipefail
 
 seconds=${1:-600}
@@ -107,6 +115,7 @@ mavlink_finish() {  # after gport-sim stopped: its trace is complete
 }
 
 work=$(mktemp -d /tmp/gport-soak-XXXXXX)
+chmod 755 "$work"  # the read-only floods' uid reaches the socket inside
 sim_pid=""
 daemon_pid=""
 cleanup() {
@@ -129,10 +138,24 @@ case ${SOAK_WRITE_MODE:-merge} in
     *) echo "soak.sh: SOAK_WRITE_MODE must be merge or split" >&2; exit 64 ;;
 esac
 
+baud=${SOAK_BAUD:-115200}
+if [[ ! $baud =~ ^[0-9]+$ ]]; then
+    echo "soak.sh: SOAK_BAUD must be a number (0: off)" >&2
+    exit 64
+fi
+# Read-only peers need another uid: root can switch to nobody's.
+reader_uid=0
+access=''
+if [[ $(id -u) == 0 ]]; then
+    reader_uid=65534
+    access='"access": {"control_uids": [0]},  // uid 65534 is read-only'
+fi
+
 # Every fault at once: line noise, bad CRCs, odd chunking, silences long
-# enough to make the link stale, and the device vanishing every few seconds.
+# enough to make the link stale, and the device vanishing every few seconds,
+# on a line drained at $baud baud.
 "$sim" --link "$work/gimbal" --trace --rate 50 --form 24 --noise 300 --corrupt-crc 0.02 \
-    "${chunking[@]}" --silence-every 4000 --silence-for 700 \
+    --baud "$baud" "${chunking[@]}" --silence-every 4000 --silence-for 700 \
     --vanish-every 6000 --vanish-for 1500 --seed 7 >"$work/trace.jsonl" &
 sim_pid=$!
 for _ in $(seq 100); do
@@ -142,10 +165,12 @@ done
 
 cat >"$work/gportd.json" <<CONFIG
 // Soak configuration: room for the 100 clients, the watcher and the attacks
-// (all under one uid), and an idle timeout short enough to be seen at work.
+// (all under one uid but the read-only floods), and an idle timeout short
+// enough to be seen at work.
 {
-    "socket": {"max_clients": 256, "max_clients_per_uid": 256, "idle_timeout_ms": 15000,
-               "mode": "0600"},
+    "socket": {"max_clients": 320, "max_clients_per_uid": 256, "idle_timeout_ms": 15000,
+               "mode": "0666"},
+    $access
     "log": {"level": "info"}
 }
 CONFIG
@@ -158,7 +183,8 @@ mavlink_start
 echo "soak.sh: load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
 driver_status=0
 "$driver" --socket "$work/gportd.sock" --pid "$daemon_pid" --seconds "$seconds" \
-    --json "$work/soak.json" --trace "$work/trace.jsonl" --idle-timeout-s 15 || driver_status=$?
+    --json "$work/soak.json" --trace "$work/trace.jsonl" --idle-timeout-s 15 \
+    --reader-uid "$reader_uid" || driver_status=$?
 
 alive=no
 kill -0 "$daemon_pid" 2>/dev/null && alive=yes

@@ -24,15 +24,22 @@ void write_daemon_config(const DaemonOptions& options) {
         << "    // Room for the 1000-subscriber case plus the flooding and control clients,\n"
         << "    // all of them under the benchmark's one uid.\n"
         << "    \"socket\": {\"max_clients\": " << options.max_clients
-        << ", \"max_clients_per_uid\": " << options.max_clients << ", \"mode\": \"0600\",\n"
-        << "               // The flood cells measure the loop, not the per-client rate limit.\n"
-        << "               \"max_requests_per_s\": 100000},\n"
+        << ", \"max_clients_per_uid\": " << options.max_clients << ", \"mode\": \""
+        << options.socket_mode << "\"";
+    if (options.max_requests_per_s > 0) {
+        // The flood cells measure the loop, not the per-client rate limit.
+        out << ",\n               \"max_requests_per_s\": " << options.max_requests_per_s;
+    }
+    out << "},\n"
         << "    // One speed command lasts the whole run, so keepalive ticks are never reset.\n"
         << "    \"keepalive\": {\"max_duration_ms\": " << options.max_duration_ms << "},\n"
         << "    \"log\": {\"level\": \"" << options.log_level << "\"}";
     if (options.realtime_priority > 0) {  // only when asked: older gportd builds lack the key
         out << ",\n    \"realtime\": {\"priority\": " << options.realtime_priority
             << ", \"lock_memory\": true}";
+    }
+    if (!options.extra_config.empty()) {
+        out << ",\n    " << options.extra_config;
     }
     out << "\n"
         << "}\n";
@@ -47,9 +54,10 @@ DaemonProcess::DaemonProcess(const DaemonOptions& options) {
         throw std::runtime_error("gportd not executable at " + options.binary +
                                  " (pass --gportd PATH)");
     }
-    spawn({options.binary, "--config", options.config_path, "--device", options.device, "--socket",
-           options.socket},
-          options.log_path, options.realtime);
+    std::vector<std::string> argv = {options.binary, "--config", options.config_path, "--device",
+                                     options.device, "--socket", options.socket};
+    argv.insert(argv.end(), options.extra_args.begin(), options.extra_args.end());
+    spawn(argv, options.log_path, options.realtime);
 }
 
 DaemonProcess::DaemonProcess(const std::vector<std::string>& argv, const std::string& log_path) {

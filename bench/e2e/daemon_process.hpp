@@ -23,6 +23,11 @@ struct DaemonOptions {
     bool realtime = false;
     // realtime.priority in the config (with lock_memory): gportd applies it itself.
     int realtime_priority = 0;
+    // socket.max_requests_per_s; 0 = leave gportd's default (200).
+    int max_requests_per_s = 100000;
+    std::string socket_mode = "0600";
+    std::string extra_config;             // more top-level members, e.g. "access": {...}
+    std::vector<std::string> extra_args;  // more arguments, e.g. --state-dir DIR
 };
 
 // Writes a gportd config (JSON with comments) for a benchmark run.

@@ -19,6 +19,8 @@
 #include "clients.hpp"
 #include "daemon_process.hpp"
 #include "fake_gimbal.hpp"
+#include "line_flood.hpp"
+#include "line_rate.hpp"
 #include "options.hpp"
 #include "park_attack.hpp"
 #include "posix.hpp"
@@ -265,6 +267,9 @@ int main(int argc, char** argv) {
     if (argc > 1 && std::string_view(argv[1]) == "--park-child") {
         return gport::bench::park_child_main(argc - 2, argv + 2);  // the attack's peer
     }
+    if (argc > 1 && std::string_view(argv[1]) == "--flood-child") {
+        return gport::bench::flood_child_main(argc - 2, argv + 2);  // a line-rate flood
+    }
     const auto options = gport::bench::parse_options(argc, argv);
     if (!options) {
         return 64;  // EX_USAGE; parse_options printed why
@@ -274,6 +279,9 @@ int main(int argc, char** argv) {
         return 0;
     }
     try {
+        if (!options->line_rate.empty()) {
+            return gport::bench::run_line_rate(*options);
+        }
         return gport::bench::run(*options);
     } catch (const std::exception& error) {
         std::cerr << "bench_e2e: " << error.what() << "\n";

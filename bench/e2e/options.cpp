@@ -1,5 +1,7 @@
 #include "options.hpp"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <string_view>
@@ -68,6 +70,16 @@ std::string usage() {
            "                     word's too, holds waiters gportd's wake walks past\n"
            "  --stop-every MS    a commander sends `stop` every MS ms (1-1000) and the stop\n"
            "                     round trip (write to reply) is reported: count, p50, p99, max\n"
+           "  --line-rate LIST   instead: the stop on the wire with the gimbal draining the line\n"
+           "                     at 115200 baud (gport-sim's simulator, --baud), for each\n"
+           "                     scenario in LIST (idle,photo,captures,batches,every or all;\n"
+           "                     every: 16 read-only peers cycling through every method): stop\n"
+           "                     p50/p99/max from `stop` written to the zero speed's last byte\n"
+           "                     read, the longest attitude gap a subscriber saw, and whether\n"
+           "                     gportd logged `link stale` (--stops N stops each, default 20)\n"
+           "  --reader-uid UID   the read-only floods run as UID (default 65534 when root;\n"
+           "                     otherwise our own uid, which may command)\n"
+           "  --keep-logs        keep each line-rate run's directory and gportd log\n"
            "  -h, --help         this text\n";
 }
 
@@ -76,6 +88,7 @@ std::optional<Options> parse_options(int argc, char** argv) {
     o.gportd = GPORT_BENCH_GPORTD;
     bool subscribers_given = false;
     bool stop_every_given = false;
+    bool reader_given = false;
     for (int i = 1; i < argc; ++i) {
         const std::string_view arg = argv[i];
         if (arg == "-h" || arg == "--help") {
@@ -96,6 +109,10 @@ std::optional<Options> parse_options(int argc, char** argv) {
         }
         if (arg == "--park-gone") {
             o.park_gone = true;
+            continue;
+        }
+        if (arg == "--keep-logs") {
+            o.keep_logs = true;
             continue;
         }
         if (i + 1 >= argc) {
@@ -140,6 +157,12 @@ std::optional<Options> parse_options(int argc, char** argv) {
             n = number(arg, value, 1, 1000);
             o.stop_every_ms = static_cast<int>(n.value_or(0));
             stop_every_given = true;
+        } else if (arg == "--line-rate") {
+            o.line_rate = value;
+        } else if (arg == "--reader-uid") {
+            n = number(arg, value, 0, 4294967294.0);
+            o.reader_uid = static_cast<unsigned>(n.value_or(0));
+            reader_given = true;
         } else if (arg == "--gportd") {
             o.gportd = value;
         } else if (arg == "--json") {
@@ -153,7 +176,7 @@ std::optional<Options> parse_options(int argc, char** argv) {
         }
     }
     // Each motion's cycle needs kMinStopCycleMs (start, move, stop, settle).
-    if (2.0 * o.stops * kMinStopCycleMs > o.seconds * 1000) {
+    if (o.line_rate.empty() && 2.0 * o.stops * kMinStopCycleMs > o.seconds * 1000) {
         std::fprintf(stderr,
                      "bench_e2e: --stops %d needs %g s at least (%g ms per motion, two causes); "
                      "raise --seconds or lower --stops\n",
@@ -170,6 +193,9 @@ std::optional<Options> parse_options(int argc, char** argv) {
     if (o.park_keys > 0 && o.park_threads == 0) {
         std::fprintf(stderr, "bench_e2e: --park-keys needs --park-threads N\n");
         return std::nullopt;
+    }
+    if (!reader_given && ::geteuid() == 0) {
+        o.reader_uid = 65534;
     }
     if (o.park_threads > 0 && !stop_every_given) {
         o.stop_every_ms = 20;

@@ -25,6 +25,9 @@ struct Options {
     bool park_gone = false;           // ... whose connection closed, plus one real holder
     int park_keys = 0;                // ... on this many keys of its own, not the wake word
     int stop_every_ms = 0;            // a commander sends `stop` this often (0 = off)
+    std::string line_rate;            // --line-rate: scenarios at 115200 baud ("" = off)
+    unsigned reader_uid = 0;          // --reader-uid: the read-only floods' uid (root only)
+    bool keep_logs = false;           // --keep-logs: leave each line-rate run's gportd log
     bool help = false;
 };
 

@@ -3,8 +3,8 @@
 // gimbal, change settings, stall and disconnect at random while a watcher
 // follows `motion` and `link` notifications and samples `status` and the
 // daemon's memory once a second. Alongside, the attacks of soak_attacks.hpp
-// run, and a well-behaved subscriber measures its attitude gaps. Prints the
-// figures and PASS or FAIL.
+// and the line-rate floods of soak_line_rate.hpp run, and a well-behaved
+// subscriber measures its attitude gaps. Prints the figures and PASS or FAIL.
 #include <poll.h>
 #include <signal.h>
 
@@ -20,6 +20,7 @@
 #include "soak_attacks.hpp"
 #include "soak_channel.hpp"
 #include "soak_checks.hpp"
+#include "soak_line_rate.hpp"
 #include "soak_probe.hpp"
 #include "soak_worker.hpp"
 
@@ -40,8 +41,10 @@ struct SoakOptions {
     std::string trace_path;  // gport-sim's --trace output, for the burst check
     AttackOptions attacks;
     double max_gap_ms = 500;
-    int park_threads = 500;       // per parking peer of the channel attacks (0: none)
-    bool channel_attacks = true;  // (f) and (g) and the channel prober
+    int park_threads = 500;         // per parking peer of the channel attacks (0: none)
+    bool channel_attacks = true;    // (f) and (g) and the channel prober
+    bool line_rate_attacks = true;  // (h), (i), (j): soak_line_rate.hpp
+    LineRateAttackOptions line_rate;
 };
 
 std::optional<SoakOptions> parse(int argc, char** argv) {
@@ -79,6 +82,10 @@ std::optional<SoakOptions> parse(int argc, char** argv) {
             o.park_threads = std::atoi(value);
         } else if (arg == "--channel-attacks") {
             o.channel_attacks = std::atoi(value) != 0;
+        } else if (arg == "--line-rate-attacks") {
+            o.line_rate_attacks = std::atoi(value) != 0;
+        } else if (arg == "--reader-uid") {
+            o.line_rate.reader_uid = static_cast<uid_t>(std::atol(value));
         } else {
             std::cerr << "gport_soak: unknown option " << arg << "\n";
             return std::nullopt;
@@ -90,11 +97,13 @@ std::optional<SoakOptions> parse(int argc, char** argv) {
                      "         [--rss-margin-kib N] [--json FILE] [--trace SIM_TRACE]\n"
                      "         [--sighup-every-ms N (0: none)] [--hoarders N]\n"
                      "         [--idle-timeout-s N] [--max-gap-ms N] [--park-threads N]\n"
-                     "         [--channel-attacks 0|1]\n";
+                     "         [--channel-attacks 0|1] [--line-rate-attacks 0|1]\n"
+                     "         [--reader-uid UID (read-only floods; 0: ours)]\n";
         return std::nullopt;
     }
     o.attacks.socket = o.socket;
     o.attacks.pid = o.pid;
+    o.line_rate.socket = o.socket;
     return o;
 }
 
@@ -114,6 +123,7 @@ class Soak {
           deadman_(1'000'000'000),
           attacks_(o_.attacks),
           channel_attacks_(ChannelAttackOptions{o_.socket, o_.park_threads}),
+          line_rate_attacks_(o_.line_rate),
           probe_(o_.socket, o_.max_gap_ms) {}
     int run();
 
@@ -135,7 +145,8 @@ class Soak {
     bool daemon_died_ = false;
     RssVerdict rss_verdict_;
     Attacks attacks_;
-    ChannelAttacks channel_attacks_;  // (f) futex waiters, (g) descriptor hoarding
+    ChannelAttacks channel_attacks_;     // (f) futex waiters, (g) descriptor hoarding
+    LineRateAttacks line_rate_attacks_;  // (h) photo, (i) captures, (j) batches floods
     SubscriberProbe probe_;
     TraceVerdict trace_verdict_;
 };
@@ -166,6 +177,7 @@ int Soak::run() {
     serve(now_ns() + 1'500'000'000, false);
     attacks_.finish();
     channel_attacks_.finish();
+    line_rate_attacks_.finish();
     probe_.stop();
     if (!o_.trace_path.empty()) {
         trace_verdict_ = check_burst_trace(o_.trace_path, attacks_.bursts());
@@ -199,6 +211,9 @@ void Soak::serve(std::int64_t until_ns, bool act) {
             attacks_.act(t);
             if (o_.channel_attacks) {
                 channel_attacks_.act(t);
+            }
+            if (o_.line_rate_attacks) {
+                line_rate_attacks_.act(t);
             }
         }
         fds.assign(1, pollfd{watcher_.fd.get(), POLLIN, 0});
@@ -272,8 +287,9 @@ bool Soak::attacks_pass() const {
     const auto probe = probe_.figures();
     return attacks_.problems().empty() &&
            (!o_.channel_attacks || channel_attacks_.problems().empty()) &&
-           trace_verdict_.problems.empty() && probe.connected && !probe.closed_by_daemon &&
-           probe.attitude_lines > 0 && probe.gaps_over_limit == 0;
+           line_rate_attacks_.problems().empty() && trace_verdict_.problems.empty() &&
+           probe.connected && !probe.closed_by_daemon && probe.attitude_lines > 0 &&
+           probe.gaps_over_limit == 0;
 }
 
 json Soak::summary(bool pass) const {
@@ -322,6 +338,8 @@ json Soak::summary(bool pass) const {
         {"attack_problems", attacks_.problems()},
         {"channel_attacks", channel_attacks_.figures()},
         {"channel_attack_problems", channel_attacks_.problems()},
+        {"line_rate_attacks", line_rate_attacks_.figures()},
+        {"line_rate_attack_problems", line_rate_attacks_.problems()},
         {"burst_trace",
          {{"checked", trace_verdict_.checked},
           {"excused_by_vanish", trace_verdict_.excused},
@@ -344,6 +362,9 @@ json Soak::summary(bool pass) const {
 int main(int argc, char** argv) {
     if (argc > 1 && std::string_view(argv[1]) == "--park-child") {
         return gport::bench::park_child_main(argc - 2, argv + 2);  // the futex-waiter peer
+    }
+    if (argc > 1 && std::string_view(argv[1]) == "--flood-child") {
+        return gport::bench::flood_child_main(argc - 2, argv + 2);  // a line-rate flood
     }
     ::signal(SIGPIPE, SIG_IGN);
     const auto options = gport::bench::parse(argc, argv);

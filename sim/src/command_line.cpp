@@ -42,6 +42,7 @@ constexpr const char* kFooter =
     "Examples:\n"
     "  gport-sim --link /tmp/gimbal             # then: gportd --device /tmp/gimbal\n"
     "  gport-sim --link /tmp/gimbal --trace --form 24 --rate 100\n"
+    "  gport-sim --link /tmp/gimbal --trace --baud 115200   # a real UART's speed\n"
     "  gport-sim --link /tmp/gimbal --noise 200 --corrupt-crc 0.05 --split\n"
     "  gport-sim --link /tmp/gimbal --vanish-every 5000 --vanish-for 2000\n"
     "  gport-sim --link /tmp/gimbal --record session.rec\n"
@@ -128,6 +129,14 @@ class Parser {
             ->group("Device");
         app_.add_flag("--pace", cl_.options.pace,
                       "pace output as a 115200-baud UART (86.8 us a byte); default: at once")
+            ->group("Device");
+        app_.add_option("--baud", cl_.options.baud,
+                        "drain the line at BAUD (8N1: BAUD/10 bytes a second) both ways: read "
+                        "what the client writes no faster, so its frames wait in the pty as in "
+                        "a UART, and pace output (as --pace) at the same rate; 0 = off (default: "
+                        "off, the pty drains at once; benches use 115200)")
+            ->type_name("BAUD")
+            ->check(args::integer_in(0, kMaxBaud))
             ->group("Device");
     }
 

@@ -55,6 +55,10 @@ std::optional<std::string> validate(const SimOptions& o) {
     if (!o.replay_path.empty() && o.replay_path == o.record_path) {
         return "cannot record into the recording being replayed";
     }
+    if (o.baud != 0 && (o.baud < kMinBaud || o.baud > kMaxBaud)) {
+        return fmt::format("baud must be 0 (off) or from {} to {}, got {}", kMinBaud, kMaxBaud,
+                           o.baud);
+    }
     return std::nullopt;
 }
 
@@ -68,7 +72,9 @@ PtySimulator::Impl::Impl(asio::io_context& io, SimOptions options)
       link_(options_.link_path),
       tick_timer_(io),
       pace_timer_(io),
-      line_free_(start_) {
+      line_timer_(io),
+      line_free_(start_),
+      rx_line_(start_) {
     if (auto error = validate(options_)) {
         throw std::invalid_argument(*error);
     }
@@ -79,8 +85,9 @@ PtySimulator::Impl::Impl(asio::io_context& io, SimOptions options)
         recorder_.emplace(options_.record_path);
     }
     if (options_.trace) {
-        model_.set_listener(
-            [this](const Received& r) { trace(trace_received(to_ms(model_.now()), r)); });
+        model_.set_listener([this](const Received& r) {
+            trace(trace_received(to_ms(rx_trace_time_.value_or(model_.now())), r));
+        });
     }
     open_device();
 }
@@ -96,6 +103,7 @@ void PtySimulator::Impl::stop() {
     stopped_ = true;
     tick_timer_.cancel();
     pace_timer_.cancel();
+    line_timer_.cancel();
     close_device();
 }
 
@@ -229,6 +237,7 @@ void PtySimulator::Impl::close_device() {
     }
     reading_ = false;
     peer_ = false;
+    rx_backlog_ = false;
     queue_.clear();
     queued_bytes_ = 0;
     link_.remove();
@@ -243,7 +252,7 @@ void PtySimulator::Impl::check_peer() {
     } else if (!present && peer_) {
         peer_gone();
     }
-    if (peer_ && !reading_ && !paused_) {
+    if (peer_ && !reading_ && !line_waiting_ && !paused_) {
         arm_read();
     }
 }
@@ -292,81 +301,6 @@ void PtySimulator::Impl::replace_pty() {
     if (device_.is_open()) {
         ++stats_.pty_replacements;
         event("pty_replaced", slave_path_);
-    }
-}
-
-// Reads are only awaited while a client is there: with no slave open the
-// master is permanently readable (POLLHUP) and would spin the loop.
-void PtySimulator::Impl::arm_read() {
-    reading_ = true;
-    device_.async_wait(
-        asio::posix::stream_descriptor::wait_read,
-        [self = shared_from_this()](const boost::system::error_code& ec) {
-            self->reading_ = false;
-            if (!ec && !self->stopped_ && !self->paused_ && self->device_.is_open()) {
-                self->on_readable();
-            }
-        });
-}
-
-void PtySimulator::Impl::on_readable() {
-    std::array<std::uint8_t, 4096> buf{};
-    for (;;) {
-        const auto n = ::read(device_.native_handle(), buf.data(), buf.size());
-        if (n > 0) {
-            handle_input({buf.data(), static_cast<std::size_t>(n)});
-            if (!device_.is_open()) {
-                return;
-            }
-            continue;
-        }
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-            if (!paused_) {
-                arm_read();
-            }
-            return;
-        }
-        // EIO (or EOF): the client closed the slave. The tick notices when
-        // one opens it again and re-arms the read.
-        if (peer_) {
-            peer_gone();
-        }
-        return;
-    }
-}
-
-// A gimbal whose UART stops draining: the bytes stay in the kernel's pty
-// buffer and, once it is full, the client's writes block (or time out).
-void PtySimulator::Impl::pause_reading() {
-    if (!paused_) {
-        paused_ = true;
-        event("reading_paused", slave_path_);
-    }
-}
-
-void PtySimulator::Impl::resume_reading() {
-    if (!paused_) {
-        return;
-    }
-    paused_ = false;
-    event("reading_resumed", slave_path_);
-    if (peer_ && !reading_ && device_.is_open()) {
-        arm_read();
-    }
-}
-
-void PtySimulator::Impl::handle_input(std::span<const std::uint8_t> bytes) {
-    const Duration now = elapsed();
-    stats_.bytes_read += bytes.size();
-    record(Direction::kRx, bytes);
-    auto due = model_.step(now);  // commands act at the time they arrive
-    auto replies = model_.receive(bytes);
-    if (replay_.empty()) {
-        due.insert(due.end(), replies.begin(), replies.end());
-        send_frames(due, now);
     }
 }
 

@@ -1,5 +1,6 @@
-// PtySimulator's internals, shared by simulator.cpp (time, device, model)
-// and simulator_output.cpp (writing, pacing, recording).
+// PtySimulator's internals, shared by simulator.cpp (time, device, model),
+// simulator_input.cpp (reading, at the line rate when asked) and
+// simulator_output.cpp (writing, pacing, recording).
 #pragma once
 
 #include <boost/asio/io_context.hpp>
@@ -53,14 +54,24 @@ class PtySimulator::Impl : public std::enable_shared_from_this<PtySimulator::Imp
     void open_device();
     void close_device();
     void check_peer();
-    void arm_read();
-    void on_readable();
-    void handle_input(std::span<const std::uint8_t> bytes);
     void peer_gone();
     void release_exclusive_mode();
     void replace_pty();
 
+    // --- input (simulator_input.cpp)
+    void arm_read();
+    void on_readable();
+    void read_all();
+    void read_at_line_rate();
+    void wait_for_line(Clock::time_point at);
+    void handle_input(std::span<const std::uint8_t> bytes);
+    void handle_at_line_rate(std::span<const std::uint8_t> bytes, Clock::time_point first_done);
+    void input_failed();
+
     // --- output (simulator_output.cpp)
+    // One byte on the line (8N1): at --baud, else 115200 for --pace.
+    Clock::duration byte_time() const;
+    bool paced() const { return options_.pace || options_.baud > 0; }
     bool can_send() const;
     void send(std::vector<Chunk> chunks);
     void send_frames(const GimbalModel::Frames& frames, Duration now);
@@ -84,6 +95,7 @@ class PtySimulator::Impl : public std::enable_shared_from_this<PtySimulator::Imp
     SlaveLink link_;
     boost::asio::steady_timer tick_timer_;
     boost::asio::steady_timer pace_timer_;
+    boost::asio::steady_timer line_timer_;  // --baud: the next bytes' arrival
     bool peer_ = false;
     bool reading_ = false;
     bool pacing_ = false;
@@ -93,6 +105,13 @@ class PtySimulator::Impl : public std::enable_shared_from_this<PtySimulator::Imp
     std::deque<Chunk> queue_;  // paced output waiting for the wire
     std::size_t queued_bytes_ = 0;
     Clock::time_point line_free_;  // paced: when the last queued byte has left
+
+    // --baud, input: when the last byte read had fully arrived, and whether
+    // bytes were left waiting in the pty (the line stayed busy since).
+    Clock::time_point rx_line_;
+    bool rx_backlog_ = false;
+    bool line_waiting_ = false;              // line_timer_ armed
+    std::optional<Duration> rx_trace_time_;  // a received frame's time for the trace
 
     SimStats stats_;
 };

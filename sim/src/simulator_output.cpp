@@ -7,12 +7,20 @@
 namespace gport::sim {
 namespace {
 
-// One byte on a 115200-baud 8N1 line: 10 bits.
-constexpr auto kByteTime = std::chrono::nanoseconds(86806);
+// One byte on a 115200-baud 8N1 line (10 bits): --pace without --baud.
+constexpr auto kByteTime115200 = std::chrono::nanoseconds(86806);
 // A UART's transmit buffer: paced output beyond this is dropped, not queued.
 constexpr std::size_t kPacedQueueLimit = 4096;
 
 }  // namespace
+
+PtySimulator::Impl::Clock::duration PtySimulator::Impl::byte_time() const {
+    if (options_.baud == 0) {
+        return kByteTime115200;
+    }
+    return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(10.0) /
+                                                       options_.baud);
+}
 
 bool PtySimulator::Impl::can_send() const {
     return device_.is_open() && peer_ && !schedule_.silent() && !schedule_.vanished() && !stopped_;
@@ -28,7 +36,7 @@ void PtySimulator::Impl::send(std::vector<Chunk> chunks) {
             stats_.bytes_dropped += chunk.size();
             continue;
         }
-        if (!options_.pace) {
+        if (!paced()) {
             write_now(chunk);
             continue;
         }
@@ -39,7 +47,7 @@ void PtySimulator::Impl::send(std::vector<Chunk> chunks) {
         queued_bytes_ += chunk.size();
         queue_.push_back(std::move(chunk));
     }
-    if (options_.pace) {
+    if (paced()) {
         pump();
     }
 }
@@ -99,7 +107,7 @@ void PtySimulator::Impl::pump(bool busy) {
         // one, not the late wake-up, so timer latency does not slow the line.
         const auto base = busy ? line_free_ : std::max(now, line_free_);
         busy = true;
-        line_free_ = base + kByteTime * static_cast<std::int64_t>(chunk.size());
+        line_free_ = base + byte_time() * static_cast<std::int64_t>(chunk.size());
     }
 }
 

@@ -117,6 +117,46 @@ TEST(PtySimulator, PausedReadingFillsTheLineAndResumingDrainsItInOrder) {
     EXPECT_EQ(sim.stats().model.crc_errors, 0U);
 }
 
+// --baud: bytes the client wrote at once are read no faster than the line
+// carries them, and each frame is traced at its last byte's arrival. Only
+// the lower bound (the line's own time) is checked: it holds however slow
+// the machine is.
+TEST(PtySimulator, AtTheLineRateFramesWaitAndAreTimedByTheirLastByte) {
+    SimOptions o;
+    o.baud = 115200;
+    o.model.stream_rate_hz = 0;
+    SimThread sim(o);
+    Client client(sim.path());
+    ASSERT_TRUE(eventually([&] { return sim.stats().peer_opens == 1; }));
+    const auto photo = p::encode(p::Camera{p::CameraAction::kPhoto});
+    constexpr int kFrames = 100;
+    for (int i = 0; i < kFrames; ++i) {
+        client.write(photo.bytes());
+    }
+    const auto photos = [&] {
+        std::vector<double> t;
+        for (const auto& line : sim.trace()) {
+            if (line.find("\"action\":\"photo\"") != std::string::npos) {
+                t.push_back(std::stod(line.substr(line.find(':') + 1)));
+            }
+        }
+        return t;
+    };
+    ASSERT_TRUE(eventually([&] { return photos().size() == kFrames; }));
+    const auto t = photos();
+    const double line_ms = (kFrames - 1) * photo.size() * 10 * 1000.0 / 115200;
+    EXPECT_GE(t.back() - t.front(), line_ms - 0.2);  // the trace rounds to 0.1 ms
+    EXPECT_GE(sim.stats().read_backlog_max, photo.size());
+}
+
+TEST(PtySimulator, BaudOutsideItsRangeIsRefused) {
+    SimOptions o;
+    o.baud = kMinBaud - 1;
+    EXPECT_TRUE(validate(o).has_value());
+    o.baud = kMaxBaud;
+    EXPECT_FALSE(validate(o).has_value());
+}
+
 TEST(PtyFaults, NoiseShowsAsGarbageAndFramesStillDecode) {
     SimOptions o;
     o.faults.noise_bytes_per_s = 500;

@@ -30,8 +30,14 @@ namespace gport::sim {
 struct SimOptions {
     ModelOptions model;
     FaultOptions faults;
-    std::string link_path;    // keep a symlink here to the slave; empty: none
-    bool pace = false;        // space writes as a 115200-baud UART would (86.8 µs a byte)
+    std::string link_path;  // keep a symlink here to the slave; empty: none
+    bool pace = false;      // space writes as a 115200-baud UART would (86.8 µs a byte)
+    // The line rate in both directions (8N1: 10 bits a byte), 0 = off. The
+    // client's bytes are read at most baud/10 a second, so they wait in the
+    // pty's buffer as they would in a UART's, and output is paced at the same
+    // rate (as `pace` does at 115200). A received frame's trace time is when
+    // its last byte arrived at that rate.
+    unsigned baud = 0;
     std::string record_path;  // record both directions here; empty: don't
     std::string replay_path;  // play this recording's tx side instead of the model
     // Receives one JSON line (no newline) per frame received, bad frame and
@@ -39,17 +45,22 @@ struct SimOptions {
     std::function<void(const std::string&)> trace;
 };
 
+// SimOptions::baud's range when not 0 (off).
+inline constexpr unsigned kMinBaud = 300;
+inline constexpr unsigned kMaxBaud = 4'000'000;
+
 // Empty when usable; otherwise what is wrong and what is allowed.
 std::optional<std::string> validate(const SimOptions& options);
 
 struct SimStats {
     ModelStats model;
     FaultStats faults;
-    std::uint64_t bytes_read = 0;     // from the client
-    std::uint64_t bytes_written = 0;  // to the client
-    std::uint64_t bytes_dropped = 0;  // nobody listening, silence, full buffer
-    std::uint64_t writes = 0;         // write() calls that wrote something
-    std::uint64_t peer_opens = 0;     // times a client opened the slave
+    std::uint64_t bytes_read = 0;        // from the client
+    std::uint64_t read_backlog_max = 0;  // --baud: most bytes seen waiting in the pty
+    std::uint64_t bytes_written = 0;     // to the client
+    std::uint64_t bytes_dropped = 0;     // nobody listening, silence, full buffer
+    std::uint64_t writes = 0;            // write() calls that wrote something
+    std::uint64_t peer_opens = 0;        // times a client opened the slave
     std::uint64_t vanishes = 0;
     std::uint64_t pty_replacements =
         0;  // a client left the slave exclusive; see release_exclusive()
