@@ -15,10 +15,21 @@ bool WriteQueue::push(const protocol::Frame& frame, FrameKind kind) {
             }
             entries_.push_front(Entry{frame, kind});
             return true;
-        case FrameKind::kMotion:
-            drop_motion();
+        case FrameKind::kMotion: {
+            // The newest replaces the waiting one in its place in line: a
+            // keepalive refreshing a speed behind a queue of camera frames
+            // must not go back to the end each time (it would never be sent).
+            const auto waiting = std::find_if(entries_.begin(), entries_.end(), [](const Entry& e) {
+                return e.kind == FrameKind::kMotion;
+            });
+            if (waiting != entries_.end()) {
+                waiting->frame = frame;
+                ++replaced_;
+                return true;
+            }
             entries_.push_back(Entry{frame, kind});
             return true;
+        }
         case FrameKind::kOther:
             if (others_ >= max_other_) {
                 ++refused_;

@@ -133,10 +133,17 @@ void run_request(const json& request, detail::MethodContext& context, const Repl
 }
 
 // Collects a batch's replies in request order and sends them as one line once
-// the last (possibly asynchronous) member has answered.
+// the last (possibly asynchronous) member has answered. The line holds at
+// most kMaxBatchReplyBytes of replies, so that it always fits a client's
+// output limit (Outbox, 256 KiB): a member whose reply would pass that is
+// answered with an error naming the limit instead (its work was done, its
+// result not sent: a `captures` page is the one reply that large).
 class Batch {
   public:
-    Batch(std::size_t members, ReplySink sink) : replies_(members), sink_(std::move(sink)) {}
+    static constexpr std::size_t kMaxBatchReplyBytes = 128 * 1024;
+
+    Batch(std::size_t members, ReplySink sink, json ids)
+        : replies_(members), ids_(std::move(ids)), sink_(std::move(sink)) {}
 
     ReplySink slot(std::size_t index, const std::shared_ptr<Batch>& self) {
         ++outstanding_;
@@ -152,6 +159,15 @@ class Batch {
 
   private:
     void fill(std::size_t index, std::string reply) {
+        if (bytes_ + reply.size() > kMaxBatchReplyBytes) {
+            reply = dump(error_object(
+                ids_[index], rpc_error::kInvalidRequest,
+                fmt::format("this reply ({} bytes) does not fit in the batch's line: a batch's "
+                            "replies may hold at most {} bytes; send this request alone or in a "
+                            "smaller batch",
+                            reply.size(), kMaxBatchReplyBytes)));
+        }
+        bytes_ += reply.size();
         replies_[index] = std::move(reply);
         --outstanding_;
         finish_if_done();
@@ -175,6 +191,8 @@ class Batch {
     }
 
     std::vector<std::string> replies_;  // empty: a notification's slot
+    json ids_;                          // each member's id (null where it has none)
+    std::size_t bytes_ = 0;             // of the replies kept
     ReplySink sink_;
     std::size_t outstanding_ = 0;
     bool dispatched_ = false;
@@ -314,10 +332,18 @@ void Dispatcher::handle_line(std::string_view line, ClientState& client, const R
                         fmt::format("a batch must hold 1 to {} requests", kMaxBatch)));
         return;
     }
-    auto batch = std::make_shared<Batch>(request.size(), [sink, asker](std::string reply) {
-        const daemon::ClientLogScope reply_scope(asker);
-        sink(std::move(reply));
-    });
+    json ids = json::array();
+    for (const auto& member : request) {
+        const auto id = member.is_object() ? member.find("id") : member.end();
+        ids.push_back(member.is_object() && id != member.end() ? *id : json(nullptr));
+    }
+    auto batch = std::make_shared<Batch>(
+        request.size(),
+        [sink, asker](std::string reply) {
+            const daemon::ClientLogScope reply_scope(asker);
+            sink(std::move(reply));
+        },
+        std::move(ids));
     for (std::size_t i = 0; i < request.size(); ++i) {
         if (is_notification(request[i])) {
             run_request(request[i], context, [](const std::string&) {});

@@ -103,7 +103,7 @@ class Session : public std::enable_shared_from_this<Session> {
     void on_written(const boost::system::error_code& error);
     void drained();
     void finish_if_done();
-    void overflow();
+    void overflow(std::size_t refused_bytes);
     void sync_budget();
 
     // ---- descriptors (session_descriptors.cpp) ----

@@ -26,8 +26,9 @@ void Session::reply(std::string line, std::size_t descriptors) {
     if (closed()) {
         return;
     }
+    const auto size = line.size();
     if (!outbox_.push(std::make_shared<const std::string>(std::move(line)), descriptors)) {
-        overflow();
+        overflow(size);
         return;
     }
     flush();
@@ -38,16 +39,18 @@ void Session::deliver_event(const Line& line) {
         return;
     }
     if (!outbox_.push(line)) {
-        overflow();
+        overflow(line->size());
         return;
     }
     flush();
 }
 
 // Only the server is told; the core hears of it after the current event.
-void Session::overflow() {
-    host_.log().warn("client pid {} uid {}: {} lines wait unread; disconnecting it",
-                     state_.info.pid, state_.info.uid, outbox_.size());
+void Session::overflow(std::size_t refused_bytes) {
+    host_.log().warn(
+        "client pid {} uid {}: a line of {} bytes does not fit its output queue ({} lines, {} "
+        "bytes wait unread); disconnecting it",
+        state_.info.pid, state_.info.uid, refused_bytes, outbox_.size(), outbox_.bytes());
     close();
 }
 

@@ -1,5 +1,7 @@
 #include "gport/mavlink/decoder.hpp"
 
+#include <algorithm>
+
 #include "gport/mavlink/crc.hpp"
 #include "gport/mavlink/messages.hpp"
 
@@ -22,26 +24,34 @@ void Decoder::reset() {
 }
 
 void Decoder::discard(std::size_t count) {
-    stats_.garbage_bytes += count;
-    if (count > 0) {
+    const std::size_t shadowed = std::min(count, shadow_);
+    shadow_ -= shadowed;
+    stats_.unknown_bytes += shadowed;
+    stats_.garbage_bytes += count - shadowed;
+    if (count > shadowed) {
         in_garbage_ = true;
     }
 }
 
 void Decoder::accepted() {
+    shadow_ = 0;  // a real frame: the claim that covered it was false
     if (in_garbage_) {
         ++stats_.resyncs;
         in_garbage_ = false;
     }
 }
 
-void Decoder::reject(Verdict why) {
+void Decoder::reject(Verdict why, std::size_t size) {
+    if (shadow_ > 0) {
+        return;  // a candidate inside an unknown frame: its payload's bytes
+    }
     switch (why) {
         case Verdict::kHeader:
             ++stats_.header_errors;
             break;
         case Verdict::kUnknownId:
             ++stats_.unknown_ids;
+            shadow_ = size;
             break;
         case Verdict::kLength:
             ++stats_.length_errors;
@@ -54,13 +64,6 @@ void Decoder::reject(Verdict why) {
     }
 }
 
-Decoder::Verdict Decoder::unknown(const std::uint8_t* p, std::size_t n, std::size_t size) {
-    if (n < size + 1) {
-        return Verdict::kNeedMore;
-    }
-    return is_magic(p[size]) ? Verdict::kUnknownFrame : Verdict::kUnknownId;
-}
-
 Decoder::Verdict Decoder::check_v1(const std::uint8_t* p, std::size_t n, std::size_t& size) {
     if (n < kHeaderSizeV1) {
         return Verdict::kNeedMore;
@@ -69,7 +72,7 @@ Decoder::Verdict Decoder::check_v1(const std::uint8_t* p, std::size_t n, std::si
     const MessageInfo* info = find_message(p[5]);
     if (info == nullptr) {
         size = kHeaderSizeV1 + len + kChecksumSize;
-        return unknown(p, n, size);
+        return Verdict::kUnknownId;
     }
     if (len != info->base_length) {
         return Verdict::kLength;
@@ -100,7 +103,7 @@ Decoder::Verdict Decoder::check(const std::uint8_t* p, std::size_t n, std::size_
     const bool is_signed = (p[2] & kIncompatSigned) != 0;
     size = kHeaderSizeV2 + len + kChecksumSize + (is_signed ? kSignatureSize : 0);
     if (info == nullptr) {
-        return unknown(p, n, size);
+        return Verdict::kUnknownId;
     }
     if (len > info->full_length) {
         return Verdict::kLength;

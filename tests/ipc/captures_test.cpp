@@ -149,6 +149,31 @@ TEST_F(CapturesTest, SinceAndLimitPageThroughAndAreChecked) {
                 HasSubstr("1000"));
 }
 
+// A batch of `captures` pages over a log of 1 KiB metas: the batch's line
+// stays within its budget (so it fits the client's 256 KiB output queue
+// and the client is not disconnected); the members past it get -32600
+// naming the limit.
+TEST_F(CapturesTest, ABatchOfPagesFitsTheClientsQueue) {
+    for (int i = 0; i < 300; ++i) {
+        ASSERT_EQ(call("photo", {{"meta", meta_of(1000)}})["result"]["sent"], true);
+    }
+    json batch = json::array();
+    for (int i = 1; i <= 8; ++i) {
+        batch.push_back(
+            {{"jsonrpc", "2.0"}, {"id", i}, {"method", "captures"}, {"params", {{"limit", 1000}}}});
+    }
+    std::string line;
+    dispatcher_.handle_line(batch.dump(), client_, [&](std::string l) { line = std::move(l); });
+    EXPECT_LE(line.size(), 130u * 1024);
+    const auto replies = json::parse(line);
+    ASSERT_EQ(replies.size(), 8u);
+    EXPECT_TRUE(replies[0].contains("result"));
+    EXPECT_TRUE(replies[1].contains("result"));
+    EXPECT_EQ(replies[7]["id"], 8);
+    EXPECT_EQ(replies[7]["error"]["code"], -32600);
+    EXPECT_THAT(replies[7]["error"]["message"].get<std::string>(), HasSubstr("at most 131072"));
+}
+
 TEST_F(CapturesTest, StatusShowsTheWritersFigures) {
     auto status = call("status")["result"]["captures"];
     EXPECT_TRUE(status["file"].is_null()) << "memory only without a sink";

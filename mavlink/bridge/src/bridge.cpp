@@ -88,11 +88,11 @@ void Bridge::finish() {
         "mavlink: {} frames taken, {} refused by the trust rules, {} ground-station heartbeats "
         "(not used), {} signed without a key, {} undecodable, {} positions dropped; decoder: {} "
         "bad CRC, {} bad length, {} unknown flags, {} MAVLink 1, {} of messages not decoded here "
-        "(skipped whole); signing: {}; {} frames unsent (no peer yet), {} send failures",
+        "(not errors); signing: {}; {} frames unsent (no peer yet), {} send failures",
         counters_.accepted, counters_.untrusted, counters_.gcs_heartbeats, counters_.signed_no_key,
         counters_.undecodable, counters_.bad_positions, d.crc_errors, d.length_errors,
-        d.header_errors, d.v1_frames, d.unknown_frames, signing,
-        transport_ ? transport_->unsent() : 0, transport_ ? transport_->send_failures() : 0);
+        d.header_errors, d.v1_frames, d.unknown_ids, signing, transport_ ? transport_->unsent() : 0,
+        transport_ ? transport_->send_failures() : 0);
 }
 
 // ---- gportd ---------------------------------------------------------------------

@@ -119,7 +119,7 @@ int decode(const std::string& stream_path) {
                   {"crc_errors", s.crc_errors},
                   {"length_errors", s.length_errors},
                   {"unknown_ids", s.unknown_ids},
-                  {"unknown_frames", s.unknown_frames},
+                  {"unknown_bytes", s.unknown_bytes},
                   {"pending", decoder.pending()}}}};
     std::cout << out.dump(2) << "\n";
     return errors == 0 ? 0 : 1;

@@ -7,20 +7,23 @@
 //
 // A candidate starts at 0xFD (MAVLink 2) or 0xFE (MAVLink 1). It is rejected,
 // in this order, when: an incompat flag other than "signed" is set (header
-// error; the spec says such frames must be dropped); its length exceeds the
-// message's full length (length error; a MAVLink 1 frame's must equal the
-// base length); its checksum is wrong (CRC error). A rejected candidate is
-// re-scanned from its SECOND byte, so no valid frame is lost because of what
-// came before it: a false start byte whose claimed length swallows a real
-// frame only delays that frame until the claim is disproved.
+// error; the spec says such frames must be dropped); its message id is not
+// one this codec knows (unknown id: without the CRC_EXTRA its checksum
+// cannot be checked); its length exceeds the message's full length (length
+// error; a MAVLink 1 frame's must equal the base length); its checksum is
+// wrong (CRC error). A rejected candidate is re-scanned from its SECOND byte,
+// so no valid frame is lost because of what came before it: a false start
+// byte whose claimed length swallows a real frame only delays that frame
+// until the claim is disproved.
 //
-// A candidate whose message id this codec does not know (an autopilot sends
-// many: its checksum cannot be checked without that message's CRC_EXTRA) is
-// skipped whole, by its length, when the byte after it starts another
-// candidate (or, wait for it, once it arrives): counted in unknown_frames,
-// not as garbage, so the bytes inside it are never mistaken for headers.
-// Otherwise (garbage follows: it was no frame) it is rejected as unknown id
-// and re-scanned like the others.
+// An autopilot sends many messages this codec does not decode. Such a frame
+// (a candidate with an unknown id) casts a shadow as long as its header
+// claims: the bytes in it are counted as unknown_bytes, not garbage, and
+// the candidates that start inside it are not counted as header, length or
+// CRC errors (they are bytes of that frame's payload, not malformed
+// frames). They are still scanned, so a real frame is never lost to a
+// false start that happens to carry an unknown id: a frame found inside a
+// shadow ends it.
 //
 // Decisions (docs/mavlink.md):
 //   - MAVLink 1 frames are recognised (valid checksum, known id, exact
@@ -44,19 +47,18 @@
 namespace gport::mavlink {
 
 struct DecoderStats {
-    std::uint64_t bytes = 0;           // bytes fed
-    std::uint64_t frames = 0;          // MAVLink 2 frames delivered
-    std::uint64_t signed_frames = 0;   // of those, signed (signature not checked here)
-    std::uint64_t v1_frames = 0;       // valid MAVLink 1 frames skipped
-    std::uint64_t v1_bytes = 0;        // their bytes
-    std::uint64_t garbage_bytes = 0;   // bytes discarded (not part of any valid frame)
-    std::uint64_t header_errors = 0;   // candidates with unknown incompat flags
-    std::uint64_t unknown_ids = 0;     // candidates with an unknown id, rejected (garbage after)
-    std::uint64_t unknown_frames = 0;  // frames with an unknown id, skipped whole
-    std::uint64_t unknown_bytes = 0;   // their bytes
-    std::uint64_t length_errors = 0;   // candidates longer than their message allows
-    std::uint64_t crc_errors = 0;      // candidates with a wrong checksum
-    std::uint64_t resyncs = 0;         // frames (v1 or v2) that ended a run of garbage
+    std::uint64_t bytes = 0;          // bytes fed
+    std::uint64_t frames = 0;         // MAVLink 2 frames delivered
+    std::uint64_t signed_frames = 0;  // of those, signed (signature not checked here)
+    std::uint64_t v1_frames = 0;      // valid MAVLink 1 frames skipped
+    std::uint64_t v1_bytes = 0;       // their bytes
+    std::uint64_t garbage_bytes = 0;  // bytes discarded (not part of any valid frame)
+    std::uint64_t header_errors = 0;  // candidates with unknown incompat flags
+    std::uint64_t unknown_ids = 0;    // frames of ids this codec does not know (shadows cast)
+    std::uint64_t unknown_bytes = 0;  // bytes in their shadows (not garbage)
+    std::uint64_t length_errors = 0;  // candidates longer than their message allows
+    std::uint64_t crc_errors = 0;     // candidates with a wrong checksum
+    std::uint64_t resyncs = 0;        // frames (v1 or v2) that ended a run of garbage
 };
 
 class Decoder {
@@ -72,19 +74,7 @@ class Decoder {
     void reset();
 
   private:
-    enum class Verdict {
-        kFrame,
-        kV1Frame,
-        kUnknownFrame,
-        kNeedMore,
-        kHeader,
-        kUnknownId,
-        kLength,
-        kCrc
-    };
-    // A candidate of `size` bytes with an unknown id: a frame when another
-    // candidate follows it.
-    static Verdict unknown(const std::uint8_t* p, std::size_t n, std::size_t size);
+    enum class Verdict { kFrame, kV1Frame, kNeedMore, kHeader, kUnknownId, kLength, kCrc };
     // Judges the candidate at p[0] (0xFD or 0xFE) with n bytes available;
     // sets size (whole frame) and, for kFrame, view.
     static Verdict check(const std::uint8_t* p, std::size_t n, std::size_t& size, FrameView& view);
@@ -93,12 +83,13 @@ class Decoder {
     template <typename Sink>
     std::size_t scan(const std::uint8_t* p, std::size_t n, Sink& sink);
     void discard(std::size_t count);
-    void reject(Verdict why);
+    void reject(Verdict why, std::size_t size);
     void accepted();
 
     static constexpr std::size_t kBufferSize = 2 * kMaxFrameSize;
     base::CarryBuffer<kBufferSize> carry_;
     bool in_garbage_ = false;
+    std::size_t shadow_ = 0;  // bytes left of an unknown-id frame's claimed span
     DecoderStats stats_{};
 };
 
@@ -141,14 +132,8 @@ std::size_t Decoder::scan(const std::uint8_t* p, std::size_t n, Sink& sink) {
                 accepted();
                 i += size;
                 break;
-            case Verdict::kUnknownFrame:
-                ++stats_.unknown_frames;
-                stats_.unknown_bytes += size;
-                accepted();
-                i += size;
-                break;
             default:
-                reject(verdict);
+                reject(verdict, size);
                 discard(1);  // re-scan from the candidate's second byte
                 ++i;
                 break;

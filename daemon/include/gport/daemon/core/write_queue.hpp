@@ -5,7 +5,9 @@
 //    already waiting absorbs it (identical bytes: the wire still ends in a
 //    zero speed, and a stop flood on a stuck line costs no memory);
 //  - another 0x85 (speed, angle, centre, lock) replaces the waiting non-stop
-//    0x85 frames and goes last: only the newest position command matters;
+//    0x85 frame in its place in line (only the newest position command
+//    matters, and a keepalive refreshing it never loses its turn), or goes
+//    last when none waits;
 //  - other frames (camera, settings) are capped; over the cap they are refused.
 // At most one stop and one other 0x85 wait, so the queue stays bounded.
 #pragma once
