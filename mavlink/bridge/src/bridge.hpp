@@ -29,6 +29,7 @@
 #include "gport/mavlink/bridge/options.hpp"
 #include "gport/mavlink/bridge/photo_merge.hpp"
 #include "gport/mavlink/bridge/rate_lease.hpp"
+#include "gport/mavlink/bridge/stream_requests.hpp"
 #include "gport/mavlink/bridge/trust.hpp"
 #include "gport/mavlink/bridge/vehicle_yaw.hpp"
 #include "gport/mavlink/decoder.hpp"
@@ -93,6 +94,11 @@ class Bridge {
     void on_attitude(const Header& from, const Attitude& message);
     std::optional<double> vehicle_yaw_deg();  // fresh, or none; logs a change of source
     void on_position(const Header& from, const GlobalPositionInt& message);
+    // The autopilot's streams we need, asked for when they do not come
+    // (stream_requests.hpp; bridge_streams.cpp), and its answers.
+    void request_streams();
+    void on_ack(const Header& from, const CommandAck& message);
+    void warn_no_position(std::int32_t image_index);
 
     // The camera component, compid 100 (bridge_camera.cpp; photos: bridge_photo.cpp)
     bool for_camera(const CommandLong& command) const;
@@ -171,9 +177,11 @@ class Bridge {
     bool photo_in_flight_ = false;
     PhotoMerge photo_merge_;  // the photo begun last, for a second command of it
     std::vector<std::pair<Requester, std::uint16_t>> merged_;  // answered when it completes
-    bool meta_supported_ = true;   // false once this gportd refused `meta` as unknown
-    std::uint8_t seq_ = 0;         // the gimbal's frames
-    std::uint8_t camera_seq_ = 0;  // the camera's: a sequence per component
+    StreamRequests streams_;
+    bool position_warned_ = false;  // a photo without a position: said once
+    bool meta_supported_ = true;    // false once this gportd refused `meta` as unknown
+    std::uint8_t seq_ = 0;          // the gimbal's frames
+    std::uint8_t camera_seq_ = 0;   // the camera's: a sequence per component
 
     // One motion request to gportd at a time; the newest waiting one replaces
     // an older one (a 50 Hz stream never queues up).

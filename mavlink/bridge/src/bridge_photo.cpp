@@ -130,6 +130,9 @@ void Bridge::photo_done(const std::optional<Requester>& from, std::uint16_t comm
         }
     }
     image.position = fresh_position();
+    if (!image.position && !error) {
+        warn_no_position(image.image_index);
+    }
     // The attitude gportd logged with the capture, else our newest sample.
     image.q = camera_orientation(capture_sample(report.attitude, sample_), vehicle_yaw_deg(),
                                  options_.invert);
