@@ -180,6 +180,9 @@ void Bridge::on_command(const Requester& from, const CommandLong& command) {
 
 void Bridge::request_message(const Requester& from, const CommandLong& command) {
     const auto id = static_cast<std::uint32_t>(command.param[0]);
+    spdlog::debug("mavlink: REQUEST_MESSAGE({}) from system {} component {} to {}/{}", id,
+                  from.header.sysid, from.header.compid, command.target_system,
+                  command.target_component);
     if (id == GimbalDeviceInformation::kId) {
         ack(from, command.command, mav_result::kAccepted);
         send(make_information(time_boot_ms(), limits_, options_.invert), from.origin);
