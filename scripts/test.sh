@@ -13,7 +13,7 @@
 #   3. ASan+UBSan build, all tests;
 #   4. clang libFuzzer build, each fuzzer for $GPORT_FUZZ_SECONDS (40) on its
 #      corpus, one per core at a time.
-# The ArduCopter SITL tests run in the Release stage only (GPORT_SITL_TESTS).
+# The ArduCopter and PX4 SITL tests run in the Release stage only (GPORT_SITL_TESTS).
 # Used word for word by .ci/run. The builds are unity builds (each target's
 # sources compiled as one unit), which halves the compile time on a 2-core
 # machine; every file also compiles on its own in a normal build.

@@ -27,6 +27,16 @@ TrustPolicy policy_of(const Options& o) {
     return policy;
 }
 
+// ATTITUDE (10 Hz) for the vehicle's yaw; GLOBAL_POSITION_INT (5 Hz) for
+// the camera's geotags.
+std::vector<StreamRequests::Stream> wanted_streams(bool camera) {
+    std::vector<StreamRequests::Stream> wanted{{Attitude::kId, 100000}};
+    if (camera) {
+        wanted.push_back({GlobalPositionInt::kId, 200000});
+    }
+    return wanted;
+}
+
 }  // namespace
 
 std::uint16_t Bridge::gimbal_flags_default() {
@@ -46,7 +56,8 @@ Bridge::Bridge(asio::io_context& io, Options options, std::unique_ptr<SigningSes
       attitude_timer_(io),
       image_timer_(io),
       rate_lease_(std::chrono::milliseconds(options_.lease_ms)),
-      image_count_(options_.state_dir) {}
+      image_count_(options_.state_dir),
+      streams_(wanted_streams(options_.camera)) {}
 
 void Bridge::start() {
     transport_ = open_transport(io_, options_.mavlink);
@@ -304,6 +315,7 @@ void Bridge::heartbeat_tick() {
     if (options_.camera) {
         send_camera_heartbeat();
     }
+    request_streams();
     log_.tick();
     heartbeat_timer_.expires_after(1s);
     heartbeat_timer_.async_wait([this](boost::system::error_code ec) {

@@ -19,6 +19,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "gport/client/async_client.hpp"
 #include "gport/mavlink/bridge/camera.hpp"
@@ -26,7 +27,9 @@
 #include "gport/mavlink/bridge/log_limit.hpp"
 #include "gport/mavlink/bridge/mapping.hpp"
 #include "gport/mavlink/bridge/options.hpp"
+#include "gport/mavlink/bridge/photo_merge.hpp"
 #include "gport/mavlink/bridge/rate_lease.hpp"
+#include "gport/mavlink/bridge/stream_requests.hpp"
 #include "gport/mavlink/bridge/trust.hpp"
 #include "gport/mavlink/bridge/vehicle_yaw.hpp"
 #include "gport/mavlink/decoder.hpp"
@@ -91,6 +94,11 @@ class Bridge {
     void on_attitude(const Header& from, const Attitude& message);
     std::optional<double> vehicle_yaw_deg();  // fresh, or none; logs a change of source
     void on_position(const Header& from, const GlobalPositionInt& message);
+    // The autopilot's streams we need, asked for when they do not come
+    // (stream_requests.hpp; bridge_streams.cpp), and its answers.
+    void request_streams();
+    void on_ack(const Header& from, const CommandAck& message);
+    void warn_no_position(std::int32_t image_index);
 
     // The camera component, compid 100 (bridge_camera.cpp; photos: bridge_photo.cpp)
     bool for_camera(const CommandLong& command) const;
@@ -100,6 +108,10 @@ class Bridge {
     // gportd unreachable, or a camera call still with it: answers
     // TEMPORARILY_REJECTED from `compid` (the camera's, or the gimbal's: 0).
     bool camera_busy(const Requester& from, const CommandLong& command, std::uint8_t compid);
+    // A single-photo command that is the photo begun last again (photo_merge.hpp):
+    // answered with that photo's result, not taken; false for a new photo.
+    bool merged_photo(const Requester& from, const CommandLong& command);
+    void begin_photo(const Requester& from, std::uint16_t command);
     void take_photo(const std::optional<Requester>& from, std::uint16_t command, bool with_meta);
     void photo_done(const std::optional<Requester>& from, std::uint16_t command,
                     const std::optional<client::Error>& error, const client::PhotoReport& report);
@@ -163,9 +175,13 @@ class Bridge {
     ImageCount image_count_;          // photos taken, kept in the state directory
     std::optional<Clock::time_point> recording_since_;
     bool photo_in_flight_ = false;
-    bool meta_supported_ = true;   // false once this gportd refused `meta` as unknown
-    std::uint8_t seq_ = 0;         // the gimbal's frames
-    std::uint8_t camera_seq_ = 0;  // the camera's: a sequence per component
+    PhotoMerge photo_merge_;  // the photo begun last, for a second command of it
+    std::vector<std::pair<Requester, std::uint16_t>> merged_;  // answered when it completes
+    StreamRequests streams_;
+    bool position_warned_ = false;  // a photo without a position: said once
+    bool meta_supported_ = true;    // false once this gportd refused `meta` as unknown
+    std::uint8_t seq_ = 0;          // the gimbal's frames
+    std::uint8_t camera_seq_ = 0;   // the camera's: a sequence per component
 
     // One motion request to gportd at a time; the newest waiting one replaces
     // an older one (a 50 Hz stream never queues up).

@@ -74,8 +74,8 @@ void Bridge::on_camera_command(const Requester& from, const CommandLong& command
         case mav_cmd::kDoDigicamControl:
             if (!digicam_shot(command)) {
                 ack(from, command.command, mav_result::kUnsupported, kCameraCompid);
-            } else if (!camera_busy(from, command, kCameraCompid)) {
-                take_photo(from, command.command, true);
+            } else if (!merged_photo(from, command) && !camera_busy(from, command, kCameraCompid)) {
+                begin_photo(from, command.command);
             }
             break;
         default:
@@ -147,6 +147,9 @@ void Bridge::start_images(const Requester& from, const CommandLong& command) {
         return;
     }
     const auto& images = std::get<ImagePlan>(plan);
+    if (images.count == 1 && merged_photo(from, command)) {
+        return;
+    }
     if (images_) {
         log_.warn("IMAGE_START_CAPTURE refused: interval running",
                   "mavlink: IMAGE_START_CAPTURE answered TEMPORARILY_REJECTED: an interval "
@@ -158,7 +161,7 @@ void Bridge::start_images(const Requester& from, const CommandLong& command) {
         return;
     }
     if (images.count == 1) {
-        take_photo(from, command.command, true);
+        begin_photo(from, command.command);
         return;
     }
     spdlog::info("camera: interval capture, {} every {} s",

@@ -144,6 +144,10 @@ void Bridge::handle(const Header& from, const Message& message) {
         on_attitude(from, *attitude);
     } else if (const auto* position = std::get_if<GlobalPositionInt>(&message)) {
         on_position(from, *position);
+    } else if (const auto* answer = std::get_if<CommandAck>(&message)) {
+        if (addressed_to(answer->target_system, answer->target_component, us, options_.compid)) {
+            on_ack(from, *answer);
+        }
     }
 }
 
@@ -152,6 +156,9 @@ void Bridge::on_heartbeat(const Header& header, const Heartbeat& heartbeat) {
     // of those, an autopilot's says that a gimbal manager is present.
     if (header.sysid == trust_.vehicle() && is_autopilot(heartbeat)) {
         manager_seen_ = Clock::now();
+        if (header.compid == mav_comp_id::kAutopilot1) {
+            streams_.on_heartbeat(*manager_seen_);
+        }
     }
 }
 
@@ -173,6 +180,9 @@ void Bridge::on_command(const Requester& from, const CommandLong& command) {
 
 void Bridge::request_message(const Requester& from, const CommandLong& command) {
     const auto id = static_cast<std::uint32_t>(command.param[0]);
+    spdlog::debug("mavlink: REQUEST_MESSAGE({}) from system {} component {} to {}/{}", id,
+                  from.header.sysid, from.header.compid, command.target_system,
+                  command.target_component);
     if (id == GimbalDeviceInformation::kId) {
         ack(from, command.command, mav_result::kAccepted);
         send(make_information(time_boot_ms(), limits_, options_.invert), from.origin);
@@ -249,6 +259,7 @@ void Bridge::on_attitude(const Header& from, const Attitude& message) {
         !std::isfinite(message.yaw)) {
         return;
     }
+    streams_.on_message(Attitude::kId, Clock::now());
     const float rate = message.yawspeed;
     vehicle_yaw_.from_attitude(to_degrees(message.yaw),
                                std::isfinite(rate) ? std::optional(to_degrees(rate)) : std::nullopt,
@@ -287,6 +298,7 @@ void Bridge::on_position(const Header& from, const GlobalPositionInt& message) {
         return;
     }
     position_.emplace(message, Clock::now());
+    streams_.on_message(GlobalPositionInt::kId, position_->second);
 }
 
 void Bridge::ack(const Requester& to, std::uint16_t command, std::uint8_t result,

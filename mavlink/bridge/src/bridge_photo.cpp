@@ -14,6 +14,10 @@ namespace gport::mavlink::bridge {
 
 namespace {
 
+const char* command_name(std::uint16_t command) {
+    return command == mav_cmd::kDoDigicamControl ? "DO_DIGICAM_CONTROL" : "IMAGE_START_CAPTURE";
+}
+
 std::uint64_t utc_now_us() {
     return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(
                                           std::chrono::system_clock::now().time_since_epoch())
@@ -51,6 +55,32 @@ bool Bridge::meta_refused(const client::Error& error, const client::CaptureOptio
     return true;
 }
 
+bool Bridge::merged_photo(const Requester& from, const CommandLong& command) {
+    const auto now = Clock::now();
+    const PhotoMerge::Sender sender{from.header.sysid, from.header.compid};
+    const auto match = photo_merge_.match(sender, *trust_.vehicle(), now);
+    if (match == PhotoMerge::Match::kNew) {
+        return false;
+    }
+    spdlog::info(
+        "camera: {} from system {} component {} came {:.1f} ms after the command of the photo "
+        "{}: the same photo (one command, one photo), answered with its result",
+        command_name(command.command), sender.sysid, sender.compid,
+        std::chrono::duration<double, std::milli>(photo_merge_.since_begun(now)).count(),
+        match == PhotoMerge::Match::kDone ? "just taken" : "in flight");
+    if (match == PhotoMerge::Match::kInFlight) {
+        merged_.emplace_back(from, command.command);
+    } else {
+        ack(from, command.command, *photo_merge_.result(), kCameraCompid);
+    }
+    return true;
+}
+
+void Bridge::begin_photo(const Requester& from, std::uint16_t command) {
+    photo_merge_.begun({from.header.sysid, from.header.compid}, Clock::now());
+    take_photo(from, command, true);
+}
+
 void Bridge::take_photo(const std::optional<Requester>& from, std::uint16_t command,
                         bool with_meta) {
     camera_in_flight_ = true;  // cleared by the call's completion
@@ -74,7 +104,13 @@ void Bridge::photo_done(const std::optional<Requester>& from, std::uint16_t comm
     camera_in_flight_ = false;
     photo_in_flight_ = false;
     if (from) {
-        ack(*from, command, error ? mav_result::kDenied : mav_result::kAccepted, kCameraCompid);
+        const std::uint8_t result = error ? mav_result::kDenied : mav_result::kAccepted;
+        ack(*from, command, result, kCameraCompid);
+        photo_merge_.done(result);
+        for (const auto& [requester, merged] : merged_) {
+            ack(requester, merged, result, kCameraCompid);
+        }
+        merged_.clear();
     }
     ImageCapture image;
     image.time_boot_ms = time_boot_ms();
@@ -94,6 +130,9 @@ void Bridge::photo_done(const std::optional<Requester>& from, std::uint16_t comm
         }
     }
     image.position = fresh_position();
+    if (!image.position && !error) {
+        warn_no_position(image.image_index);
+    }
     // The attitude gportd logged with the capture, else our newest sample.
     image.q = camera_orientation(capture_sample(report.attitude, sample_), vehicle_yaw_deg(),
                                  options_.invert);

@@ -12,6 +12,8 @@
 // yaw in the vehicle frame (flags 0) and the earth frame (16, YAW_LOCK,
 // turned into the vehicle frame with SITL's heading), RETRACT (a centre
 // frame), "PreArm: Mount: not healthy" once gportd's link is down.
+// Also in "gimbal": the bridge's SET_MESSAGE_INTERVAL requests accepted and
+// answered by the streams.
 // MODE "quiet": gportd's and gport-mavlink's log lines while SITL streams
 // its 50 Hz targets (earth-frame yaw: a new angle almost every cycle) for
 // 4 s: at most 6 lines from gportd.
@@ -196,6 +198,20 @@ async function quietChecks(gcs, gportd, bridge) {
   check(bridgeLines.length <= 2, `gport-mavlink wrote ${bridgeLines.length} lines in 4 s`);
 }
 
+// Geotag by default (issue 31 item 4): ArduPilot's SERIAL1 streams no
+// GLOBAL_POSITION_INT at its default rates; the bridge asks with
+// SET_MESSAGE_INTERVAL, ArduPilot accepts, and the stream comes (no
+// second request: the retries are logged at debug, 3 s apart).
+function streamChecks(bridge) {
+  const lines = (re) => bridge.lines.filter((l) => re.test(l));
+  const asked = lines(/no GLOBAL_POSITION_INT from the vehicle's autopilot.*request 1 of 3/);
+  const again = lines(/no (GLOBAL_POSITION_INT|ATTITUDE) from the vehicle's autopilot.*request [23] of 3/);
+  const accepted = lines(/system 1 component 1 answered SET_MESSAGE_INTERVAL with result 0/);
+  check(asked.length === 1 && accepted.length >= asked.length && again.length === 0,
+    `stream requests: ${asked.length} for GLOBAL_POSITION_INT, ${accepted.length} ACCEPTED by ArduPilot, ` +
+    `${again.length} repeated (the streams came)`);
+}
+
 async function main() {
   if (!fs.existsSync(path.join(sitlDir, 'arducopter')) || !fs.existsSync(path.join(sitlDir, 'run'))) {
     console.log(`SKIP: no ArduCopter SITL in ${sitlDir} (GPORT_ARDUPILOT_SITL_DIR; see docs/mavlink.md, "Tests")`);
@@ -213,6 +229,7 @@ async function main() {
     fs.mkdirSync(path.join(workRoot, 'state'));
     bridgeArgs.push('--signing-key', keyFile, '--state-dir', path.join(workRoot, 'state'));
   }
+  if (mode === 'gimbal') bridgeArgs.push('--log-level', 'debug'); // the stream requests' retries
   const bridge = h.start(workRoot, 'gport-mavlink', bridgePath, bridgeArgs);
   const gcsPort = await freeBasePort();
   const started = Date.now();
@@ -235,7 +252,10 @@ async function main() {
     if (found) {
       if (mode === 'quiet') await quietChecks(gcs, gportd, bridge);
       else if (mode === 'signed') await signedChecks(gcs, bridge);
-      else await gimbalChecks(gcs, sitl, sim);
+      else {
+        await gimbalChecks(gcs, sitl, sim);
+        streamChecks(bridge);
+      }
     }
     clearInterval(beats);
     fs.writeFileSync(path.join(workRoot, 'statustext.log'), gcs.texts.map((m) => `${m.t - started} ${m.text}`).join('\n') + '\n');

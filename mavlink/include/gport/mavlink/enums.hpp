@@ -31,6 +31,7 @@ inline constexpr std::uint8_t kGimbal = 154;
 
 namespace mav_cmd {
 inline constexpr std::uint16_t kDoDigicamControl = 203;
+inline constexpr std::uint16_t kSetMessageInterval = 511;
 inline constexpr std::uint16_t kRequestMessage = 512;
 inline constexpr std::uint16_t kRequestCameraInformation = 521;  // deprecated: REQUEST_MESSAGE
 inline constexpr std::uint16_t kRequestCameraSettings = 522;

@@ -1,0 +1,72 @@
+// Geotag by default: the autopilot's GLOBAL_POSITION_INT and ATTITUDE asked
+// for with MAV_CMD_SET_MESSAGE_INTERVAL when they do not come
+// (stream_requests.hpp), its answers, and the one warning for a photo
+// without a position (docs/mavlink.md, "Position and attitude").
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "bridge.hpp"
+#include "gport/mavlink/enums.hpp"
+
+namespace gport::mavlink::bridge {
+
+namespace {
+
+std::string_view stream_name(std::uint32_t msgid) {
+    return msgid == GlobalPositionInt::kId ? "GLOBAL_POSITION_INT" : "ATTITUDE";
+}
+
+}  // namespace
+
+void Bridge::request_streams() {
+    const auto vehicle = trust_.vehicle();
+    if (!vehicle) {
+        return;
+    }
+    for (const auto& stream : streams_.due(Clock::now())) {
+        CommandLong command;
+        command.target_system = *vehicle;
+        command.target_component = mav_comp_id::kAutopilot1;
+        command.command = mav_cmd::kSetMessageInterval;
+        command.param[0] = static_cast<float>(stream.msgid);
+        command.param[1] = static_cast<float>(stream.interval_us);
+        send(command);
+        // The first request of a loss at info, its retries at debug.
+        const auto attempt = streams_.attempts(stream.msgid);
+        spdlog::log(attempt == 1 ? spdlog::level::info : spdlog::level::debug,
+                    "mavlink: no {} from the vehicle's autopilot (system {} component 1) for {} s; "
+                    "asking for it at {} Hz with SET_MESSAGE_INTERVAL (request {} of {})",
+                    stream_name(stream.msgid), *vehicle, StreamRequests::kGrace.count(),
+                    1000000 / stream.interval_us, attempt, StreamRequests::kAttempts);
+    }
+}
+
+void Bridge::on_ack(const Header& from, const CommandAck& message) {
+    if (message.command != mav_cmd::kSetMessageInterval || from.sysid != trust_.vehicle()) {
+        return;
+    }
+    spdlog::log(
+        message.result == mav_result::kAccepted ? spdlog::level::debug : spdlog::level::warn,
+        "mavlink: system {} component {} answered SET_MESSAGE_INTERVAL with result {}{}",
+        from.sysid, from.compid, message.result,
+        message.result == mav_result::kAccepted ? " (ACCEPTED)" : "");
+}
+
+void Bridge::warn_no_position(std::int32_t image_index) {
+    if (position_warned_) {
+        return;
+    }
+    position_warned_ = true;
+    const auto asked = streams_.attempts(GlobalPositionInt::kId);
+    spdlog::warn(
+        "camera: image_index {} has no position: no GLOBAL_POSITION_INT from the vehicle's "
+        "autopilot (system {} component 1) in the last {} ms{}. Its link to gport-mavlink must "
+        "stream it: ArduPilot: MAVn_POSITION (SRn_POSITION in older firmware; n the serial "
+        "port's MAVLink instance) to 5 Hz or more; PX4: that link's MAVLink instance in a mode "
+        "that streams it (MAV_x_MODE Onboard or Gimbal). Said once per run",
+        image_index, trust_.vehicle().value_or(0), kPositionMaxAge.count(),
+        asked > 0 ? fmt::format("; asked for it {} time(s) with SET_MESSAGE_INTERVAL", asked)
+                  : std::string());
+}
+
+}  // namespace gport::mavlink::bridge

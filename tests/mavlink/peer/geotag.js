@@ -1,0 +1,130 @@
+'use strict';
+// Geotag by default (issue 31 item 4): node-mavlink plays an autopilot
+// (system 1 component 1) that streams no GLOBAL_POSITION_INT or ATTITUDE
+// until asked with MAV_CMD_SET_MESSAGE_INTERVAL, as ArduPilot on a serial
+// port with its default stream rates; a ground station's commands reach
+// gport-mavlink through it (one link, as ArduPilot forwards them). Then
+// the autopilot stops and ignores requests: the bridge asks a bounded
+// number of times and, at the next photo, says once what to set.
+//
+//   node geotag.js GPORTD GPORT_SIM GPORT_MAVLINK WORKDIR
+const fs = require('fs');
+const h = require('./harness');
+
+const [gportdPath, simPath, bridgePath, workRoot] = process.argv.slice(2);
+const { check, figures, sleep, until, common, Peer, heartbeat, commandLong } = h;
+const CAMERA = 100;
+const [IMAGE_START, SET_MESSAGE_INTERVAL] = [2000, 511];
+const [ATTITUDE_ID, POSITION_ID] = [30, 33];
+const POSITION = { lat: -353632621, lon: 1491652374, alt: 584070, relativeAlt: 30250 };
+
+function position() {
+  const m = new common.GlobalPositionInt();
+  Object.assign(m, { timeBootMs: 1000, vx: 0, vy: 0, vz: 0, hdg: 3000 }, POSITION);
+  return m;
+}
+function attitude() {
+  const m = new common.Attitude();
+  Object.assign(m, { timeBootMs: 1000, roll: 0, pitch: 0, yaw: 0.5, rollspeed: 0, pitchspeed: 0, yawspeed: 0 });
+  return m;
+}
+function commandAck(command, result, target) {
+  const m = new common.CommandAck();
+  Object.assign(m, { command, result, progress: 0, resultParam2: 0, targetSystem: target.sysid,
+    targetComponent: target.compid });
+  return m;
+}
+const cam = (params) => commandLong(IMAGE_START, { params, targetComponent: CAMERA });
+
+async function main() {
+  fs.rmSync(workRoot, { recursive: true, force: true });
+  fs.mkdirSync(workRoot, { recursive: true });
+  const { sock } = await h.startGimbal(workRoot, gportdPath, simPath);
+  const port = await h.freeUdpPort();
+  const bridge = h.start(workRoot, 'gport-mavlink', bridgePath,
+    ['--socket', sock, '--mavlink', `udpin:127.0.0.1:${port}`, '--log-level', 'debug']);
+  await until(() => bridge.lines.some((l) => /MAVLink on udpin/.test(l)), 10000, 'gport-mavlink to start');
+
+  const autopilot = new Peer({ sysid: 1, compid: 1 });
+  const gcs = new Peer({ sysid: 255, compid: 190 }); // its frames go through the autopilot's link
+  await autopilot.bind(); autopilot.target(port);
+  // The autopilot: answers SET_MESSAGE_INTERVAL and streams at the asked
+  // interval while `obliging`.
+  let obliging = true;
+  const streams = {};
+  const requests = [];
+  const serve = setInterval(() => {
+    for (const r of autopilot.received.filter((x) => x.name === 'COMMAND_LONG' && !x.seen)) {
+      r.seen = true;
+      if (r.data.command !== SET_MESSAGE_INTERVAL) continue;
+      requests.push({ t: Date.now(), header: r.header, data: r.data });
+      if (!obliging) continue;
+      autopilot.send(commandAck(SET_MESSAGE_INTERVAL, 0, r.header));
+      const id = r.data._param1;
+      clearInterval(streams[id]);
+      const make = id === POSITION_ID ? position : attitude;
+      streams[id] = setInterval(() => autopilot.send(make()), r.data._param2 / 1000);
+    }
+  }, 20);
+  const beats = setInterval(() => autopilot.send(heartbeat()), 1000);
+  const t0 = Date.now();
+  autopilot.send(heartbeat());
+
+  // 1. No position and no attitude from the autopilot: the bridge asks for both.
+  const asked = (id, since = t0) => requests.filter((r) => r.t >= since && r.data._param1 === id);
+  await until(() => asked(POSITION_ID).length && asked(ATTITUDE_ID).length, 10000, 'SET_MESSAGE_INTERVAL').catch(() => null);
+  const [pos, att] = [asked(POSITION_ID)[0], asked(ATTITUDE_ID)[0]];
+  check(pos && att, `SET_MESSAGE_INTERVAL for GLOBAL_POSITION_INT and ATTITUDE (${requests.length} requests)`);
+  if (pos && att) {
+    check(pos.header.sysid === 1 && pos.header.compid === 154 && pos.data.targetSystem === 1 &&
+      pos.data.targetComponent === 1, `from 1/154 to the autopilot 1/1 (${pos.data.targetSystem}/${pos.data.targetComponent})`);
+    check(pos.data._param2 === 200000 && att.data._param2 === 100000,
+      `intervals ${pos.data._param2} µs (5 Hz) and ${att.data._param2} µs (10 Hz)`);
+    check(pos.t - t0 >= 2500, `asked ${pos.t - t0} ms after the autopilot's first heartbeat (grace 3 s)`);
+    figures.push(`first SET_MESSAGE_INTERVAL ${pos.t - t0} ms after the autopilot's first heartbeat`);
+  }
+
+  // 2. Streaming now: a photo has the position, in CAMERA_IMAGE_CAPTURED and
+  //    in gportd's capture log; no more requests while it streams.
+  await sleep(1000);
+  let t = Date.now();
+  autopilot.sendBytes(gcs.frame(cam([0, 0, 1])));
+  const captured = await until(() => autopilot.since(t, 'CAMERA_IMAGE_CAPTURED')[0], 5000, 'CAMERA_IMAGE_CAPTURED').catch(() => null);
+  check(captured && captured.data.lat === POSITION.lat && captured.data.lon === POSITION.lon,
+    `CAMERA_IMAGE_CAPTURED has the streamed position (${captured && captured.data.lat}/${captured && captured.data.lon})`);
+  const listed = await h.rpc(sock, 'captures', { limit: 100 }).catch(() => null);
+  const last = listed && listed.result && (listed.result.captures || []).filter((c) => c.kind === 'photo').pop();
+  check(last && last.meta && Math.abs(last.meta.lat - POSITION.lat / 1e7) < 1e-6 &&
+    Math.abs(last.meta.lon - POSITION.lon / 1e7) < 1e-6, `gportd's capture log meta: ${last && JSON.stringify(last.meta)}`);
+  const before = requests.length;
+  await sleep(3500);
+  check(requests.length === before, `no request while the streams come (${requests.length - before} more)`);
+
+  // 3. The autopilot stops and no longer obliges: 3 requests for each, no more.
+  obliging = false;
+  Object.values(streams).forEach(clearInterval);
+  t = Date.now();
+  await sleep(14000);
+  check(asked(POSITION_ID, t).length === 3 && asked(ATTITUDE_ID, t).length === 3,
+    `a stream lost: ${asked(POSITION_ID, t).length} requests for GLOBAL_POSITION_INT and ` +
+    `${asked(ATTITUDE_ID, t).length} for ATTITUDE in 14 s (bounded: 3 each)`);
+
+  // 4. Photos without a position: zeros, and one warning naming what to set.
+  t = Date.now();
+  autopilot.sendBytes(gcs.frame(cam([0, 0, 1])));
+  const bare = await until(() => autopilot.since(t, 'CAMERA_IMAGE_CAPTURED')[0], 5000, 'CAMERA_IMAGE_CAPTURED').catch(() => null);
+  await sleep(700);
+  autopilot.sendBytes(gcs.frame(cam([0, 0, 1])));
+  await until(() => autopilot.since(t, 'CAMERA_IMAGE_CAPTURED').length >= 2, 5000, 'a second photo').catch(() => null);
+  await sleep(300);
+  const warned = bridge.lines.filter((l) => /has no position/.test(l));
+  check(bare && bare.data.captureResult === 1 && bare.data.lat === 0, `a photo without a position: lat ${bare && bare.data.lat}`);
+  check(warned.length === 1 && /MAVn_POSITION/.test(warned[0]) && /SRn_POSITION/.test(warned[0]) &&
+    /MAV_x_MODE/.test(warned[0]) && /\bwarn/.test(warned[0]), `one warning for two such photos: ${warned[0]}`);
+
+  clearInterval(beats);
+  clearInterval(serve);
+  autopilot.close();
+}
+
+main().catch((e) => { check(false, 'unexpected: ' + (e.stack || e)); }).finally(() => h.finish(workRoot, h.children));
