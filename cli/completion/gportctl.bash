@@ -6,7 +6,7 @@
 _gportctl() {
     local cur=${COMP_WORDS[COMP_CWORD]}
     local prev=${COMP_WORDS[COMP_CWORD - 1]}
-    local commands="status attitude watch speed stop angle center lock photo record settings monitor call captures limits help"
+    local commands="status attitude watch speed stop angle center lock photo record settings monitor call captures wait limits help"
     local global="--socket --json --help --version"
     COMPREPLY=()
 
@@ -23,7 +23,7 @@ _gportctl() {
             COMPREPLY=($(compgen -W "auto always never" -- "$cur"))
             return
             ;;
-        --roll | --pitch | --yaw | --for | --lease | --rate | -n | --count | --dead-zone | --follow-speed | --since | --limit)
+        --roll | --pitch | --yaw | --for | --lease | --rate | -n | --count | --dead-zone | --follow-speed | --since | --limit | --timeout)
             return # a number or a duration
             ;;
     esac
@@ -62,6 +62,10 @@ _gportctl() {
         settings) options="--dead-zone --follow-speed --inverted" ;;
         monitor) options="--control --for --color --ascii" ;;
         captures) options="--since --limit --follow --csv" ;;
+        wait)
+            options="--timeout"
+            ((positionals == 0)) && arguments="link"
+            ;;
         call)
             options="--raw"
             # The methods of docs/api.md; the params (JSON) are not completed.

@@ -22,6 +22,8 @@ using namespace std::chrono_literals;
 // keepalive.max_duration_ms is lower (run.cpp reports its refusal as a
 // usage error naming the option).
 constexpr std::chrono::milliseconds kMaxDuration{contract::kMaxDurationMs};
+// wait --timeout: a day at most (a unit's start-up, a vehicle's power-on).
+constexpr std::chrono::milliseconds kMaxWait = std::chrono::hours(24);
 
 // call: the longest method name, and the deepest params, gportctl sends.
 constexpr std::size_t kMaxMethodLength = 64;
@@ -37,7 +39,8 @@ constexpr const char* kOverviewFooter =
     "control keeps its own connection and calls \"acquire\" (see docs/api.md).\n\n"
     "Exit status: 0 success, 1 the daemon refused (message and code on stderr),\n"
     "2 angle/center --wait ended without reaching the target, 64 usage error,\n"
-    "69 daemon unreachable, 130 interrupted (Ctrl-C, SIGTERM).";
+    "69 daemon unreachable, 75 the gimbal's link is not up (status; wait link\n"
+    "timed out), 130 interrupted (Ctrl-C, SIGTERM).";
 
 // Every command's footer: the options that apply everywhere, and where the
 // exit statuses are.
@@ -73,6 +76,7 @@ struct Values {
     bool timestamps = false;    // watch
     long since = 0, limit = 0;  // captures
     bool follow = false, csv = false;
+    std::string wait_for, timeout_text;  // wait
 };
 
 // The command word in `args` (the first argument that is not an option or
@@ -179,7 +183,7 @@ class Parser {
     }
 
     void add_commands() {
-        command("status", "status", "link, device, counters, clients, current motion");
+        add_status();
         command("attitude", "attitude", "the latest attitude sample");
         add_watch();
         add_speed();
@@ -194,9 +198,34 @@ class Parser {
         add_monitor();
         add_call();
         add_captures();
+        add_wait();
         command("limits", "limits", "the soft limits gportd enforces (angles, max speed)");
         auto* help = command("help", "", "this text, or a command's");
         help->add_option("command", v_.help_topic, "the command to describe");
+    }
+
+    void add_status() {
+        auto* sub = command("status", "status", "link, device, counters, clients, current motion");
+        footer(sub,
+               "A health check: exits 75 while the gimbal's link is not up (down or\n"
+               "stale), after printing the status as ever; 0 when it is up. To wait\n"
+               "for it instead: gportctl wait link.\n");
+    }
+
+    void add_wait() {
+        auto* sub = command("wait", "", "wait until the gimbal's link is up (for scripts, units)");
+        sub->add_option("what", v_.wait_for, "what to wait for: link")
+            ->required()
+            ->check(args::one_of({"link"}));
+        sub->add_option("--timeout", v_.timeout_text, "give up after DURATION (default: never)")
+            ->type_name("DURATION")
+            ->check(args::duration_in(1ms, kMaxWait));
+        footer(sub,
+               "Exits 0 and prints the link's state once it is up (at once if it is).\n"
+               "It follows gportd's link events, no polling. After --timeout it exits\n"
+               "75 naming what it waited for and the link's last state; Ctrl-C exits\n"
+               "130, a daemon that cannot be reached 69. In a unit:\n"
+               "  ExecStartPre=/usr/bin/gportctl wait link --timeout 1m\n");
     }
 
     void add_monitor() {
@@ -419,6 +448,8 @@ class Parser {
             monitor(*sub, inv);
         } else if (inv.command == "captures") {
             captures(inv);
+        } else if (inv.command == "wait" && sub->count("--timeout") > 0) {
+            inv.timeout = args::parse_duration(v_.timeout_text);
         }
         return inv;
     }
