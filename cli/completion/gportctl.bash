@@ -23,7 +23,7 @@ _gportctl() {
             COMPREPLY=($(compgen -W "auto always never" -- "$cur"))
             return
             ;;
-        --roll | --pitch | --yaw | --for | --lease | --rate | -n | --count | --dead-zone | --follow-speed | --since | --limit | --timeout)
+        --roll | --pitch | --yaw | --for | --lease | --rate | -n | --count | --dead-zone | --follow-speed | --since | --limit | --timeout | --lat | --lon | --alt | --meta)
             return # a number or a duration
             ;;
     esac
@@ -55,8 +55,9 @@ _gportctl() {
         speed) options="--roll --pitch --yaw --for --lease --clamp" ;;
         angle) options="--roll --pitch --yaw --clamp --wait" ;;
         center) options="--wait" ;;
+        photo) options="--lat --lon --alt --meta" ;;
         record)
-            options="--force"
+            options="--force --lat --lon --alt --meta"
             arguments="on off"
             ;;
         settings) options="--dead-zone --follow-speed --inverted" ;;

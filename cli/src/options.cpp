@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <limits>
+#include <tuple>
 
+#include "geotag.hpp"
 #include "gport/base/args.hpp"
 #include "gport/contract/limits.hpp"
 #include "suggest.hpp"
@@ -77,6 +79,8 @@ struct Values {
     long since = 0, limit = 0;  // captures
     bool follow = false, csv = false;
     std::string wait_for, timeout_text;  // wait
+    double lat = 0, lon = 0, alt = 0;    // photo, record
+    std::string meta;
 };
 
 // The command word in `args` (the first argument that is not an option or
@@ -192,7 +196,7 @@ class Parser {
         command("center", "center", "centre the gimbal")
             ->add_flag("--wait", v_.wait, "wait until centred; exit 2 if it is not");
         command("lock", "lock", "lock mode (control mode 4)");
-        command("photo", "photo", "take a photo");
+        add_photo();
         add_record();
         add_settings();
         add_monitor();
@@ -335,8 +339,37 @@ class Parser {
                "applies its failsafe. Without --wait the gimbal goes on after gportctl exits.\n");
     }
 
+    // photo and record: the capture's position and meta.
+    void add_geotag(CLI::App* sub) {
+        sub->add_option("--lat", v_.lat, "latitude of the capture (degrees, WGS 84)")
+            ->type_name("DEG")
+            ->check(args::number_in(-90, 90, "degrees of latitude"));
+        sub->add_option("--lon", v_.lon, "longitude of the capture (degrees, WGS 84)")
+            ->type_name("DEG")
+            ->check(args::number_in(-180, 180, "degrees of longitude"));
+        sub->add_option("--alt", v_.alt, "altitude (metres; meta's alt_m)")
+            ->type_name("M")
+            ->check(args::number_in(-100000, 100000, "metres"));
+        sub->add_option("--meta", v_.meta, "more of the capture's meta: a JSON object")
+            ->type_name("JSON");
+    }
+
+    static constexpr const char* kGeotagNotes =
+        "--lat and --lon (with --alt, optional) go into the capture's meta as lat,\n"
+        "lon and alt_m, the columns of the capture log's CSV; --meta adds a JSON\n"
+        "object of your own (at most 1024 bytes; a key an option sets too is an\n"
+        "error). Prints the capture's index; --json prints gportd's result.\n";
+
+    void add_photo() {
+        auto* sub = command("photo", "photo", "take a photo (--lat/--lon: geotag it)");
+        add_geotag(sub);
+        footer(sub, std::string(kGeotagNotes) +
+                        "Example: gportctl photo --lat 47.397742 --lon 8.545594 --alt 488.5\n");
+    }
+
     void add_record() {
         auto* sub = command("record", "record", "toggle recording, or switch it on or off");
+        add_geotag(sub);
         sub->add_option("state", v_.state, "on or off (default: toggle)")
             ->check(args::one_of({"on", "off"}));
         sub->add_flag("--force", v_.force, "toggle even when the state is unknown");
@@ -344,7 +377,8 @@ class Parser {
                "The gimbal never reports whether it records: gportd assumes a state from\n"
                "the toggles it sent, unknown at start and whenever the device reopens.\n"
                "on and off toggle only when the assumed state differs; while it is unknown\n"
-               "they are refused unless --force.\n");
+               "they are refused unless --force.\n" +
+                   std::string(kGeotagNotes));
     }
 
     void add_settings() {
@@ -442,6 +476,9 @@ class Parser {
             motion(*sub, inv);
         } else if (inv.command == "record") {
             record(*sub, inv);
+            geotag(*sub, inv);
+        } else if (inv.command == "photo") {
+            geotag(*sub, inv);
         } else if (inv.command == "settings") {
             settings(*sub, inv);
         } else if (inv.command == "monitor") {
@@ -606,6 +643,28 @@ class Parser {
         }
         inv.follow = v_.follow;
         inv.csv = v_.csv;
+    }
+
+    void geotag(const CLI::App& sub, Invocation& inv) const {
+        GeotagArgs args;
+        const auto given = [&sub](const char* name) { return sub.count(name) > 0; };
+        for (const auto& [name, from, to] :
+             {std::tuple{"--lat", &v_.lat, &args.lat}, std::tuple{"--lon", &v_.lon, &args.lon},
+              std::tuple{"--alt", &v_.alt, &args.alt}}) {
+            if (given(name)) {
+                *to = *from;
+            }
+        }
+        if (given("--meta")) {
+            args.meta = v_.meta;
+        }
+        auto meta = geotag_meta(args);
+        if (!meta) {
+            throw UsageError{fmt::format("{}: {}", inv.command, meta.error()), inv.command};
+        }
+        if (*meta) {
+            inv.params["meta"] = std::move(**meta);
+        }
     }
 
     void record(const CLI::App& sub, Invocation& inv) const {
