@@ -46,7 +46,7 @@ function(gport_add_test name)
 endfunction()
 
 # gport_install_program(<target>): installs a program to ${CMAKE_INSTALL_BINDIR}
-# so that it starts from any prefix (cmake --install --prefix ~/gport, or a
+# so that it starts from any prefix (cmake --install --prefix ~/.local/gportd, or a
 # tree moved elsewhere afterwards): its RUNPATH names the library directory
 # relative to the program ($ORIGIN/../lib/<multiarch>), where libgport-client
 # is installed beside it. Under prefix /usr (the .deb) the RUNPATH is removed

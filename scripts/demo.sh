@@ -36,7 +36,7 @@ run() {
   "$gportctl" "$@"
 }
 
-sleep 0.5
+run wait link --timeout 10s   # status exits 75 until the link is up
 run status
 run settings
 run settings --dead-zone 20

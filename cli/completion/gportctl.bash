@@ -6,7 +6,7 @@
 _gportctl() {
     local cur=${COMP_WORDS[COMP_CWORD]}
     local prev=${COMP_WORDS[COMP_CWORD - 1]}
-    local commands="status attitude watch speed stop angle center lock photo record settings monitor call captures limits help"
+    local commands="status attitude watch speed stop angle center lock photo record settings monitor call captures wait limits help"
     local global="--socket --json --help --version"
     COMPREPLY=()
 
@@ -23,7 +23,7 @@ _gportctl() {
             COMPREPLY=($(compgen -W "auto always never" -- "$cur"))
             return
             ;;
-        --roll | --pitch | --yaw | --for | --lease | --rate | -n | --count | --dead-zone | --follow-speed | --since | --limit)
+        --roll | --pitch | --yaw | --for | --lease | --rate | -n | --count | --dead-zone | --follow-speed | --since | --limit | --timeout | --lat | --lon | --alt | --meta)
             return # a number or a duration
             ;;
     esac
@@ -55,13 +55,18 @@ _gportctl() {
         speed) options="--roll --pitch --yaw --for --lease --clamp" ;;
         angle) options="--roll --pitch --yaw --clamp --wait" ;;
         center) options="--wait" ;;
+        photo) options="--lat --lon --alt --meta" ;;
         record)
-            options="--force"
+            options="--force --lat --lon --alt --meta"
             arguments="on off"
             ;;
         settings) options="--dead-zone --follow-speed --inverted" ;;
         monitor) options="--control --for --color --ascii" ;;
         captures) options="--since --limit --follow --csv" ;;
+        wait)
+            options="--timeout"
+            ((positionals == 0)) && arguments="link"
+            ;;
         call)
             options="--raw"
             # The methods of docs/api.md; the params (JSON) are not completed.

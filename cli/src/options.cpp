@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <limits>
+#include <tuple>
 
+#include "geotag.hpp"
 #include "gport/base/args.hpp"
 #include "gport/contract/limits.hpp"
 #include "suggest.hpp"
@@ -22,6 +24,8 @@ using namespace std::chrono_literals;
 // keepalive.max_duration_ms is lower (run.cpp reports its refusal as a
 // usage error naming the option).
 constexpr std::chrono::milliseconds kMaxDuration{contract::kMaxDurationMs};
+// wait --timeout: a day at most (a unit's start-up, a vehicle's power-on).
+constexpr std::chrono::milliseconds kMaxWait = std::chrono::hours(24);
 
 // call: the longest method name, and the deepest params, gportctl sends.
 constexpr std::size_t kMaxMethodLength = 64;
@@ -37,7 +41,8 @@ constexpr const char* kOverviewFooter =
     "control keeps its own connection and calls \"acquire\" (see docs/api.md).\n\n"
     "Exit status: 0 success, 1 the daemon refused (message and code on stderr),\n"
     "2 angle/center --wait ended without reaching the target, 64 usage error,\n"
-    "69 daemon unreachable, 130 interrupted (Ctrl-C, SIGTERM).";
+    "69 daemon unreachable, 75 the gimbal's link is not up (status; wait link\n"
+    "timed out), 130 interrupted (Ctrl-C, SIGTERM).";
 
 // Every command's footer: the options that apply everywhere, and where the
 // exit statuses are.
@@ -73,6 +78,9 @@ struct Values {
     bool timestamps = false;    // watch
     long since = 0, limit = 0;  // captures
     bool follow = false, csv = false;
+    std::string wait_for, timeout_text;  // wait
+    double lat = 0, lon = 0, alt = 0;    // photo, record
+    std::string meta;
 };
 
 // The command word in `args` (the first argument that is not an option or
@@ -179,7 +187,7 @@ class Parser {
     }
 
     void add_commands() {
-        command("status", "status", "link, device, counters, clients, current motion");
+        add_status();
         command("attitude", "attitude", "the latest attitude sample");
         add_watch();
         add_speed();
@@ -188,15 +196,40 @@ class Parser {
         command("center", "center", "centre the gimbal")
             ->add_flag("--wait", v_.wait, "wait until centred; exit 2 if it is not");
         command("lock", "lock", "lock mode (control mode 4)");
-        command("photo", "photo", "take a photo");
+        add_photo();
         add_record();
         add_settings();
         add_monitor();
         add_call();
         add_captures();
+        add_wait();
         command("limits", "limits", "the soft limits gportd enforces (angles, max speed)");
         auto* help = command("help", "", "this text, or a command's");
         help->add_option("command", v_.help_topic, "the command to describe");
+    }
+
+    void add_status() {
+        auto* sub = command("status", "status", "link, device, counters, clients, current motion");
+        footer(sub,
+               "A health check: exits 75 while the gimbal's link is not up (down or\n"
+               "stale), after printing the status as ever; 0 when it is up. To wait\n"
+               "for it instead: gportctl wait link.\n");
+    }
+
+    void add_wait() {
+        auto* sub = command("wait", "", "wait until the gimbal's link is up (for scripts, units)");
+        sub->add_option("what", v_.wait_for, "what to wait for: link")
+            ->required()
+            ->check(args::one_of({"link"}));
+        sub->add_option("--timeout", v_.timeout_text, "give up after DURATION (default: never)")
+            ->type_name("DURATION")
+            ->check(args::duration_in(1ms, kMaxWait));
+        footer(sub,
+               "Exits 0 and prints the link's state once it is up (at once if it is).\n"
+               "It follows gportd's link events, no polling. After --timeout it exits\n"
+               "75 naming what it waited for and the link's last state; Ctrl-C exits\n"
+               "130, a daemon that cannot be reached 69. In a unit:\n"
+               "  ExecStartPre=/usr/bin/gportctl wait link --timeout 1m\n");
     }
 
     void add_monitor() {
@@ -306,8 +339,37 @@ class Parser {
                "applies its failsafe. Without --wait the gimbal goes on after gportctl exits.\n");
     }
 
+    // photo and record: the capture's position and meta.
+    void add_geotag(CLI::App* sub) {
+        sub->add_option("--lat", v_.lat, "latitude of the capture (degrees, WGS 84)")
+            ->type_name("DEG")
+            ->check(args::number_in(-90, 90, "degrees of latitude"));
+        sub->add_option("--lon", v_.lon, "longitude of the capture (degrees, WGS 84)")
+            ->type_name("DEG")
+            ->check(args::number_in(-180, 180, "degrees of longitude"));
+        sub->add_option("--alt", v_.alt, "altitude (metres; meta's alt_m)")
+            ->type_name("M")
+            ->check(args::number_in(-100000, 100000, "metres"));
+        sub->add_option("--meta", v_.meta, "more of the capture's meta: a JSON object")
+            ->type_name("JSON");
+    }
+
+    static constexpr const char* kGeotagNotes =
+        "--lat and --lon (with --alt, optional) go into the capture's meta as lat,\n"
+        "lon and alt_m, the columns of the capture log's CSV; --meta adds a JSON\n"
+        "object of your own (at most 1024 bytes; a key an option sets too is an\n"
+        "error). Prints the capture's index; --json prints gportd's result.\n";
+
+    void add_photo() {
+        auto* sub = command("photo", "photo", "take a photo (--lat/--lon: geotag it)");
+        add_geotag(sub);
+        footer(sub, std::string(kGeotagNotes) +
+                        "Example: gportctl photo --lat 47.397742 --lon 8.545594 --alt 488.5\n");
+    }
+
     void add_record() {
         auto* sub = command("record", "record", "toggle recording, or switch it on or off");
+        add_geotag(sub);
         sub->add_option("state", v_.state, "on or off (default: toggle)")
             ->check(args::one_of({"on", "off"}));
         sub->add_flag("--force", v_.force, "toggle even when the state is unknown");
@@ -315,7 +377,8 @@ class Parser {
                "The gimbal never reports whether it records: gportd assumes a state from\n"
                "the toggles it sent, unknown at start and whenever the device reopens.\n"
                "on and off toggle only when the assumed state differs; while it is unknown\n"
-               "they are refused unless --force.\n");
+               "they are refused unless --force.\n" +
+                   std::string(kGeotagNotes));
     }
 
     void add_settings() {
@@ -413,12 +476,17 @@ class Parser {
             motion(*sub, inv);
         } else if (inv.command == "record") {
             record(*sub, inv);
+            geotag(*sub, inv);
+        } else if (inv.command == "photo") {
+            geotag(*sub, inv);
         } else if (inv.command == "settings") {
             settings(*sub, inv);
         } else if (inv.command == "monitor") {
             monitor(*sub, inv);
         } else if (inv.command == "captures") {
             captures(inv);
+        } else if (inv.command == "wait" && sub->count("--timeout") > 0) {
+            inv.timeout = args::parse_duration(v_.timeout_text);
         }
         return inv;
     }
@@ -575,6 +643,28 @@ class Parser {
         }
         inv.follow = v_.follow;
         inv.csv = v_.csv;
+    }
+
+    void geotag(const CLI::App& sub, Invocation& inv) const {
+        GeotagArgs args;
+        const auto given = [&sub](const char* name) { return sub.count(name) > 0; };
+        for (const auto& [name, from, to] :
+             {std::tuple{"--lat", &v_.lat, &args.lat}, std::tuple{"--lon", &v_.lon, &args.lon},
+              std::tuple{"--alt", &v_.alt, &args.alt}}) {
+            if (given(name)) {
+                *to = *from;
+            }
+        }
+        if (given("--meta")) {
+            args.meta = v_.meta;
+        }
+        auto meta = geotag_meta(args);
+        if (!meta) {
+            throw UsageError{fmt::format("{}: {}", inv.command, meta.error()), inv.command};
+        }
+        if (*meta) {
+            inv.params["meta"] = std::move(**meta);
+        }
     }
 
     void record(const CLI::App& sub, Invocation& inv) const {

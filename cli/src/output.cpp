@@ -5,6 +5,7 @@
 
 #include <regex>
 
+#include "geotag.hpp"
 #include "gport/cli/printable.hpp"
 #include "gport/contract/limits.hpp"
 
@@ -208,11 +209,11 @@ std::string format_result(const std::string& command, const json& result) {
         return fmt::format("watching {} (Ctrl-C to stop)\n", topics.empty() ? "nothing" : topics);
     }
     if (command == "record" && result.contains("recording")) {
-        return fmt::format("record: {}; recording {} (assumed)\n",
+        return fmt::format("record: {}{}; recording {} (assumed)\n",
                            get(result, "sent", true) ? "sent" : "nothing sent",
-                           word(result, "recording", "unknown"));
+                           capture_suffix(result), word(result, "recording", "unknown"));
     }
-    return fmt::format("{}: sent\n", command);
+    return fmt::format("{}: sent{}\n", command, capture_suffix(result));
 }
 
 std::string format_notification(const json& message) {

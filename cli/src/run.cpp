@@ -16,6 +16,7 @@
 #include "gport/client/connection.hpp"
 #include "gport/client/error.hpp"
 #include "gport/contract/errors.hpp"
+#include "wait.hpp"
 
 namespace gport::cli {
 namespace {
@@ -52,12 +53,20 @@ class Runner {
         if (inv_.command == "captures") {
             return captures();
         }
+        if (inv_.command == "wait") {
+            return wait_link(
+                inv_, conn_, [this](auto& m, auto& p, auto& r) { return call(m, p, r); }, out_,
+                err_);
+        }
         json result;
         const int status = call(inv_.method, inv_.params, result);
         if (status != kExitOk) {
             return status;
         }
         print(result);
+        if (inv_.command == "status" && !link_up(result.value("link", json()))) {
+            return kExitLinkNotUp;  // a health check: printed as ever, but not 0
+        }
         return inv_.wait && !reached(result) ? kExitNotReached : kExitOk;
     }
 

@@ -287,6 +287,10 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     }
 
     void notify(const json& message) {
+        if (on_capture && message.value("method", json()) == "capture") {
+            notify_capture(message);
+            return;
+        }
         if (!on_notification) {
             return;
         }
@@ -347,11 +351,26 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     std::uint64_t current = 0;  // the connection's generation: stale completions are ignored
     bool open = false;
     std::function<void(const Notification&)> on_notification;
+    std::function<void(const CaptureEntry&)> on_capture;
     std::function<void(const Error&)> on_disconnect;
     ChannelClaims claims;  // received descriptors, attitude_channel requests, the channel
     // Transparent shared-memory attitude (async_subscribe with shared_memory).
     std::unique_ptr<AttitudeFeed> ring;
     std::unique_ptr<asio::posix::stream_descriptor> ring_wait;
+    // The capture topic: beside on_notification, whose Notification variant
+    // keeps its alternatives (SOVERSION 1).
+    void notify_capture(const json& message) {
+        std::optional<CaptureEntry> entry;
+        try {
+            entry = codec::capture_notification(message);
+        } catch (const Error&) {
+            return;  // a capture this version cannot read: skipped
+        }
+        if (entry) {
+            on_capture(*entry);
+        }
+    }
+
     std::uint64_t ring_generation = 0;
 };
 
@@ -384,6 +403,7 @@ AsyncClient::AsyncClient(asio::io_context& io) : impl_(std::make_shared<Impl>(io
 
 AsyncClient::~AsyncClient() {
     impl_->on_notification = nullptr;
+    impl_->on_capture = nullptr;
     impl_->on_disconnect = nullptr;
     impl_->shut("the client was destroyed");
 }
@@ -461,6 +481,13 @@ void AsyncClient::async_record(std::optional<bool> on, bool force, const Capture
         return;
     }
     impl_->call("record", params, typed(std::move(handler), codec::record_result));
+}
+
+void AsyncClient::async_captures(std::uint64_t since, std::optional<std::uint32_t> limit,
+                                 Handler<CapturesPage> handler) {
+    impl_->call("captures", codec::captures_params(since, limit),
+                typed(std::move(handler),
+                      [since](const json& result) { return codec::captures_page(result, since); }));
 }
 
 void AsyncClient::async_acquire(Handler<Control> handler) {
@@ -543,6 +570,10 @@ void AsyncClient::async_unsubscribe(const std::vector<std::string>& topics,
 
 void AsyncClient::on_notification(std::function<void(const Notification&)> callback) {
     impl_->on_notification = std::move(callback);
+}
+
+void AsyncClient::on_capture(std::function<void(const CaptureEntry&)> callback) {
+    impl_->on_capture = std::move(callback);
 }
 
 void AsyncClient::on_disconnect(std::function<void(const Error&)> callback) {

@@ -43,6 +43,10 @@ struct Client::Impl {
     // `queue_only`: next_notification() returns it). One this version cannot
     // read is skipped rather than failing the call that received it.
     void take(const json& message, bool queue_only = false) {
+        if (message.value("method", json()) == "capture") {
+            take_capture(message);
+            return;
+        }
         std::optional<Notification> n;
         try {
             n = codec::notification(message);
@@ -56,6 +60,22 @@ struct Client::Impl {
             callback(*n);
         } else {
             queue.push(std::move(*n));
+        }
+    }
+
+    // The capture topic goes to its own callback (skipped without one).
+    void take_capture(const json& message) const {
+        if (!capture_callback) {
+            return;
+        }
+        std::optional<CaptureEntry> entry;
+        try {
+            entry = codec::capture_notification(message);
+        } catch (const Error&) {
+            return;
+        }
+        if (entry) {
+            capture_callback(*entry);
         }
     }
 
@@ -136,6 +156,7 @@ struct Client::Impl {
     Connection connection;
     detail::NotificationQueue queue;
     std::function<void(const Notification&)> callback;
+    std::function<void(const CaptureEntry&)> capture_callback;  // the capture topic
     // Transparent shared-memory attitude (subscribe with shared_memory).
     std::unique_ptr<AttitudeFeed> ring;
 };
@@ -202,6 +223,31 @@ RecordResult Client::record() {
 
 RecordResult Client::record(bool on, bool force) {
     return codec::record_result(impl().call("record", codec::record_params(on, force)));
+}
+
+PhotoReport Client::photo(const CaptureOptions& options) {
+    json params = json::object();
+    if (auto error = codec::add_meta(params, options)) {
+        throw *error;
+    }
+    return codec::photo_report(impl().call("photo", params));
+}
+
+RecordResult Client::record(std::optional<bool> on, bool force, const CaptureOptions& options) {
+    json params = codec::record_params(on, force);
+    if (auto error = codec::add_meta(params, options)) {
+        throw *error;
+    }
+    return codec::record_result(impl().call("record", params));
+}
+
+CapturesPage Client::captures(std::uint64_t since, std::optional<std::uint32_t> limit) {
+    return codec::captures_page(impl().call("captures", codec::captures_params(since, limit)),
+                                since);
+}
+
+void Client::on_capture(std::function<void(const CaptureEntry&)> callback) {
+    impl().capture_callback = std::move(callback);
 }
 
 Control Client::acquire() {

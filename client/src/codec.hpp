@@ -53,6 +53,12 @@ Control control(const json& result);
 Settings settings(const json& result);
 Limits limits(const json& result);
 Subscription subscription(const json& result);
+// captures' params and reply, and a capture notification's params.
+json captures_params(std::uint64_t since, std::optional<std::uint32_t> limit);
+CapturesPage captures_page(const json& result, std::uint64_t since);
+CaptureEntry capture_entry(const json& capture);
+// A "capture" notification's entry; empty for any other message.
+std::optional<CaptureEntry> capture_notification(const json& message);
 
 // A notification message ({"method":topic,"params":...}); empty for a topic
 // this library does not know.

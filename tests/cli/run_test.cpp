@@ -78,12 +78,14 @@ TEST_F(RunTest, StatusSaysWhyTheDeviceIsClosed) {
 }
 
 TEST_F(RunTest, CommandsReachTheCore) {
-    for (const auto* command : {"stop", "center", "lock", "photo"}) {
+    for (const auto* command : {"stop", "center", "lock"}) {
         auto ran = run({command});
         EXPECT_EQ(ran.status, kExitOk) << command;
         EXPECT_EQ(ran.out, std::string(command) + ": sent\n");
     }
-    EXPECT_EQ(run({"record"}).out, "record: sent; recording unknown (assumed)\n");
+    // A photo and a record toggle are captures: their index is printed.
+    EXPECT_EQ(run({"photo"}).out, "photo: sent, capture 1\n");
+    EXPECT_EQ(run({"record"}).out, "record: sent, capture 2; recording unknown (assumed)\n");
     EXPECT_EQ(run({"angle", "--pitch", "-45.5"}).status, kExitOk);
     EXPECT_THAT(calls().back(), HasSubstr("angle 0 -4550 0"));
 }

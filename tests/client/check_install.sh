@@ -45,10 +45,15 @@ soname=$(objdump -p "$libdir/libgport-client.so.1" | awk '$1 == "SONAME" { print
 # 1. pkg-config (the .pc computes its paths from its own location).
 flags=$(PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config --cflags --libs gport-client) \
     || fail "pkg-config does not know gport-client"
+# The run path as docs/client-cpp.md ("Linking") tells pkg-config users of
+# a prefix of their own to add it; the program runs without LD_LIBRARY_PATH.
+pc_libdir=$(PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config --variable=libdir gport-client)
+[ "$pc_libdir" -ef "$libdir" ] || fail "pkg-config --variable=libdir is '$pc_libdir', not $libdir"
 # shellcheck disable=SC2086  # the flags are words
-"$cxx" -std=c++17 ${CONSUMER_FLAGS:-} "$source/main.cpp" $flags -Wl,-rpath,"$libdir" -o "$work/pc-consumer" \
+"$cxx" -std=c++17 ${CONSUMER_FLAGS:-} "$source/main.cpp" $flags -Wl,-rpath,"$pc_libdir" -o "$work/pc-consumer" \
     || fail "building with pkg-config flags ($flags) failed"
-"$work/pc-consumer" "$work/no-gportd.sock" || fail "the pkg-config program did not run"
+env -u LD_LIBRARY_PATH "$work/pc-consumer" "$work/no-gportd.sock" \
+    || fail "the pkg-config program did not run"
 
 # 1b. The C interface from C (ring_read.h is a standalone C99 header).
 # shellcheck disable=SC2086  # the flags are words

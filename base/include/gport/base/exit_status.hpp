@@ -15,6 +15,7 @@ inline constexpr int kExitUsage = 64;         // EX_USAGE: bad command line
 inline constexpr int kExitNoInput = 66;       // EX_NOINPUT: an input file cannot be read
 inline constexpr int kExitUnavailable = 69;   // EX_UNAVAILABLE: no daemon to talk to
 inline constexpr int kExitOsError = 71;       // EX_OSERR: an OS resource (pty, link) cannot be made
+inline constexpr int kExitLinkNotUp = 75;     // EX_TEMPFAIL: no gimbal link (status, wait link)
 inline constexpr int kExitConfig = 78;        // EX_CONFIG: the configuration is wrong
 inline constexpr int kExitInterrupted = 130;  // 128 + SIGINT: stopped by Ctrl-C
 

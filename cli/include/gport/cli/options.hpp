@@ -20,6 +20,7 @@ namespace gport::cli {
 using gport::kExitOk;
 inline constexpr int kExitError = gport::kExitFailure;  // the daemon answered with an error
 using gport::kExitInterrupted;
+using gport::kExitLinkNotUp;
 using gport::kExitNotReached;
 using gport::kExitUnavailable;
 using gport::kExitUsage;
@@ -47,6 +48,7 @@ struct Invocation {
     std::optional<long> limit;                          // captures --limit: at most this many
     bool follow = false;                                // captures --follow
     bool csv = false;                                   // captures --csv
+    std::optional<std::chrono::milliseconds> timeout;   // wait --timeout (none: forever)
 };
 
 struct UsageError {

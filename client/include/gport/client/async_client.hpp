@@ -73,6 +73,11 @@ class GPORT_CLIENT_API AsyncClient {
     void async_photo_report(const CaptureOptions& options, Handler<PhotoReport> handler);
     void async_record(std::optional<bool> on, bool force, const CaptureOptions& options,
                       Handler<RecordResult> handler);
+    // One page of the capture log from index `since` (1.5.0): at most `limit`
+    // (gportd's default when empty) and 64 KiB; page on with `next` while
+    // `more`.
+    void async_captures(std::uint64_t since, std::optional<std::uint32_t> limit,
+                        Handler<CapturesPage> handler);
     void async_acquire(Handler<Control> handler);
     void async_release(Handler<Control> handler);
     void async_settings(Handler<Settings> handler);
@@ -93,6 +98,10 @@ class GPORT_CLIENT_API AsyncClient {
 
     // Every notification, in arrival order.
     void on_notification(std::function<void(const Notification&)> callback);
+    // Each capture after subscribing to "capture" (1.5.0): the topic's
+    // notifications come here, not to on_notification (whose Notification
+    // keeps its three kinds); without a callback they are skipped.
+    void on_capture(std::function<void(const CaptureEntry&)> callback);
     // Called once when an open connection breaks (not on close()).
     void on_disconnect(std::function<void(const Error&)> callback);
 

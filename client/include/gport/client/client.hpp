@@ -70,13 +70,24 @@ class GPORT_CLIENT_API Client {
     void photo();
     RecordResult record();  // one toggle
     RecordResult record(bool on, bool force = false);
+    // With `meta` (CaptureOptions; not a JSON object: kInvalidParams, nothing
+    // sent): the capture gportd logged and its attitude (1.5.0).
+    PhotoReport photo(const CaptureOptions& options);
+    // `on` empty: one toggle. `capture` is empty when nothing was sent (1.5.0).
+    RecordResult record(std::optional<bool> on, bool force, const CaptureOptions& options);
+    // One page of the capture log from index `since` (1.5.0): at most `limit`
+    // (gportd's default when empty) and 64 KiB; page on with `next` while
+    // `more`.
+    CapturesPage captures(std::uint64_t since = 0,
+                          std::optional<std::uint32_t> limit = std::nullopt);
     Control acquire();
     Control release();
     Settings settings();
     Settings set_settings(const SettingsChange& change);
     Limits limits();  // gportd's configured soft limits
 
-    // topics: "attitude", "link", "motion"; max_rate_hz caps attitude.
+    // topics: "attitude", "link", "motion", "capture" (on_capture); max_rate_hz
+    // caps attitude.
     Subscription subscribe(const std::vector<std::string>& topics,
                            std::optional<double> max_rate_hz = std::nullopt);
     // With options.shared_memory and "attitude" among the topics, attitude
@@ -101,6 +112,11 @@ class GPORT_CLIENT_API Client {
     // With a callback set, notifications go to it instead of the queue
     // (kept ones first); an empty function goes back to queueing.
     void on_notification(std::function<void(const Notification&)> callback);
+    // Each capture after subscribe({"capture"}) (1.5.0), delivered when
+    // notifications are (dispatch(), next_notification(), any call): the
+    // topic comes here, never to the Notification queue, whose variant keeps
+    // its three kinds; without a callback captures are skipped.
+    void on_capture(std::function<void(const CaptureEntry&)> callback);
     // Reads for `duration` and hands notifications to the callback (or the
     // queue); returns how many arrived.
     std::size_t dispatch(Milliseconds duration);

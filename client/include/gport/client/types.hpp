@@ -182,6 +182,24 @@ struct RecordResult {
     std::optional<Capture> capture{};
 };
 
+// One capture of gportd's log as captures() lists it and the "capture"
+// topic announces it (1.5.0; new beside Capture, which keeps its layout).
+struct CaptureEntry {
+    Capture capture{};
+    std::optional<CaptureAttitude> attitude{};  // none before the first sample
+    std::string meta{};                         // the meta object as compact JSON; empty: none
+    std::optional<Peer> client{};               // who asked for it
+    std::string client_name{};                  // its process name, as gportd saw it
+};
+
+// One page of captures(since, limit) (1.5.0): oldest first, bounded by the
+// limit and by gportd's 64 KiB; when `more`, ask again from `next`.
+struct CapturesPage {
+    std::vector<CaptureEntry> captures{};
+    bool more = false;
+    std::uint64_t next = 0;
+};
+
 struct Control {
     std::optional<Peer> controller{};
     bool you_hold_control = false;
