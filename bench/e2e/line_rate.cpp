@@ -1,5 +1,6 @@
 #include "line_rate.hpp"
 
+#include <fmt/format.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -59,7 +60,7 @@ bool log_mentions(const std::string& path, const std::string& text) {
 }
 
 DaemonOptions daemon_options(const std::string& gportd, const std::string& dir,
-                             const std::string& device) {
+                             const std::string& device, double camera_rate) {
     DaemonOptions d;
     d.binary = gportd;
     d.device = device;
@@ -71,6 +72,9 @@ DaemonOptions daemon_options(const std::string& gportd, const std::string& dir,
     d.max_requests_per_s = 0;  // gportd's own per-client limit, as shipped
     d.socket_mode = "0666";
     d.extra_config = R"("access": {"control_uids": [0]})";  // others are read-only
+    if (camera_rate > 0) {
+        d.extra_config += fmt::format(R"(, "camera": {{"max_commands_per_s": {}}})", camera_rate);
+    }
     d.extra_args = {"--state-dir", dir + "/state"};
     return d;
 }
@@ -104,7 +108,7 @@ LineResult run_scenario(const Options& options, const LineScenario& s) {
         seed_capture_log(dir + "/state", kSeedCaptures);
     }
     LineSim sim(kBaud, kAttitudeHz, dir + "/gimbal");
-    const auto d = daemon_options(options.gportd, dir, sim.device());
+    const auto d = daemon_options(options.gportd, dir, sim.device(), options.camera_rate);
     DaemonProcess daemon(d);
     wait_device_open(d.socket);
     AttitudeWatch watch(d.socket);

@@ -80,6 +80,8 @@ std::string usage() {
            "  --reader-uid UID   the read-only floods run as UID (default 65534 when root;\n"
            "                     otherwise our own uid, which may command)\n"
            "  --keep-logs        keep each line-rate run's directory and gportd log\n"
+           "  --camera-rate N    line rate: gportd's camera.max_commands_per_s (0.1 to 1000;\n"
+           "                     default: as shipped, 5), e.g. 1000 to flood the line itself\n"
            "  -h, --help         this text\n";
 }
 
@@ -135,6 +137,9 @@ std::optional<Options> parse_options(int argc, char** argv) {
         } else if (arg == "--shm") {
             n = number(arg, value, 0, 4000);
             o.shm_readers = static_cast<int>(n.value_or(0));
+        } else if (arg == "--camera-rate") {
+            n = number(arg, value, 0.1, 1000);
+            o.camera_rate = n.value_or(0);
         } else if (arg == "--realtime") {
             n = number(arg, value, 1, 99);
             o.realtime_priority = static_cast<int>(n.value_or(0));

@@ -27,7 +27,8 @@ struct Options {
     int stop_every_ms = 0;            // a commander sends `stop` this often (0 = off)
     std::string line_rate;            // --line-rate: scenarios at 115200 baud ("" = off)
     unsigned reader_uid = 0;          // --reader-uid: the read-only floods' uid (root only)
-    bool keep_logs = false;           // --keep-logs: leave each line-rate run's gportd log
+    double camera_rate = 0;  // --camera-rate: gportd's camera.max_commands_per_s (0: shipped)
+    bool keep_logs = false;  // --keep-logs: leave each line-rate run's gportd log
     bool help = false;
 };
 
