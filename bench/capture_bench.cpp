@@ -15,8 +15,8 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <variant>
 #include <thread>
+#include <variant>
 
 #include "gport/app/capture_writer.hpp"
 #include "gport/ipc/capture_log.hpp"
