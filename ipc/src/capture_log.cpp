@@ -64,7 +64,10 @@ void CaptureLog::keep(std::uint64_t index, std::string text) {
     }
 }
 
-std::variant<CaptureLog::Prepared, std::string> CaptureLog::prepare(const json& capture) const {
+std::variant<CaptureLog::Prepared, std::string> CaptureLog::prepare(const json& capture) {
+    if (sink_ != nullptr) {
+        reserve_ahead();
+    }
     if (next_index_ > kMaxIndex) {
         return fmt::format("the capture log has given every index up to {}; no more captures",
                            kMaxIndex);
@@ -107,15 +110,12 @@ const std::string& CaptureLog::add(Prepared prepared, std::string_view kind) {
     return stored;
 }
 
+// Near the durable mark, asks for it to move (the sink dedupes; each ask
+// while a write fails is a retry).
 void CaptureLog::reserve_ahead() {
     const auto durable = sink_->reserved();
-    if (!durable) {
-        return;
-    }
-    const auto mark = std::max(*durable, asked_);
-    if (mark - std::min(mark, next_index_) <= kReserveWhenWithin) {
-        asked_ = std::min(next_index_ + kReserveAhead, kMaxIndex + 1);
-        sink_->reserve(asked_);
+    if (durable && *durable - std::min(*durable, next_index_) <= kReserveWhenWithin) {
+        sink_->reserve(std::min(next_index_ + kReserveAhead, kMaxIndex + 1));
     }
 }
 

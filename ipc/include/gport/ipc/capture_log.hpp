@@ -91,7 +91,9 @@ class CaptureLog {
     }
 
     // Builds the capture's text, or says why no index can be given now.
-    std::variant<Prepared, std::string> prepare(const nlohmann::json& capture) const;
+    // Asks the sink to move the durable mark when the next index is near it
+    // (every call near it asks again: a disk that failed may have recovered).
+    std::variant<Prepared, std::string> prepare(const nlohmann::json& capture);
     // Gives the prepared capture the next index and its `kind` (both first
     // in the text), keeps it, queues its line and tells the listener.
     // Returns the stored capture's text.
@@ -120,7 +122,6 @@ class CaptureLog {
     std::deque<Kept> captures_;
     std::size_t kept_bytes_ = 0;
     std::uint64_t next_index_ = 1;
-    std::uint64_t asked_ = 0;  // the highest mark asked of the sink
     std::uint64_t added_ = 0;
     CaptureSink* sink_ = nullptr;
     std::function<void(std::string_view)> listener_;
