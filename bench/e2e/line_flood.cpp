@@ -4,7 +4,6 @@
 #include <grp.h>
 #include <poll.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -202,36 +201,13 @@ int flood_child_main(int argc, char** argv) {
 }
 
 FloodProcess::FloodProcess(const std::string& socket, FloodKind kind, int connections, uid_t uid) {
-    int pipe_fds[2];
-    if (::pipe2(pipe_fds, O_CLOEXEC) != 0) {
-        throw std::runtime_error("flood: pipe failed");
-    }
-    Fd read_end(pipe_fds[0]);
-    posix_spawn_file_actions_t actions;
-    ::posix_spawn_file_actions_init(&actions);
-    ::posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], 3);
-    std::vector<std::string> args = {"bench_e2e",
-                                     "--flood-child",
-                                     socket,
-                                     to_string(kind),
-                                     std::to_string(connections),
-                                     std::to_string(uid),
-                                     "3"};
-    std::vector<char*> argv;
-    for (auto& a : args) {
-        argv.push_back(a.data());
-    }
-    argv.push_back(nullptr);
-    const int rc =
-        ::posix_spawn(&child_, "/proc/self/exe", &actions, nullptr, argv.data(), environ);
-    ::posix_spawn_file_actions_destroy(&actions);
-    ::close(pipe_fds[1]);
-    if (rc != 0) {
-        throw std::runtime_error(std::string("flood: cannot start: ") + std::strerror(rc));
-    }
+    auto child = spawn_self({"bench_e2e", "--flood-child", socket, to_string(kind),
+                             std::to_string(connections), std::to_string(uid), "3"},
+                            "flood");
+    child_ = child.pid;
     std::string pending;
     std::string line;
-    if (!read_line(read_end.get(), pending, line, 30'000) || line != "ok") {
+    if (!read_line(child.report.get(), pending, line, 30'000) || line != "ok") {
         stop();
         throw std::runtime_error("flood (" + std::string(to_string(kind)) + "): " + line);
     }

@@ -3,7 +3,6 @@
 #include <fcntl.h>
 #include <pthread.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -148,32 +147,13 @@ int park_child_main(int argc, char** argv) {
 
 ParkAttack::ParkAttack(const std::string& socket, int threads, bool gone, int keys)
     : threads_(threads), gone_(gone), keys_(keys) {
-    int pipe_fds[2];
-    if (::pipe2(pipe_fds, O_CLOEXEC) != 0) {
-        throw std::runtime_error("park: pipe failed");
-    }
-    Fd read_end(pipe_fds[0]);
-    posix_spawn_file_actions_t actions;
-    ::posix_spawn_file_actions_init(&actions);
-    ::posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], 3);
-    const std::string count = std::to_string(threads);
-    std::vector<std::string> args = {
-        "bench_e2e", "--park-child", socket, count, gone ? "1" : "0", "3", std::to_string(keys)};
-    std::vector<char*> argv;
-    for (auto& a : args) {
-        argv.push_back(a.data());
-    }
-    argv.push_back(nullptr);
-    const int rc =
-        ::posix_spawn(&child_, "/proc/self/exe", &actions, nullptr, argv.data(), environ);
-    ::posix_spawn_file_actions_destroy(&actions);
-    ::close(pipe_fds[1]);
-    if (rc != 0) {
-        throw std::runtime_error(std::string("park: cannot start the peer: ") + std::strerror(rc));
-    }
+    auto child = spawn_self({"bench_e2e", "--park-child", socket, std::to_string(threads),
+                             gone ? "1" : "0", "3", std::to_string(keys)},
+                            "park: the peer");
+    child_ = child.pid;
     std::string pending;
     std::string line;
-    if (!read_line(read_end.get(), pending, line, 120'000) || line.rfind("parked ", 0) != 0) {
+    if (!read_line(child.report.get(), pending, line, 120'000) || line.rfind("parked ", 0) != 0) {
         stop();
         throw std::runtime_error("park: the peer did not park its threads: " + line);
     }

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace gport::bench {
 
@@ -69,5 +70,14 @@ std::string load_average();
 // Raises RLIMIT_NOFILE's soft limit to the hard limit (children inherit it):
 // a thousand subscribers need a thousand descriptors on both ends.
 void raise_fd_limit();
+
+// This program started again (/proc/self/exe) with `args` (argv[0] first)
+// and a pipe as its descriptor 3, whose read end `report` the parent reads
+// the child's first line from. Throws "WHAT: ..." when it cannot start.
+struct SelfChild {
+    pid_t pid = -1;
+    Fd report;
+};
+SelfChild spawn_self(std::vector<std::string> args, const std::string& what);
 
 }  // namespace gport::bench
