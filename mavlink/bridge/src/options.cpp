@@ -114,7 +114,10 @@ std::string to_string(const std::vector<std::uint8_t>& sysids) {
     }
     std::string out;
     for (auto id : sysids) {
-        out += (out.empty() ? "" : ",") + std::to_string(id);
+        if (!out.empty()) {
+            out += ',';
+        }
+        out += std::to_string(id);  // appended, not "," + ...: GCC 12's -Wrestrict (armhf)
     }
     return out;
 }
