@@ -5,7 +5,8 @@
 // Every delivered frame must decode into a typed message, and re-encoding
 // that message must give the delivered payload minus its trailing zeros
 // (MAVLink 2 truncation) and decode back to the same bits. The counters must
-// add up to the bytes fed and the held-back tail must stay under one frame.
+// (garbage, unknown-id shadows, frames, MAVLink 1, pending) add up to the
+// bytes fed and the held-back tail must stay under one frame.
 // Then the input is read as a payload of one of the known messages (its
 // first byte picks which): decoded, encoded, and fed to a fresh decoder, it
 // must come back as exactly one frame with the same bits.
@@ -44,7 +45,8 @@ bool same_stats(const gm::DecoderStats& a, const gm::DecoderStats& b) {
     return a.bytes == b.bytes && a.frames == b.frames && a.signed_frames == b.signed_frames &&
            a.v1_frames == b.v1_frames && a.v1_bytes == b.v1_bytes &&
            a.garbage_bytes == b.garbage_bytes && a.header_errors == b.header_errors &&
-           a.unknown_ids == b.unknown_ids && a.length_errors == b.length_errors &&
+           a.unknown_ids == b.unknown_ids && a.unknown_bytes == b.unknown_bytes &&
+           a.length_errors == b.length_errors &&
            a.crc_errors == b.crc_errors && a.resyncs == b.resyncs;
 }
 
@@ -93,11 +95,14 @@ void check_counters(const Seen& s, std::size_t input_size) {
     const auto& st = s.stats;
     require(st.bytes == input_size, "bytes counter");
     require(st.frames == s.payloads.size(), "frames counter");
-    require(st.garbage_bytes + s.frame_bytes + st.v1_bytes + s.pending == input_size,
-            "garbage + frames + v1 + pending != bytes fed");
-    require(
-        st.header_errors + st.unknown_ids + st.length_errors + st.crc_errors <= st.garbage_bytes,
-        "more rejections than garbage bytes");
+    // An unknown id's frame is neither garbage nor delivered: its bytes are
+    // unknown_bytes (the decoder's "shadow").
+    require(st.garbage_bytes + st.unknown_bytes + s.frame_bytes + st.v1_bytes + s.pending ==
+                input_size,
+            "garbage + unknown + frames + v1 + pending != bytes fed");
+    require(st.header_errors + st.unknown_ids + st.length_errors + st.crc_errors <=
+                st.garbage_bytes + st.unknown_bytes,
+            "more rejections than garbage and unknown bytes");
     require(st.resyncs <= st.frames + st.v1_frames, "more resyncs than frames");
     require(st.signed_frames <= st.frames, "more signed frames than frames");
 }
