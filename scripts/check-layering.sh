@@ -94,6 +94,8 @@ allowed_text() {
 }
 
 # ---- includes --------------------------------------------------------------
+# (matched in bash, not by a process per line: the tree has hundreds)
+include_re='^[[:space:]]*#[[:space:]]*include[[:space:]]*["<]([^">]+)[">]'
 for folder in "${order[@]}"; do
   [[ -d $folder ]] || continue
   while IFS= read -r hit; do
@@ -101,7 +103,8 @@ for folder in "${order[@]}"; do
     rest=${hit#*:}
     line=${rest%%:*}
     text=${rest#*:}
-    target=$(sed -E 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*["<]([^">]+)[">].*/\1/' <<<"$text")
+    [[ $text =~ $include_re ]] || continue
+    target=${BASH_REMATCH[1]}
     case $target in
       gport/version.hpp)
         continue

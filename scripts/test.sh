@@ -20,7 +20,28 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$(date +%s)
-stage() { echo; echo "== $* ($(($(date +%s) - start)) s)"; }
+# Each stage's name and start; the table of their times is printed at the
+# end, and on failure up to the stage that failed.
+stage_names=()
+stage_starts=()
+stage() {
+  echo
+  echo "== $* ($(($(date +%s) - start)) s)"
+  stage_names+=("$*")
+  stage_starts+=("$(date +%s)")
+}
+stage_table() {
+  local status=$? now i next
+  now=$(date +%s)
+  echo
+  echo "== Stage times (exit $status)"
+  for i in "${!stage_names[@]}"; do
+    next=${stage_starts[$((i + 1))]:-$now}
+    printf '%6d s  %s\n' "$((next - stage_starts[i]))" "${stage_names[$i]%% (*}"
+  done
+  printf '%6d s  total\n' "$((now - start))"
+}
+trap stage_table EXIT
 
 stage "Layering"
 scripts/check-layering.sh
