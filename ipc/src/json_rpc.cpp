@@ -76,7 +76,7 @@ std::string unknown_method(const std::string& name) {
 std::string over_rate(const RequestRate& rate) {
     return fmt::format(
         "too many requests: the limit is {} per second (socket.max_requests_per_s); slow down",
-        rate.per_second);
+        rate.per_second());
 }
 
 void run_method(detail::Handler handler, detail::MethodContext& context, const json& params,
@@ -232,51 +232,12 @@ std::string Reply::object(const json& id) const {
 
 }  // namespace detail
 
-double RequestRate::level(std::chrono::steady_clock::time_point now) const {
-    if (!started) {
-        return per_second;
-    }
-    const double elapsed = std::chrono::duration<double>(now - last).count();
-    return std::min(per_second, tokens + std::max(elapsed, 0.0) * per_second);
-}
-
-bool RequestRate::take(std::chrono::steady_clock::time_point now) {
-    if (per_second <= 0) {
-        return true;
-    }
-    tokens = level(now);
-    last = now;
-    started = true;
-    if (tokens < 1) {
-        return false;
-    }
-    tokens -= 1;
-    return true;
-}
-
-void RequestRate::charge(std::chrono::steady_clock::duration cost,
-                         std::chrono::steady_clock::time_point now) {
-    if (per_second <= 0 || cost <= kCostPerToken) {
+void RequestRate::charge(Clock::duration cost, Clock::time_point now) {
+    if (!limited() || cost <= kCostPerToken) {
         return;
     }
-    const double extra = std::chrono::duration<double>(cost - kCostPerToken) /
-                         std::chrono::duration<double>(kCostPerToken);
-    tokens = std::max(level(now) - extra, -per_second);
-    last = now;
-    started = true;
-}
-
-std::chrono::steady_clock::duration RequestRate::wait_for(
-    double needed, std::chrono::steady_clock::time_point now) const {
-    if (per_second <= 0 || !started) {
-        return {};
-    }
-    const double missing = std::min(needed, per_second) - level(now);
-    if (missing <= 0) {
-        return {};
-    }
-    return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-        std::chrono::duration<double>(missing / per_second));
+    bucket_.charge(now, std::chrono::duration<double>(cost - kCostPerToken) /
+                            std::chrono::duration<double>(kCostPerToken));
 }
 
 std::string error_line(int code, std::string_view message) {

@@ -46,7 +46,7 @@ class Pending {
 Session::Session(Socket socket, daemon::ClientInfo info, SessionHost& host)
     : socket_(std::move(socket)),
       host_(host),
-      state_{info, {}, 0, {static_cast<double>(host.config().max_requests_per_s)}},
+      state_{info, {}, 0, RequestRate(static_cast<double>(host.config().max_requests_per_s))},
       outbox_(host.config().queue_limit),
       idle_timer_(socket_.get_executor()),
       throttle_timer_(socket_.get_executor()),
@@ -215,7 +215,7 @@ void Session::attach_descriptors(std::size_t count) {
 // a flood with errors at full speed.
 bool Session::throttle() {
     const auto& rate = state_.rate;
-    if (rate.per_second <= 0 || rate.has_token() || !open()) {
+    if (rate.has_token(Clock::now()) || !open()) {
         return false;
     }
     const auto wait = rate.wait_for(static_cast<double>(kMaxBatch), Clock::now());

@@ -384,7 +384,7 @@ TEST_F(DispatcherTest, TinyMaxRateIsRefusedNamingTheRange) {
 }
 
 TEST_F(DispatcherTest, RequestsOverTheRateGetTooManyAndDoNotRun) {
-    client_.rate.per_second = 5;
+    client_.rate = RequestRate(5);
     json batch = json::array();
     for (int i = 1; i <= 8; ++i) {
         batch.push_back({{"id", i}, {"method", "photo"}});
@@ -413,14 +413,13 @@ TEST_F(DispatcherTest, RequestsOverTheRateGetTooManyAndDoNotRun) {
 // A request's cost on the event loop is charged on top of its token: one
 // token per millisecond beyond the first, down to one second's worth of debt.
 TEST(RequestRate, CostIsChargedAsDebtThatRequestsWaitOut) {
-    RequestRate rate;
-    rate.per_second = 100;
+    RequestRate rate(100);
     const auto t0 = std::chrono::steady_clock::time_point{} + std::chrono::seconds(100);
     ASSERT_TRUE(rate.take(t0));
     rate.charge(std::chrono::microseconds(900), t0);
-    EXPECT_TRUE(rate.has_token()) << "a request within the budget costs its one token";
+    EXPECT_TRUE(rate.has_token(t0)) << "a request within the budget costs its one token";
     rate.charge(std::chrono::milliseconds(500), t0);
-    EXPECT_FALSE(rate.has_token()) << "500 ms of loop time is 499 tokens, capped at 100 of debt";
+    EXPECT_FALSE(rate.has_token(t0)) << "500 ms of loop time is 499 tokens, capped at 100 of debt";
     EXPECT_GT(rate.wait_for(1, t0), std::chrono::seconds(1));
     EXPECT_FALSE(rate.take(t0 + std::chrono::milliseconds(900)));
     EXPECT_TRUE(rate.take(t0 + std::chrono::milliseconds(1100)));

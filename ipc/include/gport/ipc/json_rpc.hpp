@@ -24,6 +24,7 @@
 #include <string_view>
 #include <variant>
 
+#include "gport/base/token_bucket.hpp"
 #include "gport/contract/errors.hpp"
 #include "gport/contract/limits.hpp"
 #include "gport/daemon/api.hpp"
@@ -50,34 +51,36 @@ struct Subscriptions {
     std::optional<double> max_rate_hz;  // attitude only; empty = every sample
 };
 
-// A token bucket of requests: `per_second` tokens a second, holding at most
-// one second's worth, full until first used. per_second 0: no limit. A
-// request takes one token, and what it cost the event loop beyond the loop's
-// budget for one request is charged on top (charge(): one token per
-// kCostPerToken), so a costly request counts as several and a client that
+// The requests a client may make: a base::TokenBucket of `per_second`
+// tokens a second holding one second's worth, full until first used;
+// per_second 0: no limit. A request takes one token, and what it cost the
+// event loop beyond the loop's budget for one request is charged on top
+// (charge(): one token per kCostPerToken, into a debt of at most one
+// second's worth), so a costly request counts as several and a client that
 // sends them waits longer.
-struct RequestRate {
+class RequestRate {
+  public:
+    using Clock = std::chrono::steady_clock;
     static constexpr auto kCostPerToken = std::chrono::milliseconds(1);
 
-    double per_second = 0;
-    double tokens = 0;
-    bool started = false;  // false: full
-    std::chrono::steady_clock::time_point last{};
+    RequestRate() = default;
+    explicit RequestRate(double per_second) : bucket_(per_second, per_second) {}
 
+    double per_second() const { return bucket_.rate(); }
+    bool limited() const { return per_second() > 0; }
     // Takes one token; false when none is left.
-    bool take(std::chrono::steady_clock::time_point now);
-    // Spends tokens for `cost` of loop time beyond the first kCostPerToken,
-    // even into debt (down to minus one second's worth).
-    void charge(std::chrono::steady_clock::duration cost,
-                std::chrono::steady_clock::time_point now);
-    // At least one token was left when last counted (or never used).
-    bool has_token() const { return !started || tokens >= 1; }
+    bool take(Clock::time_point now) { return !limited() || bucket_.take(now); }
+    // Spends tokens for `cost` of loop time beyond the first kCostPerToken.
+    void charge(Clock::duration cost, Clock::time_point now);
+    // At least one token is there at `now` (always, unlimited).
+    bool has_token(Clock::time_point now) const { return !limited() || bucket_.level(now) >= 1; }
     // How long until `needed` tokens (at most one second's worth) are there.
-    std::chrono::steady_clock::duration wait_for(double needed,
-                                                 std::chrono::steady_clock::time_point now) const;
+    Clock::duration wait_for(double needed, Clock::time_point now) const {
+        return limited() ? bucket_.wait_for(now, needed) : Clock::duration::zero();
+    }
 
   private:
-    double level(std::chrono::steady_clock::time_point now) const;
+    base::TokenBucket bucket_{0, 0};
 };
 
 // Per-connection state the methods read and change.
