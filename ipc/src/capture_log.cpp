@@ -92,7 +92,7 @@ std::variant<CaptureLog::Prepared, std::string> CaptureLog::prepare(const json& 
     return Prepared{std::move(text)};
 }
 
-const std::string& CaptureLog::add(Prepared prepared, std::string_view kind) {
+CaptureLog::Stored CaptureLog::add(Prepared prepared, std::string_view kind) {
     const auto index = next_index_++;
     // kind is one of gportd's own words: no escaping needed.
     std::string text = fmt::format("{{\"index\":{},\"kind\":\"{}\"{}{}}}", index, kind,
@@ -107,7 +107,7 @@ const std::string& CaptureLog::add(Prepared prepared, std::string_view kind) {
     if (listener_) {
         listener_(stored);
     }
-    return stored;
+    return {index, stored};
 }
 
 // Near the durable mark, asks for it to move (the sink dedupes; each ask

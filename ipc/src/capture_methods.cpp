@@ -51,25 +51,32 @@ const json* checked_meta(const json& params) {
 
 // The capture built before its frame is sent: a request sends and records,
 // or does neither. Empty (and answered -32603, naming why) when no index
-// can be given now.
-std::optional<CaptureLog::Prepared> prepare(MethodContext& c, const json* meta,
-                                            const Respond& respond) {
-    auto prepared = c.captures.prepare(capture_json(c.client.info, c.api.latest_attitude(), meta));
+// can be given now. `summary` is what the reply carries of it besides the
+// index and kind: utc_us and the attitude logged with it.
+struct Pending {
+    CaptureLog::Prepared prepared;
+    json summary;
+};
+
+std::optional<Pending> prepare(MethodContext& c, const json* meta, const Respond& respond) {
+    const json capture = capture_json(c.client.info, c.api.latest_attitude(), meta);
+    auto prepared = c.captures.prepare(capture);
     if (auto* why = std::get_if<std::string>(&prepared)) {
         respond(Reply::error(rpc_error::kInternal, std::move(*why)));
         return std::nullopt;
     }
-    return std::get<CaptureLog::Prepared>(std::move(prepared));
+    return Pending{std::get<CaptureLog::Prepared>(std::move(prepared)),
+                   {{"utc_us", capture["utc_us"]}, {"attitude", capture["attitude"]}}};
 }
 
 // Gives the capture its index and returns the summary the reply carries:
 // index, utc_us, kind and the attitude logged with it.
-json take(MethodContext& c, CaptureLog::Prepared prepared, std::string_view kind) {
-    const auto stored = json::parse(c.captures.add(std::move(prepared), kind));
-    return json{{"index", stored["index"]},
-                {"utc_us", stored["utc_us"]},
-                {"kind", kind},
-                {"attitude", stored["attitude"]}};
+json take(MethodContext& c, Pending pending, std::string_view kind) {
+    const auto stored = c.captures.add(std::move(pending.prepared), kind);
+    json summary = std::move(pending.summary);
+    summary["index"] = stored.index;
+    summary["kind"] = kind;
+    return summary;
 }
 
 std::string_view record_kind(daemon::RecordingState now) {

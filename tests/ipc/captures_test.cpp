@@ -206,7 +206,7 @@ json page(const CaptureLog& log, std::uint64_t since, std::size_t limit) {
 json add(CaptureLog& log, const json& capture = json::object(), std::string_view kind = "photo") {
     auto prepared = log.prepare(capture);
     EXPECT_TRUE(std::holds_alternative<CaptureLog::Prepared>(prepared));
-    return json::parse(log.add(std::get<CaptureLog::Prepared>(std::move(prepared)), kind));
+    return json::parse(log.add(std::get<CaptureLog::Prepared>(std::move(prepared)), kind).text);
 }
 
 TEST(CaptureLog, RestoreContinuesAfterTheHighestIndexAndSkipsBrokenLines) {

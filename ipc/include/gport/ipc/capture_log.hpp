@@ -94,10 +94,15 @@ class CaptureLog {
     // Asks the sink to move the durable mark when the next index is near it
     // (every call near it asks again: a disk that failed may have recovered).
     std::variant<Prepared, std::string> prepare(const nlohmann::json& capture);
+    // What add() stored: the index given and the capture's text (valid until
+    // the next change to the log).
+    struct Stored {
+        std::uint64_t index;
+        std::string_view text;
+    };
     // Gives the prepared capture the next index and its `kind` (both first
     // in the text), keeps it, queues its line and tells the listener.
-    // Returns the stored capture's text.
-    const std::string& add(Prepared prepared, std::string_view kind);
+    Stored add(Prepared prepared, std::string_view kind);
 
     // {"captures": [those with index >= since, oldest first, at most limit
     //  and at most kMaxPageBytes of them], "more": whether captures at or
