@@ -24,9 +24,12 @@
 //     no angle or centre frame (no move to 0/0/0), no stop before the
 //     commanded one, the rate over the motion within 25 % of the commanded;
 //     figures: degrees moved in the 3 s and in all;
-//  8. MAV_CMD_IMAGE_START_CAPTURE to 1/100, forwarded by PX4 (sent once):
-//     one photo frame and one photo in gportd's capture log, ACK ACCEPTED
-//     from 1/100, CAMERA_IMAGE_CAPTURED image_index 0.
+//  8. MAV_CMD_IMAGE_START_CAPTURE to 1/1: PX4 answers UNSUPPORTED, no
+//     photo; to 1/100, forwarded by PX4 (sent once): one photo frame and
+//     one photo in gportd's capture log, ACK ACCEPTED from 1/100,
+//     CAMERA_IMAGE_CAPTURED image_index 0.
+// Also: PX4's all-NaN SET_ATTITUDE before its first target makes one log
+// line.
 //
 //   node px4.js PX4_DIR GPORTD GPORT_SIM GPORT_MAVLINK WORKDIR [MODE]
 //
@@ -316,9 +319,22 @@ async function px4Checks(gcs, bridge, sock, started) {
     },
     [up * ratePitch, left * rateYaw]);
 
+  // The all-NaN stream PX4 sent before its first target: one info line.
+  const idle = bridge.lines.filter((l) => /the gimbal manager sends no target yet/.test(l));
+  check(idle.length === 1, `PX4's all-NaN SET_ATTITUDE before its first target: ${idle.length} line (one)`);
+
   // 8. A photo: IMAGE_START_CAPTURE to 1/100 through PX4 (sent once).
+  //    Sent to the autopilot (1/1) it is PX4's own business: UNSUPPORTED.
   const beforeCaptures = await h.rpc(sock, 'captures', { limit: 100 });
   const photosBefore = (beforeCaptures.result.captures || []).filter((c) => c.kind === 'photo').length;
+  t0 = Date.now();
+  gcs.send(toPx4(IMAGE_START_CAPTURE, [0, 0, 1, 0]));
+  const px4Ack = await until(() => gcs.since(t0, 'COMMAND_ACK').find((a) => a.data.command === IMAGE_START_CAPTURE),
+    3000, 'PX4\'s ACK').catch(() => null);
+  await sleep(300);
+  check(px4Ack && px4Ack.header.compid === 1 && px4Ack.data.result === 3 && h.cameraFrames(t0).length === 0,
+    `IMAGE_START_CAPTURE to 1/1: ACK ${px4Ack && px4Ack.data.result} (UNSUPPORTED) from ${px4Ack && px4Ack.header.compid}, ` +
+    `${h.cameraFrames(t0).length} camera frames`);
   t0 = Date.now();
   gcs.send(commandLong(IMAGE_START_CAPTURE, { params: [0, 0, 1, 0], targetSystem: 1, targetComponent: 100 }));
   const photoAck = await until(() => gcs.since(t0, 'COMMAND_ACK').find((a) => a.header.compid === 100 && a.data.command === IMAGE_START_CAPTURE),
