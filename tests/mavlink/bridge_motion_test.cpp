@@ -50,7 +50,7 @@ TEST(RateLease, AFastStreamKeepsTheFloor) {
     RateLease lease(500ms);
     auto t = Clock::now();
     for (int i = 0; i < 10; ++i, t += 20ms) {
-        EXPECT_EQ(lease.on_rate(t), 500ms);
+        EXPECT_EQ(lease.on_message(t), 500ms);
     }
 }
 
@@ -58,33 +58,59 @@ TEST(RateLease, AFastStreamKeepsTheFloor) {
 TEST(RateLease, ASlowStreamGetsOneAndAHalfItsLongestInterval) {
     RateLease lease(500ms);
     auto t = Clock::now();
-    EXPECT_EQ(lease.on_rate(t), 500ms);
-    EXPECT_EQ(lease.on_rate(t += 1700ms), 2550ms);
-    EXPECT_EQ(lease.on_rate(t += 1400ms), 2550ms);
-    EXPECT_EQ(lease.on_rate(t += 2000ms), 3000ms);
+    EXPECT_EQ(lease.on_message(t), 500ms);
+    EXPECT_EQ(lease.on_message(t += 1700ms), 2550ms);
+    EXPECT_EQ(lease.on_message(t += 1400ms), 2550ms);
+    EXPECT_EQ(lease.on_message(t += 2000ms), 3000ms);
     // Once the longest has left the last 4, the lease follows the link down.
     for (int i = 0; i < 4; ++i) {
-        lease.on_rate(t += 100ms);
+        lease.on_message(t += 100ms);
     }
     EXPECT_EQ(lease.current(), 500ms);
+}
+
+// PX4's Onboard link (SITL, issue 31): the manager streams angles (or its
+// all-NaN idle messages) about every 1.7 s before the first rate; that
+// rate's lease covers the 1.7 s to the next message, so the gimbal does
+// not stop after --lease-ms and wait for it.
+TEST(RateLease, TheMessagesBeforeTheFirstRateSetItsLease) {
+    RateLease lease(500ms);
+    auto t = Clock::now();
+    lease.on_message(t);                               // an angle
+    lease.on_message(t += 1700ms);                     // an angle
+    EXPECT_EQ(lease.on_message(t += 1650ms), 2550ms);  // the first rate
 }
 
 TEST(RateLease, APauseIsANewStreamAndTheCeilingHolds) {
     RateLease lease(500ms);
     auto t = Clock::now();
-    lease.on_rate(t);
-    EXPECT_EQ(lease.on_rate(t += 30s), 500ms);  // a pause: not counted
-    EXPECT_EQ(lease.on_rate(t += 4500ms), RateLease::kDefaultCeiling);
+    lease.on_message(t);
+    EXPECT_EQ(lease.on_message(t += 30s), 500ms);  // a pause: not counted
+    EXPECT_EQ(lease.on_message(t += 4500ms), RateLease::kDefaultCeiling);
     lease.set_ceiling(2000ms);  // gportd's keepalive.max_duration_ms
     EXPECT_EQ(lease.current(), 2000ms);
     lease.set_ceiling(300ms);  // below the floor: the ceiling wins
     EXPECT_EQ(lease.current(), 300ms);
 }
 
+// PX4's Onboard link (SITL, issue 31): a lease of 2.55 s with gportd's
+// default duration (1 s) moved the gimbal 1 s of every 1.7 s.
+TEST(RateLease, TheDurationIsTheLease) {
+    const auto options = speed_options(2550ms);
+    EXPECT_EQ(options.lease, 2550ms);
+    EXPECT_EQ(options.duration, 2550ms);
+    EXPECT_FALSE(options.clamp);
+}
+
 TEST(RateLease, GportdsLimitIsReadFromItsRefusal) {
     EXPECT_EQ(max_lease_in("lease_ms must be an integer from 1 to 2000 "
                            "(keepalive.max_duration_ms)"),
               2000ms);
+    // The duration is checked first and bounded by the same maximum.
+    EXPECT_EQ(max_lease_in("duration_ms must be an integer from 1 to 1500 "
+                           "(keepalive.max_duration_ms)"),
+              1500ms);
+    EXPECT_FALSE(max_lease_in("roll_ms must be an integer from 1 to 1500"));
     EXPECT_FALSE(max_lease_in("yaw = 80 °/s is faster than the soft limit"));
     EXPECT_FALSE(max_lease_in("lease_ms must be an integer from 1 to x"));
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <string>
 
 #include "gport/mavlink/bridge/stream_requests.hpp"
 
@@ -86,6 +87,22 @@ TEST(StreamRequests, OnlyTheWantedOnes) {
     ASSERT_EQ(due.size(), 1U);
     EXPECT_EQ(due[0].msgid, kAttitude);
     EXPECT_EQ(streams.attempts(kPosition), 0U);
+}
+
+// The warning names each autopilot's remedy; for PX4 the Onboard link,
+// not the Gimbal link (which in SITL streamed no position and answered no
+// SET_MESSAGE_INTERVAL, issue 31).
+TEST(StreamRequests, TheWarningNamesWhatToSet) {
+    const std::string asked = no_position_warning(4, 1, 1000ms, 3);
+    EXPECT_NE(asked.find("image_index 4 has no position"), std::string::npos) << asked;
+    EXPECT_NE(asked.find("system 1 component 1) in the last 1000 ms; asked for it 3 time(s)"),
+              std::string::npos)
+        << asked;
+    EXPECT_NE(asked.find("MAVn_POSITION"), std::string::npos) << asked;
+    EXPECT_NE(asked.find("SRn_POSITION"), std::string::npos) << asked;
+    EXPECT_NE(asked.find("PX4: an Onboard link (MAV_x_MODE Onboard"), std::string::npos) << asked;
+    EXPECT_EQ(asked.find("Onboard or Gimbal"), std::string::npos) << asked;
+    EXPECT_EQ(no_position_warning(0, 1, 1000ms, 0).find("asked for it"), std::string::npos);
 }
 
 }  // namespace

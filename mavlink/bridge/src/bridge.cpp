@@ -237,9 +237,7 @@ void Bridge::send_motion(const Command& command) {
                                 motion_done(e, "angle");
                             });
     } else if (const auto* speed = std::get_if<SpeedCommand>(&command)) {
-        client::SpeedOptions so;
-        so.lease = rate_lease_.current();
-        gportd_.async_speed(speed->speed, so,
+        gportd_.async_speed(speed->speed, speed_options(rate_lease_.current()),
                             [this, command](std::optional<client::Error> e, client::SpeedResult) {
                                 if (e && lease_refused(*e)) {
                                     motion_pending_ = motion_pending_.value_or(command);
@@ -255,9 +253,9 @@ void Bridge::send_motion(const Command& command) {
     }
 }
 
-// gportd refused the lease as longer than its keepalive.max_duration_ms
-// (the message names it): the ceiling becomes that, and the speed is sent
-// again.
+// gportd refused the lease (or the duration, the same value) as longer
+// than its keepalive.max_duration_ms (the message names it): the ceiling
+// becomes that, and the speed is sent again.
 bool Bridge::lease_refused(const client::Error& error) {
     const auto max = max_lease_in(error.message());
     if (!error.is(client::ErrorCode::kInvalidParams) || !max || *max >= rate_lease_.ceiling()) {

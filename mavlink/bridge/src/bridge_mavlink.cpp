@@ -237,11 +237,9 @@ void Bridge::record(const Requester& from, std::uint16_t cmd, bool on, bool forc
 }
 
 void Bridge::on_set_attitude(const GimbalDeviceSetAttitude& message) {
-    auto command = map_set_attitude(message, options_.invert, vehicle_yaw_deg());
-    if (std::holds_alternative<SpeedCommand>(command)) {
-        rate_lease_.on_rate(Clock::now());
-    }
-    dispatch(std::move(command));
+    // Every message times the manager's pace, the rate's lease (rate_lease.hpp).
+    rate_lease_.on_message(Clock::now());
+    dispatch(map_set_attitude(message, options_.invert, vehicle_yaw_deg()));
 }
 
 void Bridge::on_autopilot_state(const AutopilotStateForGimbalDevice& message) {

@@ -2,7 +2,6 @@
 // for with MAV_CMD_SET_MESSAGE_INTERVAL when they do not come
 // (stream_requests.hpp), its answers, and the one warning for a photo
 // without a position (docs/mavlink.md, "Position and attitude").
-#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "bridge.hpp"
@@ -57,16 +56,8 @@ void Bridge::warn_no_position(std::int32_t image_index) {
         return;
     }
     position_warned_ = true;
-    const auto asked = streams_.attempts(GlobalPositionInt::kId);
-    spdlog::warn(
-        "camera: image_index {} has no position: no GLOBAL_POSITION_INT from the vehicle's "
-        "autopilot (system {} component 1) in the last {} ms{}. Its link to gport-mavlink must "
-        "stream it: ArduPilot: MAVn_POSITION (SRn_POSITION in older firmware; n the serial "
-        "port's MAVLink instance) to 5 Hz or more; PX4: that link's MAVLink instance in a mode "
-        "that streams it (MAV_x_MODE Onboard or Gimbal). Said once per run",
-        image_index, trust_.vehicle().value_or(0), kPositionMaxAge.count(),
-        asked > 0 ? fmt::format("; asked for it {} time(s) with SET_MESSAGE_INTERVAL", asked)
-                  : std::string());
+    spdlog::warn(no_position_warning(image_index, trust_.vehicle().value_or(0), kPositionMaxAge,
+                                     streams_.attempts(GlobalPositionInt::kId)));
 }
 
 }  // namespace gport::mavlink::bridge

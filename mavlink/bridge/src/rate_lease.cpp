@@ -5,7 +5,7 @@
 
 namespace gport::mavlink::bridge {
 
-RateLease::ms RateLease::on_rate(Clock::time_point now) {
+RateLease::ms RateLease::on_message(Clock::time_point now) {
     if (last_ && now - *last_ <= ceiling_) {
         intervals_[next_] = now - *last_;
         next_ = (next_ + 1) % kIntervals;
@@ -24,20 +24,30 @@ void RateLease::set_ceiling(ms ceiling) {
     ceiling_ = std::max(ceiling, ms{1});
 }
 
+client::SpeedOptions speed_options(std::chrono::milliseconds lease) {
+    client::SpeedOptions options;
+    options.lease = lease;
+    options.duration = lease;
+    return options;
+}
+
 std::optional<std::chrono::milliseconds> max_lease_in(std::string_view message) {
-    constexpr std::string_view kBefore = "lease_ms must be an integer from 1 to ";
-    const auto at = message.find(kBefore);
-    if (at == std::string_view::npos) {
-        return std::nullopt;
+    for (const std::string_view before :
+         {"lease_ms must be an integer from 1 to ", "duration_ms must be an integer from 1 to "}) {
+        const auto at = message.find(before);
+        if (at == std::string_view::npos) {
+            continue;
+        }
+        const char* first = message.data() + at + before.size();
+        const char* last = message.data() + message.size();
+        long value = 0;
+        const auto [end, error] = std::from_chars(first, last, value);
+        if (error != std::errc{} || end == first || value < 1) {
+            return std::nullopt;
+        }
+        return std::chrono::milliseconds(value);
     }
-    const char* first = message.data() + at + kBefore.size();
-    const char* last = message.data() + message.size();
-    long value = 0;
-    const auto [end, error] = std::from_chars(first, last, value);
-    if (error != std::errc{} || end == first || value < 1) {
-        return std::nullopt;
-    }
-    return std::chrono::milliseconds(value);
+    return std::nullopt;
 }
 
 }  // namespace gport::mavlink::bridge

@@ -1,5 +1,7 @@
 #include "gport/mavlink/bridge/stream_requests.hpp"
 
+#include <fmt/format.h>
+
 namespace gport::mavlink::bridge {
 
 StreamRequests::StreamRequests(const std::vector<Stream>& wanted) {
@@ -55,6 +57,20 @@ std::uint32_t StreamRequests::attempts(std::uint32_t msgid) const {
         }
     }
     return 0;
+}
+
+std::string no_position_warning(std::int32_t image_index, std::uint8_t sysid,
+                                std::chrono::milliseconds max_age, std::uint32_t asked) {
+    return fmt::format(
+        "camera: image_index {} has no position: no GLOBAL_POSITION_INT from the vehicle's "
+        "autopilot (system {} component 1) in the last {} ms{}. Its link to gport-mavlink must "
+        "stream it: ArduPilot: MAVn_POSITION (SRn_POSITION in older firmware; n the serial "
+        "port's MAVLink instance) to 5 Hz or more; PX4: an Onboard link (MAV_x_MODE Onboard; a "
+        "link in Gimbal mode streams no position and answers no SET_MESSAGE_INTERVAL). Said "
+        "once per run",
+        image_index, sysid, max_age.count(),
+        asked > 0 ? fmt::format("; asked for it {} time(s) with SET_MESSAGE_INTERVAL", asked)
+                  : std::string());
 }
 
 }  // namespace gport::mavlink::bridge

@@ -21,6 +21,17 @@
 // the key of a passphrase as MAVProxy derives it) and gport-mavlink runs
 // with the same key (--signing-key): discovery and a pitch/yaw command
 // through a link where every frame both ways is signed and verified.
+// MODE "camera": CAM1_TYPE 6 (MAVLink camera v2) and CAM1_MNT_INST 1 set
+// with PARAM_SET, then a reboot (MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN; SITL
+// re-executes itself without -w, keeping them); gport-mavlink keeps
+// running. The ground station's IMAGE_START_CAPTURE and DO_DIGICAM_CONTROL
+// sent to 1/0 (ArduPilot forwards each to the camera and sends its own
+// IMAGE_START_CAPTURE to 1/100): one photo each in gportd's capture log and
+// on gport-sim's trace, ArduPilot's and the camera's ACKs both ACCEPTED,
+// one CAMERA_IMAGE_CAPTURED each with image_index 0 then 1 and the position
+// (gport-mavlink asked for GLOBAL_POSITION_INT with SET_MESSAGE_INTERVAL
+// again after the reboot; MAVn_POSITION stays at its default), equal to
+// ArduPilot's CAMERA_FEEDBACK, CAMERA_CAPTURE_STATUS.image_count 2.
 //
 // Exits 77 (skipped, saying why) when SITL_DIR has no arducopter.
 const fs = require('fs');
@@ -28,16 +39,23 @@ const net = require('net');
 const path = require('path');
 const { execFileSync } = require('child_process');
 const { PassThrough } = require('stream');
-const { MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2 } = require('node-mavlink');
+const { MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, ardupilotmega } = require('node-mavlink');
 const h = require('./harness');
 
 const [sitlDir, gportdPath, simPath, bridgePath, workRoot, mode = 'gimbal'] = process.argv.slice(2);
 const { check, figures, sleep, until, commandLong, heartbeat } = h;
+const MAV_CMD_DO_DIGICAM_CONTROL = 203;
 const MAV_CMD_DO_MOUNT_CONTROL = 205;
+const MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN = 246;
+const MAV_CMD_REQUEST_MESSAGE = 512;
+const MAV_CMD_IMAGE_START_CAPTURE = 2000;
+const GLOBAL_POSITION_INT = 33;
+const CAMERA_CAPTURE_STATUS = 262;
 const MAV_CMD_COMPONENT_ARM_DISARM = 400;
 const MAV_CMD_SET_MESSAGE_INTERVAL = 511;
 const MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW = 1000;
 const ATTITUDE = 30;
+const REGISTRY = Object.assign({}, h.REGISTRY, ardupilotmega.REGISTRY);
 const YAW_LOCK = 16;
 
 // ---- the ground station on SITL's TCP port
@@ -52,6 +70,7 @@ class GroundStation {
     this.texts = []; // {t, text}
     this.acks = []; // {t, command, result}
     this.headings = []; // VFR_HUD heading or ATTITUDE yaw, degrees
+    this.received = []; // {t, name, header, data}: every message (camera mode)
   }
   connect(port) {
     return new Promise((resolve, reject) => {
@@ -62,9 +81,10 @@ class GroundStation {
       this.socket.pipe(input);
       input.pipe(new MavLinkPacketSplitter()).pipe(new MavLinkPacketParser()).on('data', (packet) => {
         if (packet.signature && this.key && packet.signature.matches(this.key)) this.signedFromSitl += 1;
-        const clazz = h.REGISTRY[packet.header.msgid];
+        const clazz = REGISTRY[packet.header.msgid];
         if (!clazz) return;
         const data = packet.protocol.data(packet.payload, clazz);
+        this.received.push({ t: Date.now(), name: clazz.MSG_NAME, header: packet.header, data });
         if (clazz.MSG_NAME === 'STATUSTEXT') this.texts.push({ t: Date.now(), text: data.text.replace(/\0+$/, '') });
         if (clazz.MSG_NAME === 'COMMAND_ACK') this.acks.push({ t: Date.now(), command: data.command, result: data.result });
         if (clazz.MSG_NAME === 'ATTITUDE') this.headings.push(h.deg(data.yaw));
@@ -79,6 +99,10 @@ class GroundStation {
   }
   command(command, params) { this.send(commandLong(command, { params, targetSystem: 1, targetComponent: 1 })); }
   text(re, since = 0) { return this.texts.find((m) => m.t >= since && re.test(m.text)); }
+  since(t, name) { return this.received.filter((r) => r.t >= t && r.name === name); }
+  commandTo(command, params, targetComponent) {
+    this.send(commandLong(command, { params, targetSystem: 1, targetComponent }));
+  }
   close() { this.socket.destroy(); }
 }
 
@@ -198,6 +222,129 @@ async function quietChecks(gcs, gportd, bridge) {
   check(bridgeLines.length <= 2, `gport-mavlink wrote ${bridgeLines.length} lines in 4 s`);
 }
 
+// ---- camera mode: CAM1_TYPE 6 by PARAM_SET and a reboot, then photos.
+async function setParam(gcs, name, value) {
+  const m = new h.common.ParamSet();
+  m.targetSystem = 1; m.targetComponent = 1; m.paramId = name; m.paramValue = value; m.paramType = 2; // INT8
+  const t0 = Date.now();
+  for (let i = 0; i < 10; i += 1) {
+    gcs.send(m);
+    const echo = await until(() => gcs.since(t0, 'PARAM_VALUE').find((p) => p.data.paramId.replace(/\0+$/, '') === name),
+      500, name).catch(() => null);
+    if (echo) return echo.data.paramValue;
+  }
+  return NaN;
+}
+async function readParam(gcs, name) {
+  const m = new h.common.ParamRequestRead();
+  m.targetSystem = 1; m.targetComponent = 1; m.paramId = name; m.paramIndex = -1;
+  const t0 = Date.now();
+  for (let i = 0; i < 10; i += 1) {
+    gcs.send(m);
+    const v = await until(() => gcs.since(t0, 'PARAM_VALUE').find((p) => p.data.paramId.replace(/\0+$/, '') === name),
+      500, name).catch(() => null);
+    if (v) return v.data.paramValue;
+  }
+  return NaN;
+}
+
+// PARAM_SET, then MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN: SITL re-executes
+// itself (same pid, without -w: the parameters stay) and opens its ports
+// again; the ground station reconnects. SITL writes parameters to its
+// eeprom.bin in the background: a reboot right after PARAM_SET (one run:
+// SITL 0.2 s old) came back with CAM1_TYPE 0, so 2 s pass before the
+// reboot, and a parameter that did not survive is set again (at most 3
+// reboots; the figures say how many). Resolves with the time of the last
+// reboot and the count of gport-mavlink's lines before it.
+async function setUpCamera(gcs, gcsPort, bridge) {
+  await until(() => gcs.since(0, 'HEARTBEAT').find((m) => m.header.compid === 1), 20000, "SITL's heartbeat").catch(() => null);
+  let [type, mount, reboot] = [NaN, NaN, null];
+  for (let boot = 1; boot <= 3 && !(type === 6 && mount === 1); boot += 1) {
+    type = await setParam(gcs, 'CAM1_TYPE', 6);
+    mount = await setParam(gcs, 'CAM1_MNT_INST', 1);
+    check(type === 6 && mount === 1, `PARAM_SET: CAM1_TYPE reads back ${type}, CAM1_MNT_INST ${mount}`);
+    await sleep(2000);
+    const closed = new Promise((resolve) => gcs.socket.once('close', resolve));
+    reboot = { rebooted: Date.now(), mark: bridge.lines.length };
+    gcs.command(MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN, [1, 0, 0, 0, 0, 0, 0]);
+    const ack = await until(() => gcs.acks.find((a) => a.t >= reboot.rebooted && a.command === MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN),
+      5000, 'the reboot ACK').catch(() => null);
+    check(ack && ack.result === 0, `MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN: ACK ${ack && ack.result}`);
+    await Promise.race([closed, sleep(10000)]);
+    figures.push(`reboot ${boot}: SITL closed the ground station's connection ${Date.now() - reboot.rebooted} ms after the command`);
+    await connectGcs(gcs, gcsPort);
+    [type, mount] = [await readParam(gcs, 'CAM1_TYPE'), await readParam(gcs, 'CAM1_MNT_INST')];
+    figures.push(`after reboot ${boot}: CAM1_TYPE ${type}, CAM1_MNT_INST ${mount}`);
+  }
+  check(type === 6 && mount === 1, `after the reboot CAM1_TYPE reads ${type}, CAM1_MNT_INST ${mount}`);
+  return reboot;
+}
+
+// One ground-station command to 1/0 (as a ground station's camera button
+// sends it to the vehicle): ArduPilot forwards it to the camera and sends
+// its own IMAGE_START_CAPTURE to 1/100. One photo, both ACKs ACCEPTED.
+async function onePhoto(what, gcs, bridge, sock, command, params) {
+  const listed = async () => ((await h.rpc(sock, 'captures', { limit: 100 })).result.captures || []).filter((c) => c.kind === 'photo');
+  const before = (await listed()).length;
+  const t0 = Date.now();
+  gcs.commandTo(command, params, 0);
+  await until(() => gcs.since(t0, 'CAMERA_IMAGE_CAPTURED').length > 0, 5000, 'CAMERA_IMAGE_CAPTURED').catch(() => null);
+  await sleep(1500); // a second photo, ACK or CAMERA_IMAGE_CAPTURED would be here by now
+  const logged = await listed();
+  const frames = h.cameraFrames(t0).filter((f) => f.j.action === 'photo');
+  const acks = gcs.since(t0, 'COMMAND_ACK').filter((a) => a.data.command === command)
+    .map((a) => `${a.header.sysid}/${a.header.compid}:${a.data.result}`).sort();
+  const captured = gcs.since(t0, 'CAMERA_IMAGE_CAPTURED');
+  const feedback = gcs.since(t0, 'CAMERA_FEEDBACK');
+  const merged = bridge.lines.filter((l) => /the same photo \(one command, one photo\)/.test(l));
+  const gap = (merged.length ? merged[merged.length - 1].match(/came ([\d.]+) ms after/) : null);
+  figures.push(`${what} to 1/0: ${logged.length - before} photo(s) in gportd's capture log, ${frames.length} photo frame(s), ` +
+    `the second command ${gap ? gap[1] + ' ms' : '?'} after the first, ` +
+    `ACKs ${acks.join(' ')} (from:result), ${captured.length} CAMERA_IMAGE_CAPTURED, ${feedback.length} CAMERA_FEEDBACK from ArduPilot`);
+  check(logged.length - before === 1 && frames.length === 1,
+    `${what} to 1/0: exactly one photo (${logged.length - before} in gportd's capture log, ${frames.length} on gport-sim's trace)`);
+  check(acks.join() === '1/100:0,1/1:0', `${what}: ArduPilot's ACK and the camera's, both ACCEPTED: ${acks.join(', ')}`);
+  check(captured.length === 1, `${what}: one CAMERA_IMAGE_CAPTURED (${captured.length})`);
+  check(feedback.length === 1, `${what}: ArduPilot logged one image (${feedback.length} CAMERA_FEEDBACK)`);
+  return { captured: captured[0], feedback: feedback[0], logged: logged[logged.length - 1] };
+}
+
+async function cameraChecks(gcs, bridge, sock, mark) {
+  // The bridge asks for the position again (its stream stopped with the
+  // reboot) and ArduPilot accepts.
+  const accepted = await until(() => bridge.lines.slice(mark).filter((l) => /answered SET_MESSAGE_INTERVAL with result 0/.test(l))
+    .length >= 2, 30000, 'the stream requests').catch(() => false);
+  check(accepted, 'after the reboot gport-mavlink asked again for GLOBAL_POSITION_INT and ATTITUDE and ArduPilot ACCEPTED');
+  await sleep(1500);
+  const shots = [];
+  shots.push(await onePhoto('IMAGE_START_CAPTURE', gcs, bridge, sock, MAV_CMD_IMAGE_START_CAPTURE, [0, 0, 1, 0, 0, 0, 0]));
+  shots.push(await onePhoto('DO_DIGICAM_CONTROL (shot)', gcs, bridge, sock, MAV_CMD_DO_DIGICAM_CONTROL, [0, 0, 0, 0, 1, 0, 0]));
+  check(bridge.lines.filter((l) => /the same photo \(one command, one photo\)/.test(l)).length === 2,
+    'gport-mavlink took each second command as the same photo (two "one command, one photo" lines)');
+  // image_index zero-based, image_count - 1 of the capture status.
+  const t0 = Date.now();
+  gcs.commandTo(MAV_CMD_REQUEST_MESSAGE, [CAMERA_CAPTURE_STATUS], 100);
+  const status = await until(() => gcs.since(t0, 'CAMERA_CAPTURE_STATUS')[0], 5000, 'CAMERA_CAPTURE_STATUS').catch(() => null);
+  const indexes = shots.map((s) => (s.captured ? s.captured.data.imageIndex : null));
+  check(status && indexes.join() === '0,1' && status.data.imageCount === 2,
+    `image_index ${indexes.join(', ')}; CAMERA_CAPTURE_STATUS.image_count ${status && status.data.imageCount} (the last index + 1)`);
+  // The geotag: ArduPilot's position, as ArduPilot logged the image.
+  const position = gcs.since(t0 - 5000, 'GLOBAL_POSITION_INT').pop();
+  for (const [i, s] of shots.entries()) {
+    const c = s.captured && s.captured.data;
+    const f = s.feedback && s.feedback.data;
+    const m = s.logged && s.logged.meta;
+    const metres = (lat1, lon1, lat2, lon2) => Math.hypot((lat1 - lat2) * 111320, (lon1 - lon2) * 111320 * Math.cos(h.rad(lat1)));
+    const offFeedback = c && f ? metres(c.lat / 1e7, c.lon / 1e7, f.lat / 1e7, f.lng / 1e7) : NaN;
+    const offGcs = c && position ? metres(c.lat / 1e7, c.lon / 1e7, position.data.lat / 1e7, position.data.lon / 1e7) : NaN;
+    figures.push(`photo ${i}: lat ${c && c.lat / 1e7} lon ${c && c.lon / 1e7} alt ${c && c.alt / 1000} m; ` +
+      `${offFeedback.toFixed(2)} m from ArduPilot's CAMERA_FEEDBACK (img_idx ${f && f.imgIdx}), ${offGcs.toFixed(2)} m from its GLOBAL_POSITION_INT; meta ${JSON.stringify(m)}`);
+    check(c && c.lat !== 0 && c.lon !== 0 && offFeedback < 1 && m && Math.abs(m.lat - c.lat / 1e7) < 1e-6 && Math.abs(m.lon - c.lon / 1e7) < 1e-6,
+      `photo ${i} carries ArduPilot's position (${offFeedback.toFixed(2)} m from its CAMERA_FEEDBACK), the same in gportd's capture log`);
+  }
+  check(!bridge.lines.some((l) => /has no position/.test(l)), 'no photo without a position');
+}
+
 // Geotag by default (issue 31 item 4): ArduPilot's SERIAL1 streams no
 // GLOBAL_POSITION_INT at its default rates; the bridge asks with
 // SET_MESSAGE_INTERVAL, ArduPilot accepts, and the stream comes (no
@@ -229,7 +376,8 @@ async function main() {
     fs.mkdirSync(path.join(workRoot, 'state'));
     bridgeArgs.push('--signing-key', keyFile, '--state-dir', path.join(workRoot, 'state'));
   }
-  if (mode === 'gimbal') bridgeArgs.push('--log-level', 'debug'); // the stream requests' retries
+  // The stream requests' retries and answers are logged at debug.
+  if (mode === 'gimbal' || mode === 'camera') bridgeArgs.push('--log-level', 'debug');
   const bridge = h.start(workRoot, 'gport-mavlink', bridgePath, bridgeArgs);
   const gcsPort = await freeBasePort();
   const started = Date.now();
@@ -246,12 +394,19 @@ async function main() {
     beat();
     const beats = setInterval(beat, 1000);
     if (mode === 'signed') await setUpSigning(gcs, key);
-    const found = await until(() => gcs.text(/Mount: HEQUAV G-Port/), 40000, 'the Mount STATUSTEXT').catch(() => null);
+    let [since, mark] = [0, 0];
+    if (mode === 'camera') {
+      ({ rebooted: since, mark } = await setUpCamera(gcs, gcsPort, bridge));
+      gcs.command(MAV_CMD_SET_MESSAGE_INTERVAL, [GLOBAL_POSITION_INT, 200000, 0, 0, 0, 0, 0]);
+      figures.push(`reboot ${((since - started) / 1000).toFixed(1)} s after SITL started`);
+    }
+    const found = await until(() => gcs.text(/Mount: HEQUAV G-Port/, since), 40000, 'the Mount STATUSTEXT').catch(() => null);
     figures.push(`discovery ${((Date.now() - started) / 1000).toFixed(1)} s after SITL started`);
     check(found !== null, `discovery: "${found ? found.text : 'no Mount STATUSTEXT'}"`);
     if (found) {
       if (mode === 'quiet') await quietChecks(gcs, gportd, bridge);
       else if (mode === 'signed') await signedChecks(gcs, bridge);
+      else if (mode === 'camera') await cameraChecks(gcs, bridge, sock, mark);
       else {
         await gimbalChecks(gcs, sitl, sim);
         streamChecks(bridge);

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace gport::mavlink::bridge {
@@ -56,5 +57,12 @@ class StreamRequests {
     std::vector<State> states_;
     std::optional<Clock::time_point> heartbeat_;  // the first
 };
+
+// The one warning for a photo without a position: what to set on each
+// autopilot. PX4's Gimbal-mode link streams no GLOBAL_POSITION_INT and
+// answered no SET_MESSAGE_INTERVAL in SITL (issue 31): its remedy is an
+// Onboard link. `asked`: the requests sent since the position last came.
+std::string no_position_warning(std::int32_t image_index, std::uint8_t sysid,
+                                std::chrono::milliseconds max_age, std::uint32_t asked);
 
 }  // namespace gport::mavlink::bridge
