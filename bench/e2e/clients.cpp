@@ -3,6 +3,7 @@
 #include <sys/epoll.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -173,6 +174,12 @@ void ClientHub::adopt(std::vector<Subscriber> measured) {
     for (auto& s : measured) {
         subscribers_.push_back(std::move(s));
     }
+}
+
+bool ClientHub::caught_up(std::uint32_t last) const {
+    return std::all_of(subscribers_.begin(), subscribers_.end(), [last](const Subscriber& s) {
+        return s.closed || (!s.receipts.empty() && s.receipts.back().counter >= last);
+    });
 }
 
 std::uint64_t ClientHub::flood_replies() const {

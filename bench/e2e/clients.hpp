@@ -52,6 +52,9 @@ class ClientHub {
     void run_for(int duration_ms);
 
     const std::vector<Subscriber>& subscribers() const { return subscribers_; }
+    // Every subscriber has the line of the frame with counter `last` (or a
+    // later one), or its connection closed.
+    bool caught_up(std::uint32_t last) const;
     // Adds readers measured elsewhere (the shared-memory channel's) to the
     // subscribers the report counts; they are not served by this hub.
     void adopt(std::vector<Subscriber> measured);

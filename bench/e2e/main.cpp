@@ -75,6 +75,21 @@ struct AttackResult {
     std::string ping_error;
 };
 
+// Lines still on their way: a loaded machine delays them, it does not lose
+// them. Serves the subscribers until every reader has the last frame
+// written, for at least 300 ms and at most 5 s; what is still missing then
+// is counted as missing.
+void drain(ClientHub& hub, const ShmReaders* shm, const SocketReaders* threaded,
+           std::uint32_t last) {
+    const auto deadline = now_ns() + 5'000'000'000LL;
+    hub.run_for(300);
+    while (now_ns() < deadline &&
+           !(hub.caught_up(last) && (shm == nullptr || shm->caught_up(last)) &&
+             (threaded == nullptr || threaded->caught_up(last)))) {
+        hub.run_for(50);
+    }
+}
+
 CellResult run_cell(const Options& options, const std::string& dir, AttackResult& attack) {
     CellResult r;
     r.rate_hz = options.rate_hz;
@@ -159,8 +174,8 @@ CellResult run_cell(const Options& options, const std::string& dir, AttackResult
     attack.pings = pinger.stats();
     attack.ping_error = pinger.error();
     hub.stop_flood();
-    hub.run_for(300);  // lines still on their way
     gimbal.stop_stream();
+    drain(hub, shm.get(), threaded.get(), gimbal.frames_written());
     if (shm) {
         shm->stop();
         hub.adopt(shm->take_results());

@@ -4,6 +4,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -91,6 +92,7 @@ struct ShmReaders::Reader {
     Subscriber result;           // its reported_dropped counts the samples missed
     std::uint64_t cursor = 0;
     std::uint32_t last = 0;
+    std::atomic<std::uint32_t> last_seen{0};  // `last`, for caught_up() on another thread
     std::atomic<std::uint64_t> wakes{0};
 
     bool owner = true;  // false: it shares another reader's connection and mappings
@@ -182,6 +184,7 @@ bool ShmReaders::take(Reader& reader) {
         reader.last = counter != 0 ? counter : reader.last;
         out.receipts.push_back({counter, t});
     }
+    reader.last_seen.store(reader.last, std::memory_order_relaxed);
     return !ring.closed();
 }
 
@@ -212,6 +215,12 @@ std::vector<Subscriber> ShmReaders::take_results() {
         results.back().subscribed = true;
     }
     return results;
+}
+
+bool ShmReaders::caught_up(std::uint32_t last) const {
+    return std::all_of(readers_.begin(), readers_.end(), [last](const auto& reader) {
+        return reader->last_seen.load(std::memory_order_relaxed) >= last;
+    });
 }
 
 std::uint64_t ShmReaders::wakes() const {

@@ -36,6 +36,8 @@ class ShmReaders {
     void start();
     // Stops and joins them (a waiting reader notices within 100 ms).
     void stop();
+    // Every reader has taken the frame with counter `last` (or a later one).
+    bool caught_up(std::uint32_t last) const;
 
     // What each reader read, as a Subscriber (receipts, out_of_order, and
     // the samples it missed in reported_dropped), for the report's

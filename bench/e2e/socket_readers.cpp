@@ -30,6 +30,8 @@ struct SocketReaders::Reader {
     std::string pending;
     Subscriber result;
     std::atomic<bool> subscribed{false};
+    std::atomic<std::uint32_t> last_seen{0};  // for caught_up() on another thread
+    std::atomic<bool> closed{false};
 };
 
 SocketReaders::SocketReaders(const std::string& socket, int count, std::size_t expected_lines) {
@@ -80,6 +82,7 @@ void SocketReaders::run(Reader& reader) {
         }
         if (n <= 0) {
             out.closed = true;
+            reader.closed = true;
             return;
         }
         const auto t = now_ns();
@@ -101,7 +104,14 @@ void SocketReaders::run(Reader& reader) {
             out.reported_dropped = std::max(out.reported_dropped, dropped_field(line));
         }
         reader.pending.erase(0, start);
+        reader.last_seen.store(last, std::memory_order_relaxed);
     }
+}
+
+bool SocketReaders::caught_up(std::uint32_t last) const {
+    return std::all_of(readers_.begin(), readers_.end(), [last](const auto& reader) {
+        return reader->closed.load() || reader->last_seen.load(std::memory_order_relaxed) >= last;
+    });
 }
 
 std::vector<Subscriber> SocketReaders::take_results() {

@@ -27,6 +27,9 @@ class SocketReaders {
 
     // Stops and joins the threads (a blocked read() times out within 100 ms).
     void stop();
+    // Every reader has the line of the frame with counter `last` (or a later
+    // one), or its connection closed.
+    bool caught_up(std::uint32_t last) const;
     // What each read, for the report. Valid after stop().
     std::vector<Subscriber> take_results();
 

@@ -174,6 +174,7 @@ async function main() {
   const broadcast = (command, params) => commandLong(command, { params, targetComponent: 0 });
   const bothAcks = async (t, n) => {
     await until(() => fromCamera(vehicle, t, 'COMMAND_ACK').length >= n, 5000, `${n} ACKs`).catch(() => null);
+    await until(() => photos(t).length >= 1, 5000, 'a photo frame').catch(() => null);
     await sleep(300);
     return fromCamera(vehicle, t, 'COMMAND_ACK').map((a) => `${a.data.command}:${a.data.result}->${a.data.targetSystem}`).sort();
   };

@@ -94,12 +94,23 @@ function rpc(socketPath, method, params) {
 }
 
 // ---- gport-sim (with --trace) and gportd on it
-const trace = []; // {t: our clock, hr: performance.now(), j: trace JSON}
-function onTrace(line) {
-  try { trace.push({ t: Date.now(), hr: performance.now(), j: JSON.parse(line) }); } catch (e) { /* not JSON */ }
+// {t: our clock when read, hr: performance.now(), j: trace JSON, sim: its clock}
+const trace = [];
+// On a loaded machine a trace line may be read long after gport-sim wrote
+// it. Each line carries t_ms, gport-sim's own time since it started; a
+// frame's time on our clock is t_ms plus that gport-sim's offset, the
+// smallest (read time - t_ms) seen (a line read at once). So a frame that
+// is read late is still counted with the command that caused it.
+function onTrace(line, sim) {
+  let j;
+  try { j = JSON.parse(line); } catch (e) { return; /* not JSON */ }
+  const t = Date.now();
+  if (typeof j.t_ms === 'number') sim.offset = Math.min(sim.offset, t - j.t_ms);
+  trace.push({ t, hr: performance.now(), j, sim });
 }
-const controlFrames = (since) => trace.filter((e) => e.t >= since && e.j.cmd === '0x85');
-const cameraFrames = (since) => trace.filter((e) => e.t >= since && e.j.cmd === '0x86');
+const sentAt = (e) => (typeof e.j.t_ms === 'number' ? e.sim.offset + e.j.t_ms : e.t);
+const controlFrames = (since) => trace.filter((e) => sentAt(e) >= since && e.j.cmd === '0x85');
+const cameraFrames = (since) => trace.filter((e) => sentAt(e) >= since && e.j.cmd === '0x86');
 // The trace shows raw values: hundredths of a degree (per second).
 const sameAxes = (raw, degrees, tol = 0) => Array.isArray(raw) && raw.length === 3 &&
   raw.every((v, i) => Math.abs(v - Math.round(degrees[i] * 100)) <= tol * 100);
@@ -115,8 +126,9 @@ async function startGimbal(workRoot, gportdPath, simPath, gportdConfig) {
     requests: { timeout_ms: 200, retries: 1 },
     camera: { max_commands_per_s: 1000 },
   }));
+  const simClock = { offset: Infinity };
   const sim = start(workRoot, 'gport-sim', simPath, ['--link', link, '--trace', '--form', '24'],
-    { onLine: onTrace });
+    { onLine: (line) => onTrace(line, simClock) });
   await until(() => fs.existsSync(link), 10000, 'the simulator link');
   const gportd = start(workRoot, 'gportd', gportdPath,
     ['--config', config, '--socket', sock, '--device', link, '--log-level', 'info']);
