@@ -10,9 +10,10 @@
 #   2. ARM (scripts/test-arm.sh): arm64 cross build and every test under
 #      qemu-user; armhf cross build and the unit suites (GPORT_ARM=skip
 #      leaves them out);
-#   3. ASan+UBSan build, all tests;
-#   4. clang libFuzzer build, each fuzzer for $GPORT_FUZZ_SECONDS (40) on its
-#      corpus, one per core at a time.
+#   3. ASan+UBSan build with clang-14, the libFuzzer targets in it; all tests
+#      (but the source checks of stage 1);
+#   4. each fuzzer for $GPORT_FUZZ_SECONDS (40) on its corpus, one per core
+#      at a time.
 # The ArduCopter and PX4 SITL tests run in the Release stage only (GPORT_SITL_TESTS).
 # Used word for word by .ci/run. The builds are unity builds (each target's
 # sources compiled as one unit), which halves the compile time on a 2-core
@@ -76,24 +77,26 @@ else
   scripts/test-arm.sh
 fi
 
-stage "ASan+UBSan build"
-cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGPORT_SANITIZE=ON \
-  -DGPORT_BUILD_BENCH=OFF -DGPORT_WERROR=ON -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 \
-  -DGPORT_SITL_TESTS=OFF "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1"
+# One clang-14 build for the sanitizers and the fuzzers: the libraries the
+# fuzzers link are instrumented for both, so the fuzz targets need no build
+# of their own.
+stage "ASan+UBSan build (clang-14), the fuzzers with it"
+CC=clang-14 CXX=clang++-14 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DGPORT_SANITIZE=ON -DGPORT_BUILD_FUZZ=ON -DGPORT_BUILD_BENCH=OFF -DGPORT_WERROR=ON \
+  -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_SITL_TESTS=OFF \
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1"
 cmake --build build/asan -j "$jobs"
 stage "ASan+UBSan tests"
+# The checks of the sources themselves (layering, man pages) ran in the
+# Release stage: they do not depend on how the code was built.
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs"
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE '^(layering|man)$'
 
-stage "Fuzz build (clang-14, libFuzzer)"
-CC=clang-14 CXX=clang++-14 cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DGPORT_BUILD_FUZZ=ON -DGPORT_BUILD_TESTS=OFF -DGPORT_BUILD_BENCH=OFF
 # One fuzzer per corpus folder: fuzz/corpus/<name>/ seeds <name>_fuzz.
 fuzzers=()
 for corpus in fuzz/corpus/*/; do
   fuzzers+=("$(basename "$corpus")_fuzz")
 done
-cmake --build build/fuzz -j "$jobs" --target "${fuzzers[@]}"
 # Each fuzzer runs for its full time; $jobs of them at once (they are
 # single-threaded), each log printed when it ends.
 fuzz_one() {
@@ -101,7 +104,7 @@ fuzz_one() {
   work=$(mktemp -d)
   log=$(mktemp)
   cp -r "fuzz/corpus/$name/". "$work/"
-  if ! "build/fuzz/fuzz/${name}_fuzz" -max_total_time="$fuzz_seconds" -print_final_stats=1 \
+  if ! "build/asan/fuzz/${name}_fuzz" -max_total_time="$fuzz_seconds" -print_final_stats=1 \
       "$work" >"$log" 2>&1; then
     echo "== ${name}_fuzz FAILED"
     tail -n 60 "$log"

@@ -175,7 +175,7 @@ class HostileServer {
 // Peak RSS says nothing under AddressSanitizer (shadow memory, the
 // quarantine of freed blocks): there the tests check their other bounds
 // (counts, bytes read, errors), with smaller floods.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || defined(GPORT_SANITIZED)
 inline constexpr bool kRssMeasured = false;
 #else
 inline constexpr bool kRssMeasured = true;

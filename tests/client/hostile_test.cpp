@@ -109,7 +109,10 @@ TEST(HostileServer, NestingAtTheLimitIsReadAndOneLevelMoreIsNot) {
 
 // The stack overflow of issue 22: a reply whose result nests a million deep.
 TEST(HostileServer, AReplyNestedAMillionDeepEndsTheConnection) {
-    for (const auto& [open, close] : {std::pair{"[", "]"}, std::pair{R"({"a":)", "}"}}) {
+    for (const auto& brackets : {std::pair{"[", "]"}, std::pair{R"({"a":)", "}"}}) {
+        // (not a structured binding: clang 14 cannot capture one in a lambda)
+        const char* open = brackets.first;
+        const char* close = brackets.second;
         HostileServer server([&](HostilePeer& peer, const json& request) {
             std::string deep;
             for (int i = 0; i < 1'000'000; ++i) {
@@ -136,7 +139,8 @@ TEST(HostileServer, LinesThatAreNotJsonObjectsEndTheConnection) {
         {"[1,2,3]\n", "not a JSON object (array)"},
         {"\"hello\"\n", "not a JSON object (string)"},
     };
-    for (const auto& [line, reason] : cases) {
+    for (const auto& [line_text, reason] : cases) {
+        const std::string& line = line_text;  // captured below: clang 14 cannot capture a binding
         HostileServer server([&](HostilePeer& peer, const json&) { peer.send(line); });
         auto client = gc::Client::connect(server.path());
         const auto e = error_of([&] { client.status(); });
