@@ -48,12 +48,23 @@ const char* signal_name(int sig) {
 }
 
 // What to do when the socket's path is not ours (gportd(8), "EXIT STATUS";
-// README.md, "Without root").
-constexpr const char* kSocketAccessHint =
-    "as a user, serve a socket in a directory you may write, e.g. gportd --simulate "
-    "--socket \"$XDG_RUNTIME_DIR/gportd.sock\" (and gportctl --socket, or GPORT_SOCKET, "
-    "for the clients); or run the installed service (systemctl start gportd) and join "
-    "the gport group to use its socket";
+// README.md, "Without root"). The directory suggested is one the user has:
+// $XDG_RUNTIME_DIR where the login made one, else (su -, a cron job, no
+// systemd user session) their home directory.
+std::string socket_access_hint() {
+    const char* runtime = std::getenv("XDG_RUNTIME_DIR");
+    const bool has_runtime = runtime != nullptr && *runtime == '/';
+    const std::string socket =
+        has_runtime ? "\"$XDG_RUNTIME_DIR/gportd.sock\"" : "\"$HOME/gportd.sock\"";
+    return fmt::format(
+        "as a user, serve a socket in a directory you may write, e.g. gportd --simulate "
+        "--socket {}{} (and gportctl --socket, or GPORT_SOCKET, for the clients); or run the "
+        "installed service (systemctl start gportd) and join the gport group to use its socket",
+        socket,
+        has_runtime ? ""
+                    : " (XDG_RUNTIME_DIR is not set here: a login without a user session, "
+                      "such as su -)");
+}
 
 // What a reload reads, for its log lines.
 std::string config_source(const config::CommandLine& command_line) {
@@ -135,7 +146,7 @@ class Daemon {
             return false;
         } catch (const ipc::SocketAccessError& e) {
             log_->critical("{}", e.what());
-            log_->critical("{}", kSocketAccessHint);
+            log_->critical("{}", socket_access_hint());
             return false;
         } catch (const std::exception& e) {
             log_->critical("{}", e.what());

@@ -38,29 +38,45 @@ TEST(DaemonProcess, ConfigErrorExits78BeforeTouchingTheGimbal) {
 }
 
 // The non-root quick start: a user cannot create the socket (as for
-// /run/gportd.sock); gportd exits 1 and says how to run without root.
+// /run/gportd.sock); gportd exits 1 and says how to run without root, in a
+// directory the user has: $XDG_RUNTIME_DIR, or $HOME where the login set
+// none (su -), saying so.
 TEST(DaemonProcess, SocketAUserMayNotCreateExits1WithTheNonRootWay) {
     TempDir dir;
     const std::string locked = dir.file("locked");
     ASSERT_EQ(::chmod(dir.path().c_str(), 0755), 0);
     ASSERT_EQ(::mkdir(locked.c_str(), 0555), 0);
-    // stderr into the captured stdout; as uid 65534 when we are root (CI),
-    // for whom the directory's mode does not count.
-    std::vector<std::string> argv{"/bin/sh", "-c", "exec \"$0\" \"$@\" 2>&1"};
-    if (::geteuid() == 0) {
-        argv.insert(argv.end(),
-                    {"/usr/bin/setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", "--"});
+    for (const bool runtime_dir : {true, false}) {
+        // stderr into the captured stdout; as uid 65534 when we are root
+        // (CI), for whom the directory's mode does not count.
+        std::vector<std::string> argv{"/bin/sh", "-c", "exec \"$0\" \"$@\" 2>&1", "/usr/bin/env"};
+        if (runtime_dir) {
+            argv.push_back("XDG_RUNTIME_DIR=/run/user/65534");
+        } else {
+            argv.insert(argv.end(), {"-u", "XDG_RUNTIME_DIR"});
+        }
+        if (::geteuid() == 0) {
+            argv.insert(argv.end(), {"/usr/bin/setpriv", "--reuid=65534", "--regid=65534",
+                                     "--clear-groups", "--"});
+        }
+        argv.insert(argv.end(), {GPORTD_PATH, "--simulate", "--socket", locked + "/gportd.sock"});
+        Process p(argv);
+        std::string out;
+        while (auto line = p.next_line()) {  // until gportd exits
+            out += *line + "\n";
+        }
+        EXPECT_EQ(p.wait(), 1) << out;
+        EXPECT_NE(out.find("cannot bind: Permission denied"), std::string::npos) << out;
+        if (runtime_dir) {
+            EXPECT_NE(out.find("--socket \"$XDG_RUNTIME_DIR/gportd.sock\""), std::string::npos)
+                << out;
+        } else {
+            EXPECT_NE(out.find("--socket \"$HOME/gportd.sock\" (XDG_RUNTIME_DIR is not set"),
+                      std::string::npos)
+                << out;
+        }
+        EXPECT_NE(out.find("gport group"), std::string::npos) << out;
     }
-    argv.insert(argv.end(), {GPORTD_PATH, "--simulate", "--socket", locked + "/gportd.sock"});
-    Process p(argv);
-    std::string out;
-    while (auto line = p.next_line()) {  // until gportd exits
-        out += *line + "\n";
-    }
-    EXPECT_EQ(p.wait(), 1) << out;
-    EXPECT_NE(out.find("cannot bind: Permission denied"), std::string::npos) << out;
-    EXPECT_NE(out.find("--socket \"$XDG_RUNTIME_DIR/gportd.sock\""), std::string::npos) << out;
-    EXPECT_NE(out.find("gport group"), std::string::npos) << out;
 }
 
 TEST(DaemonProcess, HelpAndVersionExitZero) {
