@@ -74,6 +74,9 @@ unset(_gport_udevdir)
 # ${CMAKE_INSTALL_DOCDIR}, which the units' Documentation= lines point to.
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}
         FILES_MATCHING PATTERN "*.md")
+# gport-mavlink's config with every key at its default, to copy to
+# /etc/gportd/mavlink.json and edit (docs/mavlink.md, "Options").
+install(FILES ${CMAKE_SOURCE_DIR}/config/mavlink.json DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples)
 
 # ---- Debian package: cpack -G DEB -----------------------------------------
 set(CPACK_PACKAGE_NAME "gportd")

@@ -38,6 +38,23 @@ TEST(Options, Defaults) {
     EXPECT_EQ(out.options->lease_ms, 500U);
 }
 
+// config/mavlink.json, installed as the example (docs/mavlink.md): every key
+// at its default, so copying it to /etc/gportd/mavlink.json changes nothing
+// until edited.
+TEST(Options, TheShippedExampleHoldsTheDefaults) {
+    const auto defaults = parse({});
+    const auto example = parse({"--config", GPORT_MAVLINK_EXAMPLE});
+    ASSERT_TRUE(defaults.options && example.options) << example.text;
+    EXPECT_EQ(example.options->socket, defaults.options->socket);
+    EXPECT_EQ(to_string(example.options->mavlink), to_string(defaults.options->mavlink));
+    EXPECT_EQ(example.options->sysid, defaults.options->sysid);
+    EXPECT_EQ(example.options->gcs_sysids, defaults.options->gcs_sysids);
+    EXPECT_EQ(example.options->compid, defaults.options->compid);
+    EXPECT_EQ(example.options->camera, defaults.options->camera);
+    EXPECT_EQ(example.options->attitude_rate_hz, defaults.options->attitude_rate_hz);
+    EXPECT_EQ(example.options->lease_ms, defaults.options->lease_ms);
+}
+
 TEST(Options, EnvironmentSocketAndCommandLine) {
     const auto out = parse({"--mavlink", "udpout:127.0.0.1:14555", "--sysid", "3", "--compid",
                             "155", "--attitude-rate", "20", "--lease-ms", "300", "--invert-yaw"},

@@ -38,6 +38,7 @@ for pattern in '^\./usr/bin/gportd$' '^\./usr/bin/gportctl$' '^\./usr/bin/gport-
                '^\./usr/bin/gport-mavlink$' '/systemd/system/gport-mavlink\.service$' \
                '/systemd/system/gport-mavlink@\.service$' '/sysusers\.d/gport-mavlink\.conf$' \
                '^\./etc/gportd/gportd\.json$' '^\./usr/share/doc/gportd/operations\.md$' \
+               '^\./usr/share/doc/gportd/examples/mavlink\.json$' \
                '^\./usr/share/bash-completion/completions/gportctl$' \
                '^\./usr/share/zsh/vendor-completions/_gportctl$' \
                '/libgport-client\.so\.1$' '/libgport-client\.so$' \
