@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <span>
 
+#include "gport/app/config_error_server.hpp"
 #include "gport/app/daemon.hpp"
 #include "gport/config/command_line.hpp"
 #include "gport/config/loader.hpp"
@@ -25,6 +26,14 @@ int main(int argc, char** argv) {
     }
     const auto config = cfg::load_config(*command_line);
     if (!config) {
+        // Under socket activation, exiting would only make systemd start us
+        // again for the waiting client, into the start limit: serve the
+        // error instead (docs/operations.md, "A bad configuration under
+        // systemd").
+        if (auto status =
+                gport::app::serve_config_error_if_activated(config.error().text(), *command_line)) {
+            return *status;
+        }
         std::fprintf(stderr, "gportd: configuration error:\n%s", config.error().text().c_str());
         return cfg::kExitConfig;
     }

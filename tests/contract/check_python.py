@@ -39,6 +39,7 @@ PYTHON_CLASS = {
     "kBusy": "Busy",
     "kNoSlot": "NoSlot",
     "kTooManyRequests": "TooManyRequests",
+    "kConfigInvalid": "ConfigInvalid",
 }
 
 

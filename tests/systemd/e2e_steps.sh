@@ -305,6 +305,38 @@ check "only gimbal1's simulator got that speed" \
     sh -c "journalctl -q -o cat -u gimbal1-sim | grep -q '\"speed\":\[0,500,0\]' \
            && ! journalctl -q -o cat -u gimbal0-sim | grep -q '\"speed\":\[0,500,0\]'"
 
+# ---- 7b ----------------------------------------------------------------------
+step "7b. a bad configuration and a client retrying in a loop: no lock-out"
+cp /etc/gportd/gportd.json /tmp/gportd.json.good
+sed -i 's/"baud": 115200/"baud": 115201/' /etc/gportd/gportd.json
+systemctl reset-failed gportd.service gportd.socket 2>/dev/null
+restarts() { systemctl show -p NRestarts --value gportd.service; }
+before=$(restarts)
+for _ in $(seq 30); do
+    gportctl status >/tmp/bad-config.out 2>&1
+    sleep 0.1
+done
+check "30 clients in 3 s each get the error naming the key ($(head -c 160 /tmp/bad-config.out | tr '\n' ' '))" \
+    grep -q 'serial.baud' /tmp/bad-config.out
+check "the daemon stayed up: one start, $(($(restarts) - before)) restarts, gportd.socket $(systemctl is-active gportd.socket)" \
+    sh -c "[ \"\$(systemctl show -p NRestarts --value gportd.service)\" = $before ] \
+           && systemctl is-active gportd.service && systemctl is-active gportd.socket"
+check "systemctl status says why: $(systemctl status gportd.service | grep -m1 'Status:' | xargs)" \
+    sh -c "systemctl status gportd.service | grep -Eq 'Status: \"?configuration error'"
+check "the error is in the journal once, at priority err" \
+    sh -c "[ \"\$(journalctl -q -o cat -p err -u gportd.service | grep -c 'configuration error: .*serial.baud')\" = 1 ]"
+cp /tmp/gportd.json.good /etc/gportd/gportd.json
+check "with the file fixed, systemctl restart brings it back: the link comes up" \
+    sh -c "systemctl restart gportd.service && for _ in \$(seq 75); do
+               gportctl status 2>/dev/null | grep -q '^link: *up' && exit 0; sleep 0.2; done; exit 1"
+sed -i 's/"baud": 115200/"baud": 115201/' /etc/gportd/gportd.json
+systemctl restart gportd.service
+eventually 5 sh -c "gportctl status 2>&1 | grep -q serial.baud"
+cp /tmp/gportd.json.good /etc/gportd/gportd.json
+check "or systemctl reload: the fixed file makes it exit 75 and systemd starts it again; the link comes up" \
+    sh -c "systemctl reload gportd.service; for _ in \$(seq 100); do
+               gportctl status 2>/dev/null | grep -q '^link: *up' && exit 0; sleep 0.2; done; exit 1"
+
 # ---- 8 -----------------------------------------------------------------------
 step "8. upgrade with a client connected, remove, purge"
 check "the daemon is back by socket activation with the link up" eventually 15 link_up

@@ -30,6 +30,7 @@ from .errors import (
     PermissionDenied,
     Timeout,
     TooManyRequests,
+    ConfigInvalid,
 )
 from .moving import AsyncMovement, Movement
 from .results import (
@@ -118,4 +119,5 @@ __all__ = [
     "Subscription",
     "Timeout",
     "TooManyRequests",
+    "ConfigInvalid",
 ]

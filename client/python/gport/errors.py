@@ -93,6 +93,14 @@ class TooManyRequests(GportError):
     code = -32005
 
 
+class ConfigInvalid(GportError):
+    """-32006: the daemon started by socket activation found its configuration
+    invalid; ``message`` names the file and the key. Fix the file, then
+    ``systemctl restart gportd`` (or ``reload``)."""
+
+    code = -32006
+
+
 class ConnectionLost(GportError):
     """The socket could not be opened, or the daemon closed it."""
 
@@ -115,6 +123,7 @@ _BY_CODE: dict[int, type[GportError]] = {
         Busy,
         NoSlot,
         TooManyRequests,
+        ConfigInvalid,
     )
     if cls.code is not None
 }

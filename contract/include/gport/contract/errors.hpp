@@ -23,7 +23,8 @@ namespace gport::contract {
     X(kNoAnswer, -32002, "the gimbal did not answer")                                         \
     X(kBusy, -32003, "another client holds control")                                          \
     X(kNoSlot, -32004, "no slot for this connection (a limit, or idle); it is closed")        \
-    X(kTooManyRequests, -32005, "too many requests: over the rate or the settings queue")
+    X(kTooManyRequests, -32005, "too many requests: over the rate or the settings queue")     \
+    X(kConfigInvalid, -32006, "the daemon's configuration is invalid: it serves nothing")
 
 namespace rpc_error {
 
