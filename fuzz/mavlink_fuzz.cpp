@@ -46,8 +46,8 @@ bool same_stats(const gm::DecoderStats& a, const gm::DecoderStats& b) {
            a.v1_frames == b.v1_frames && a.v1_bytes == b.v1_bytes &&
            a.garbage_bytes == b.garbage_bytes && a.header_errors == b.header_errors &&
            a.unknown_ids == b.unknown_ids && a.unknown_bytes == b.unknown_bytes &&
-           a.length_errors == b.length_errors &&
-           a.crc_errors == b.crc_errors && a.resyncs == b.resyncs;
+           a.length_errors == b.length_errors && a.crc_errors == b.crc_errors &&
+           a.resyncs == b.resyncs;
 }
 
 void check_frame(const gm::FrameView& view) {
@@ -97,9 +97,9 @@ void check_counters(const Seen& s, std::size_t input_size) {
     require(st.frames == s.payloads.size(), "frames counter");
     // An unknown id's frame is neither garbage nor delivered: its bytes are
     // unknown_bytes (the decoder's "shadow").
-    require(st.garbage_bytes + st.unknown_bytes + s.frame_bytes + st.v1_bytes + s.pending ==
-                input_size,
-            "garbage + unknown + frames + v1 + pending != bytes fed");
+    require(
+        st.garbage_bytes + st.unknown_bytes + s.frame_bytes + st.v1_bytes + s.pending == input_size,
+        "garbage + unknown + frames + v1 + pending != bytes fed");
     require(st.header_errors + st.unknown_ids + st.length_errors + st.crc_errors <=
                 st.garbage_bytes + st.unknown_bytes,
             "more rejections than garbage and unknown bytes");
