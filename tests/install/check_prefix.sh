@@ -95,14 +95,25 @@ echo "gportd's default config: $moved/etc/gportd/gportd.json"
 # The non-root quick start. As a user, /run is not writable.
 if [ "$($as_user id -u)" -ne 0 ]; then
     status=0
-    out=$($as_user env -i $keep "$moved/bin/gportd" --simulate --socket /run/gportd-prefix-test.sock 2>&1) \
-        || status=$?
-    [ "$status" -eq 1 ] || fail "gportd on an unwritable socket path: exit $status, not 1: $out"
-    for piece in "cannot bind: Permission denied" '--socket "$XDG_RUNTIME_DIR/gportd.sock"' \
-                 "gport group"; do
-        printf '%s\n' "$out" | grep -qF -- "$piece" || fail "gportd does not say \"$piece\": $out"
+    # With XDG_RUNTIME_DIR the hint names it; without (env -i, as after su -)
+    # it names $HOME and says why.
+    for runtime_dir in set unset; do
+        env_runtime=
+        hint='--socket "$HOME/gportd.sock" (XDG_RUNTIME_DIR is not set'
+        if [ "$runtime_dir" = set ]; then
+            env_runtime=XDG_RUNTIME_DIR=/run/user/65534
+            hint='--socket "$XDG_RUNTIME_DIR/gportd.sock"'
+        fi
+        status=0
+        # shellcheck disable=SC2086 # $keep and $env_runtime: words, or none
+        out=$($as_user env -i $keep $env_runtime "$moved/bin/gportd" --simulate \
+            --socket /run/gportd-prefix-test.sock 2>&1) || status=$?
+        [ "$status" -eq 1 ] || fail "gportd on an unwritable socket path: exit $status, not 1: $out"
+        for piece in "cannot bind: Permission denied" "$hint" "gport group"; do
+            printf '%s\n' "$out" | grep -qF -- "$piece" || fail "gportd does not say \"$piece\": $out"
+        done
     done
-    echo "as a user, /run: exit 1 with the hint"
+    echo "as a user, /run: exit 1 with the hint (XDG_RUNTIME_DIR set, and not)"
 fi
 runtime=$work/runtime
 mkdir -m 700 "$runtime"
