@@ -45,7 +45,7 @@ TEST(Contract, EveryErrorCodeHasOneNameAndIsAJsonRpcCode) {
         const bool server = code >= -32099 && code <= -32000;
         EXPECT_TRUE(predefined || server) << name << " = " << code;
     }
-    EXPECT_EQ(codes.size(), 11u);
+    EXPECT_EQ(codes.size(), 12u);
 }
 
 // The installed enum keeps its names and values (its ABI): each comes from
@@ -58,6 +58,7 @@ TEST(Contract, ClientErrorCodesAreTheContractsPlusTheLibrarysOwn) {
 #undef GPORT_TEST_CLIENT_CODE
     EXPECT_EQ(static_cast<int>(ErrorCode::kNoSlot), -32004);
     EXPECT_EQ(static_cast<int>(ErrorCode::kTooManyRequests), -32005);
+    EXPECT_EQ(static_cast<int>(ErrorCode::kConfigInvalid), -32006);
     EXPECT_EQ(static_cast<int>(ErrorCode::kTransport), -1);
     EXPECT_EQ(static_cast<int>(ErrorCode::kBadReply), -2);
     EXPECT_EQ(static_cast<int>(ErrorCode::kTimeout), -3);
