@@ -234,9 +234,33 @@ function commandLong(command, { params = [], targetSystem = 1, targetComponent =
   return m;
 }
 
+// Parameters of the autopilot (1/1): `message` (a PARAM_SET or a
+// PARAM_REQUEST_READ) sent until the PARAM_VALUE of `name` comes back, at
+// most 10 times 500 ms; its value, or NaN.
+async function paramExchange(gcs, message, name) {
+  const t0 = Date.now();
+  for (let i = 0; i < 10; i += 1) {
+    gcs.send(message);
+    const v = await until(() => gcs.since(t0, 'PARAM_VALUE').find((p) => p.data.paramId.replace(/\0+$/, '') === name),
+      500, name).catch(() => null);
+    if (v) return v.data.paramValue;
+  }
+  return NaN;
+}
+function readParam(gcs, name) {
+  const m = new common.ParamRequestRead();
+  m.targetSystem = 1; m.targetComponent = 1; m.paramId = name; m.paramIndex = -1;
+  return paramExchange(gcs, m, name);
+}
+function setParam(gcs, name, value, type) {
+  const m = new common.ParamSet();
+  m.targetSystem = 1; m.targetComponent = 1; m.paramId = name; m.paramValue = value; m.paramType = type;
+  return paramExchange(gcs, m, name);
+}
+
 module.exports = {
   REGISTRY, check, failures, figures, finish, sleep, until, deg, rad, toQuaternion, start, children,
   rpc, trace, controlFrames, cameraFrames, sameAxes, angleFrames, startGimbal, freeUdpPort,
   nowTimestamp, signBuffer, Peer, heartbeat, setAttitude, commandLong, minimal, common,
-  MavLinkPacketSignature,
+  MavLinkPacketSignature, readParam, setParam,
 };

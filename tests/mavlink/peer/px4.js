@@ -147,18 +147,7 @@ function bearingDistance(lat1, lon1, lat2, lon2) {
   return { bearing, distance: 2 * 6371000 * Math.asin(Math.sqrt(a)) };
 }
 
-async function readParam(gcs, name) {
-  const m = new h.common.ParamRequestRead();
-  m.targetSystem = 1; m.targetComponent = 1; m.paramId = name; m.paramIndex = -1;
-  const t0 = Date.now();
-  for (let i = 0; i < 10; i += 1) {
-    gcs.send(m);
-    const v = await until(() => gcs.since(t0, 'PARAM_VALUE').find((p) => p.data.paramId.replace(/\0+$/, '') === name),
-      500, name).catch(() => null);
-    if (v) return v.data.paramValue;
-  }
-  return NaN;
-}
+const { readParam } = h;
 
 function manualControl(pitchRate, yawRate) {
   const m = new h.common.GimbalManagerSetManualControl();

@@ -231,30 +231,8 @@ async function quietChecks(gcs, gportd, bridge) {
 }
 
 // ---- camera mode: CAM1_TYPE 6 by PARAM_SET and a reboot, then photos.
-async function setParam(gcs, name, value) {
-  const m = new h.common.ParamSet();
-  m.targetSystem = 1; m.targetComponent = 1; m.paramId = name; m.paramValue = value; m.paramType = 2; // INT8
-  const t0 = Date.now();
-  for (let i = 0; i < 10; i += 1) {
-    gcs.send(m);
-    const echo = await until(() => gcs.since(t0, 'PARAM_VALUE').find((p) => p.data.paramId.replace(/\0+$/, '') === name),
-      500, name).catch(() => null);
-    if (echo) return echo.data.paramValue;
-  }
-  return NaN;
-}
-async function readParam(gcs, name) {
-  const m = new h.common.ParamRequestRead();
-  m.targetSystem = 1; m.targetComponent = 1; m.paramId = name; m.paramIndex = -1;
-  const t0 = Date.now();
-  for (let i = 0; i < 10; i += 1) {
-    gcs.send(m);
-    const v = await until(() => gcs.since(t0, 'PARAM_VALUE').find((p) => p.data.paramId.replace(/\0+$/, '') === name),
-      500, name).catch(() => null);
-    if (v) return v.data.paramValue;
-  }
-  return NaN;
-}
+const setParam = (gcs, name, value) => h.setParam(gcs, name, value, 2); // INT8
+const { readParam } = h;
 
 // PARAM_SET, then MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN: SITL re-executes
 // itself (same pid, without -w: the parameters stay) and opens its ports
