@@ -14,21 +14,13 @@ const path = require('path');
 const h = require('./harness');
 
 const [gportdPath, simPath, bridgePath, workRoot] = process.argv.slice(2);
-const { check, figures, sleep, until, common, Peer, heartbeat, commandLong, deg } = h;
+const { check, figures, sleep, until, common, Peer, heartbeat, commandLong, toEuler, wrap } = h;
 const CAMERA = 100;
 const [IMAGE_START, IMAGE_STOP, VIDEO_START, VIDEO_STOP, REQUEST_MESSAGE, DIGICAM] =
   [2000, 2001, 2500, 2501, 512, 203];
 const POSITION = { lat: -353632621, lon: 1491652374, alt: 584070, relativeAlt: 30250 };
 const VEHICLE_YAW = 30; // degrees, ATTITUDE's
 
-// MAVLink's mavlink_quaternion_to_euler, degrees.
-function toEuler([w, x, y, z]) {
-  const roll = Math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y));
-  const pitch = Math.asin(Math.max(-1, Math.min(1, 2 * (w * y - z * x))));
-  const yaw = Math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
-  return { roll: deg(roll), pitch: deg(pitch), yaw: deg(yaw) };
-}
-const wrap = (d) => ((((d + 180) % 360) + 360) % 360) - 180;
 const text = (bytes) => Buffer.from(bytes.filter((b) => b !== 0)).toString();
 
 function position() {

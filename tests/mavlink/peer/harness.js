@@ -59,6 +59,15 @@ function toQuaternion(rollDeg, pitchDeg, yawDeg) {
   return [cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
     cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy];
 }
+function toEuler([w, x, y, z]) {
+  return {
+    roll: deg(Math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))),
+    pitch: deg(Math.asin(Math.max(-1, Math.min(1, 2 * (w * y - z * x))))),
+    yaw: deg(Math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))),
+  };
+}
+// An angle in degrees wrapped into [-180, 180).
+const wrap = (d) => ((((d + 180) % 360) + 360) % 360) - 180;
 
 // ---- child processes, their output kept in WORKDIR/NAME.log and in memory
 const children = [];
@@ -259,7 +268,7 @@ function setParam(gcs, name, value, type) {
 }
 
 module.exports = {
-  REGISTRY, check, failures, figures, finish, sleep, until, deg, rad, toQuaternion, start, children,
+  REGISTRY, check, failures, figures, finish, sleep, until, deg, rad, toQuaternion, toEuler, wrap, start, children,
   rpc, trace, controlFrames, cameraFrames, sameAxes, angleFrames, startGimbal, freeUdpPort,
   nowTimestamp, signBuffer, Peer, heartbeat, setAttitude, commandLong, minimal, common,
   MavLinkPacketSignature, readParam, setParam,

@@ -57,7 +57,7 @@ const os = require('os');
 const h = require('./harness');
 
 const [px4Dir, gportdPath, simPath, bridgePath, workRoot, mode = 'gimbal'] = process.argv.slice(2);
-const { check, figures, sleep, until, Peer, heartbeat, commandLong } = h;
+const { check, figures, sleep, until, Peer, heartbeat, commandLong, wrap } = h;
 const LINKS = {
   gimbal: { port: 13280, name: 'Gimbal', yawSource: 'AUTOPILOT_STATE_FOR_GIMBAL_DEVICE' },
   onboard: { port: 14030, name: 'Onboard', yawSource: 'ATTITUDE' },
@@ -69,7 +69,6 @@ const YAW_LOCK = 16;
 const [PITCH_RATE, YAW_RATE] = [6, 9];
 
 const toPx4 = (command, params) => commandLong(command, { params, targetSystem: 1, targetComponent: 1 });
-const wrap = (d) => ((d % 360) + 540) % 360 - 180;
 const last = (list) => list[list.length - 1];
 
 // Sends `command` every 500 ms until PX4 ACKs it; the ACK, or null.

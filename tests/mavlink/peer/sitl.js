@@ -13,7 +13,7 @@
 // turned into the vehicle frame with SITL's heading), RETRACT (a centre
 // frame), "PreArm: Mount: not healthy" once gportd's link is down.
 // Also in "gimbal": the bridge's SET_MESSAGE_INTERVAL requests accepted and
-// answered by the streams.
+// answered by the streams; GIMBAL_DEVICE_INFORMATION's range.
 // MODE "quiet": gportd's and gport-mavlink's log lines while SITL streams
 // its 50 Hz targets (earth-frame yaw: a new angle almost every cycle) for
 // 4 s: at most 6 lines from gportd.
@@ -31,7 +31,8 @@
 // one CAMERA_IMAGE_CAPTURED each with image_index 0 then 1 and the position
 // (gport-mavlink asked for GLOBAL_POSITION_INT with SET_MESSAGE_INTERVAL
 // again after the reboot; MAVn_POSITION stays at its default), equal to
-// ArduPilot's CAMERA_FEEDBACK, CAMERA_CAPTURE_STATUS.image_count 2.
+// ArduPilot's CAMERA_FEEDBACK, CAMERA_CAPTURE_STATUS.image_count 2, and
+// each CAMERA_IMAGE_CAPTURED's q the attitude gportd logged with it.
 //
 // Exits 77 (skipped, saying why) when SITL_DIR has no arducopter.
 const fs = require('fs');
@@ -55,6 +56,7 @@ const MAV_CMD_COMPONENT_ARM_DISARM = 400;
 const MAV_CMD_SET_MESSAGE_INTERVAL = 511;
 const MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW = 1000;
 const ATTITUDE = 30;
+const GIMBAL_DEVICE_INFORMATION = 283;
 const REGISTRY = Object.assign({}, h.REGISTRY, ardupilotmega.REGISTRY);
 const YAW_LOCK = 16;
 
@@ -131,8 +133,9 @@ async function freeBasePort() {
   throw new Error('no free range of 10 TCP ports for SITL');
 }
 
+// Up to 30 s: two SITLs starting on a loaded 2-core machine took over 10.
 async function connectGcs(gcs, port) {
-  for (let i = 0; i < 100; i += 1) {
+  for (let i = 0; i < 300; i += 1) {
     try { await gcs.connect(port); return; } catch (e) { await sleep(100); }
   }
   throw new Error(`SITL's TCP port ${port} did not open`);
@@ -175,6 +178,32 @@ async function gimbalChecks(gcs, sitl, sim) {
   const prearm = await until(() => gcs.text(/^(Pre)?Arm: Mount: not healthy/, t0), 8000, 'PreArm: Mount: not healthy').catch(() => null);
   check(prearm !== null, `gportd's link down -> "${prearm ? prearm.text : 'no PreArm message'}"`);
   gcs.command(MAV_CMD_COMPONENT_ARM_DISARM, [0, 0, 0, 0, 0, 0, 0]);
+}
+
+// Issue 31 item 9: GIMBAL_DEVICE_INFORMATION carries the range gportd
+// enforces: without soft limits, the G-Port's documented range (roll ±45°,
+// pitch ±90°, yaw ±170°), never NaN. ArduPilot asks for it at discovery and
+// forwards the answer to the ground station; if none came, the ground
+// station asks the gimbal (1/154) through ArduPilot's routing.
+async function rangeChecks(gcs) {
+  const info = () => gcs.since(0, 'GIMBAL_DEVICE_INFORMATION').pop();
+  if (!info()) gcs.commandTo(MAV_CMD_REQUEST_MESSAGE, [GIMBAL_DEVICE_INFORMATION], 154);
+  const m = await until(info, 5000, 'GIMBAL_DEVICE_INFORMATION').catch(() => null);
+  const d = m && m.data;
+  const range = d ? [d.rollMin, d.rollMax, d.pitchMin, d.pitchMax, d.yawMin, d.yawMax].map((r) => h.deg(r)) : [];
+  figures.push(`GIMBAL_DEVICE_INFORMATION from ${m && `${m.header.sysid}/${m.header.compid}`}: roll/pitch/yaw ranges ` +
+    `${range.map((v) => v.toFixed(2)).join(' ')} degrees`);
+  const expected = [-45, 45, -90, 90, -170, 170];
+  check(range.length === 6 && range.every((v, i) => Math.abs(v - expected[i]) < 0.01),
+    `GIMBAL_DEVICE_INFORMATION reports the G-Port's range ${expected.join(' ')} (got ${range.map((v) => v.toFixed(2)).join(' ')})`);
+  // A target beyond it: ArduPilot keeps it inside the reported range (with
+  // NaN limits it kept ±180° and the gimbal stopped short, silently).
+  const t0 = Date.now();
+  gcs.command(MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW, [0, 175, NaN, NaN, 0, 0, 0]);
+  const beyond = await until(() => h.controlFrames(t0).filter((f) => f.j.mode === 'angle').pop(), 5000, 'an angle').catch(() => null);
+  const yaw = beyond ? beyond.j.angle[2] / 100 : NaN;
+  figures.push(`PITCHYAW yaw 175 (beyond 170) -> angle frame ${beyond && JSON.stringify(beyond.j.angle)}`);
+  check(Math.abs(yaw) <= 170, `PITCHYAW yaw 175: ArduPilot sends a target inside the reported range (yaw ${yaw})`);
 }
 
 // SETUP_SIGNING to the autopilot (over the ground station's link, as
@@ -301,14 +330,19 @@ async function cameraChecks(gcs, bridge, sock, mark) {
   const accepted = await until(() => bridge.lines.slice(mark).filter((l) => /answered SET_MESSAGE_INTERVAL with result 0/.test(l))
     .length >= 2, 30000, 'the stream requests').catch(() => false);
   check(accepted, 'after the reboot gport-mavlink asked again for GLOBAL_POSITION_INT and ATTITUDE and ArduPilot ACCEPTED');
-  await sleep(1500);
+  // A pose away from the centre, so the photos' orientation says something.
+  let t0 = Date.now();
+  gcs.command(MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW, [-30, 20, NaN, NaN, 0, 0, 0]);
+  const posed = await until(() => h.angleFrames(t0, [0, -30, 20], 0.6).pop(), 8000, 'the pose').catch(() => null);
+  check(posed !== null, 'PITCHYAW -30/20 before the photos -> an angle frame');
+  await sleep(3000); // gport-sim reaches it
   const shots = [];
   shots.push(await onePhoto('IMAGE_START_CAPTURE', gcs, bridge, sock, MAV_CMD_IMAGE_START_CAPTURE, [0, 0, 1, 0, 0, 0, 0]));
   shots.push(await onePhoto('DO_DIGICAM_CONTROL (shot)', gcs, bridge, sock, MAV_CMD_DO_DIGICAM_CONTROL, [0, 0, 0, 0, 1, 0, 0]));
   check(bridge.lines.filter((l) => /the same photo \(one command, one photo\)/.test(l)).length === 2,
     'gport-mavlink took each second command as the same photo (two "one command, one photo" lines)');
   // image_index zero-based, image_count - 1 of the capture status.
-  const t0 = Date.now();
+  t0 = Date.now();
   gcs.commandTo(MAV_CMD_REQUEST_MESSAGE, [CAMERA_CAPTURE_STATUS], 100);
   const status = await until(() => gcs.since(t0, 'CAMERA_CAPTURE_STATUS')[0], 5000, 'CAMERA_CAPTURE_STATUS').catch(() => null);
   const indexes = shots.map((s) => (s.captured ? s.captured.data.imageIndex : null));
@@ -329,6 +363,27 @@ async function cameraChecks(gcs, bridge, sock, mark) {
       `photo ${i} carries ArduPilot's position (${offFeedback.toFixed(2)} m from its CAMERA_FEEDBACK), the same in gportd's capture log`);
   }
   check(!bridge.lines.some((l) => /has no position/.test(l)), 'no photo without a position');
+  orientationChecks(shots);
+}
+
+// Issue 31 item 7: CAMERA_IMAGE_CAPTURED's q is the attitude gportd logged
+// with that capture (IMU roll and pitch, hall yaw turned by the vehicle's
+// heading into the earth frame), not the bridge's own newest sample. The
+// heading is the one ArduPilot logged with the image (CAMERA_FEEDBACK's yaw):
+// right after the reboot SITL's heading still settles.
+function orientationChecks(shots) {
+  for (const [i, s] of shots.entries()) {
+    const heading = s.feedback ? s.feedback.data.yaw : NaN;
+    const a = s.logged && s.logged.attitude;
+    const e = s.captured ? h.toEuler(s.captured.data.q) : null;
+    const expected = a ? { roll: a.imu.roll, pitch: a.imu.pitch, yaw: h.wrap(a.hall.yaw + heading) } : null;
+    const off = e && expected ? [e.roll - expected.roll, e.pitch - expected.pitch, h.wrap(e.yaw - expected.yaw)] : [NaN, NaN, NaN];
+    figures.push(`photo ${i}: q as roll/pitch/yaw ${e && [e.roll, e.pitch, e.yaw].map((v) => v.toFixed(2)).join(' ')}; ` +
+      `gportd logged imu ${a && `${a.imu.roll}/${a.imu.pitch}`}, hall yaw ${a && a.hall.yaw}, heading ${heading.toFixed(2)}`);
+    check(Math.abs(off[0]) < 0.05 && Math.abs(off[1]) < 0.05 && Math.abs(off[2]) < 1.5,
+      `photo ${i}: CAMERA_IMAGE_CAPTURED.q is the attitude gportd logged with the capture ` +
+      `(off by ${off.map((v) => v.toFixed(3)).join('/')} degrees)`);
+  }
 }
 
 // Geotag by default (issue 31 item 4): ArduPilot's SERIAL1 streams no
@@ -394,6 +449,7 @@ async function main() {
       else if (mode === 'signed') await signedChecks(gcs, bridge);
       else if (mode === 'camera') await cameraChecks(gcs, bridge, sock, mark);
       else {
+        await rangeChecks(gcs);
         await gimbalChecks(gcs, sitl, sim);
         streamChecks(bridge);
       }
