@@ -58,6 +58,7 @@ const std::vector<Key>& keys() {
         key<&Config::failsafe, &FailsafeConfig::on_link_lost>("failsafe.on_link_lost", true),
         key<&Config::motion, &MotionConfig::tolerance_deg>("motion.tolerance_deg", true),
         key<&Config::motion, &MotionConfig::timeout>("motion.timeout_ms", true),
+        key<&Config::motion, &MotionConfig::stall>("motion.stall_ms", true),
         // The writer thread holds its file open: a new place or rotation needs a restart.
         key<&Config::captures, &CapturesConfig::dir>("captures.dir", false),
         key<&Config::captures, &CapturesConfig::max_file_bytes>("captures.max_file_bytes", false),

@@ -334,8 +334,9 @@ class Parser {
         footer(sub,
                "Angle control relative to the aircraft; axes not given are 0. A target\n"
                "beyond gportd's soft limits is refused, or with --clamp clamped into them.\n"
-               "--wait prints how the motion ended (reached, timeout, replaced, stop, ...)\n"
-               "and the attitude reached. Ctrl-C while waiting exits 130 and the daemon\n"
+               "--wait prints how the motion ended (reached, stalled, timeout, replaced,\n"
+               "stop, ...), where a stalled gimbal stopped, and the attitude reached.\n"
+               "Ctrl-C while waiting exits 130 and the daemon\n"
                "applies its failsafe. Without --wait the gimbal goes on after gportctl exits.\n");
     }
 

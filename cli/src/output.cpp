@@ -151,6 +151,9 @@ std::string position(const std::string& command, const json& result) {
                            get(ended, "elapsed_ms", 0ll),
                            at.is_object() ? "hall " + axes(at.value("hall", json::object()))
                                           : std::string("no attitude received"));
+        if (ended.contains("detail")) {  // stalled: where the gimbal stopped
+            out += word(ended, "detail", "") + "\n";
+        }
     }
     return out;
 }

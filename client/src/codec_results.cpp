@@ -92,6 +92,9 @@ std::optional<MotionEnd> motion_end(const json& result) {
         end.attitude = sample(*a);
     }
     end.elapsed_ms = it->value("elapsed_ms", std::int64_t{0});
+    if (const auto d = it->find("detail"); d != it->end() && d->is_string()) {
+        end.detail = d->get<std::string>();
+    }
     return end;
 }
 

@@ -420,6 +420,17 @@ const std::vector<Section>& sections() {
           {"timeout_ms",
            [](Reader& r, const Json& v, const std::string& p, Config& c) {
                c.motion.timeout = r.millis(v, p, 100, 600000).value_or(c.motion.timeout);
+           }},
+          {"stall_ms",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               // 0: off; else 200 ms (a few samples) to 600 s (the longest timeout).
+               const auto ms = r.integer(v, p, 0, 600000);
+               if (ms && *ms != 0 && *ms < 200) {
+                   r.error(p, fmt::format("must be 0 (off) or an integer from 200 to 600000, got {}",
+                                          *ms));
+               } else if (ms) {
+                   c.motion.stall = Millis(*ms);
+               }
            }}}},
         {"captures",
          {{"dir",

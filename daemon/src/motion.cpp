@@ -17,7 +17,7 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 MotionTracker::Options tracker_options(const config::MotionConfig& motion) {
-    return {motion.tolerance_deg, motion.timeout};
+    return {motion.tolerance_deg, motion.timeout, motion.stall};
 }
 
 Millis keepalive_period(double rate_hz) {
@@ -304,8 +304,9 @@ void Motion::publish(const MotionEvent& event) {
                     pid_of(event.owner), event.mode == MotionMode::kSpeed ? "speed" : "target",
                     axes.roll, axes.pitch, axes.yaw);
     } else if (event.change == MotionChange::kEnded) {
-        log_->info("motion ended ({}), owner pid {}",
-                   event.reason ? to_string(*event.reason) : "unknown", pid_of(event.owner));
+        log_->info("motion ended ({}), owner pid {}{}{}",
+                   event.reason ? to_string(*event.reason) : "unknown", pid_of(event.owner),
+                   event.detail.empty() ? "" : ": ", event.detail);
     } else {
         log_->info("motion {} ({}) by pid {}", to_string(event.change), to_string(event.mode),
                    pid_of(event.owner));

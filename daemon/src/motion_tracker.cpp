@@ -1,5 +1,8 @@
 #include "gport/daemon/core/motion_tracker.hpp"
 
+#include <fmt/format.h>
+
+#include <array>
 #include <boost/asio/post.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -31,6 +34,50 @@ bool Arrival::observe(const protocol::Axes& hall) {
     return arrived();
 }
 
+// ---- Progress ------------------------------------------------------------------
+
+namespace {
+
+constexpr std::array<const char*, 3> kAxisNames{"roll", "pitch", "yaw"};
+
+std::array<std::int32_t, 3> offsets(const protocol::Axes& hall, const protocol::Axes& target) {
+    return {std::int32_t{hall.roll} - target.roll, std::int32_t{hall.pitch} - target.pitch,
+            std::int32_t{hall.yaw} - target.yaw};
+}
+
+std::size_t farthest(const std::array<std::int32_t, 3>& off) {
+    std::size_t axis = 0;
+    for (std::size_t i = 1; i < off.size(); ++i) {
+        if (std::abs(off[i]) > std::abs(off[axis])) {
+            axis = i;
+        }
+    }
+    return axis;
+}
+
+}  // namespace
+
+bool Progress::stalled(const protocol::Axes& hall, SteadyTime now) {
+    last_ = hall;
+    const auto off = offsets(hall, target_);
+    const auto distance = std::abs(off[farthest(off)]);
+    if (!best_ || distance <= *best_ - kStep) {
+        best_ = distance;
+        since_ = now;
+        return false;
+    }
+    return window_.count() > 0 && now - since_ >= window_;
+}
+
+std::string Progress::where() const {
+    const auto off = offsets(last_, target_);
+    const auto axis = farthest(off);
+    const std::array<std::int32_t, 3> at{last_.roll, last_.pitch, last_.yaw};
+    return fmt::format("{} {:.2f} (target {:.2f}, {:.2f}° short)", kAxisNames[axis],
+                       at[axis] / 100.0, (at[axis] - off[axis]) / 100.0,
+                       std::abs(off[axis]) / 100.0);
+}
+
 // ---- MotionTracker -------------------------------------------------------------
 
 MotionTracker::MotionTracker(boost::asio::io_context& io, Options options, Emit emit)
@@ -50,6 +97,7 @@ void MotionTracker::start(const ClientInfo& owner, MotionMode mode, protocol::Ax
                      now,
                      now,
                      Arrival(target, options_.tolerance_deg),
+                     Progress(target, now, options_.stall),
                      std::move(on_end),
                      now,
                      false,
@@ -77,6 +125,7 @@ void MotionTracker::update(protocol::Axes target, MotionEndCallback on_end,
     motion_->updated = true;
     motion_->commanded = now;
     motion_->arrival = Arrival(target, options_.tolerance_deg);
+    motion_->progress = Progress(target, now, options_.stall);
     motion_->on_end = std::move(on_end);
     arm();
     if (now >= motion_->noted + kUpdateNoteInterval) {
@@ -118,24 +167,31 @@ void MotionTracker::on_attitude(const AttitudeSample& sample) {
         !motion_->updated || sample.received >= motion_->commanded + kUpdateNoteInterval;
     if (settled && motion_->arrival.observe(sample.attitude.hall)) {
         end(EndReason::kReached);
+    } else if (motion_->progress.stalled(sample.attitude.hall, sample.received)) {
+        end(EndReason::kStalled,
+            fmt::format("stalled at {}: no progress for {} ms; beyond the gimbal's reach, or "
+                        "blocked?",
+                        motion_->progress.where(), motion_->progress.window().count()));
     }
 }
 
 // The motion is gone before anything is told of its end, so that a listener
 // may start another.
-void MotionTracker::end(EndReason reason) {
+void MotionTracker::end(EndReason reason, std::string detail) {
     if (!motion_) {
         return;
     }
     timer_.cancel();
     note_timer_.cancel();  // the ended event carries the latest target
-    const auto ended = event(MotionChange::kEnded, reason);
+    const auto ended = event(MotionChange::kEnded, reason, detail);
     auto on_end = std::move(motion_->on_end);
     const auto elapsed = std::chrono::duration_cast<Millis>(Clock::now() - motion_->started);
     motion_.reset();
     if (on_end) {
         boost::asio::post(io_, [on_end = std::move(on_end),
-                                result = MotionEnd{reason, latest_, elapsed}] { on_end(result); });
+                                result = MotionEnd{reason, latest_, elapsed, std::move(detail)}] {
+            on_end(result);
+        });
     }
     emit_(ended);
 }
@@ -159,7 +215,8 @@ std::optional<MotionStatus> MotionTracker::status() const {
     return s;
 }
 
-MotionEvent MotionTracker::event(MotionChange change, std::optional<EndReason> reason) const {
+MotionEvent MotionTracker::event(MotionChange change, std::optional<EndReason> reason,
+                                 std::string detail) const {
     MotionEvent e;
     e.change = change;
     e.mode = motion_->mode;
@@ -167,6 +224,7 @@ MotionEvent MotionTracker::event(MotionChange change, std::optional<EndReason> r
     e.angle = motion_->target;
     e.reason = reason;
     e.clamped = motion_->clamped;
+    e.detail = std::move(detail);
     return e;
 }
 

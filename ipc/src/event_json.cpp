@@ -92,6 +92,9 @@ Line motion_line(const daemon::MotionEvent& event) {
     if (event.reason == daemon::EndReason::kLimit) {
         params["braked"] = event.braked;
     }
+    if (!event.detail.empty()) {
+        params["detail"] = event.detail;  // stalled: where the gimbal stopped
+    }
     return notification("motion", std::move(params));
 }
 

@@ -79,6 +79,9 @@ daemon::MotionEndCallback answer_on_end(const std::shared_ptr<Waiter>& waiter) {
             {"reason", daemon::to_string(end.reason)},
             {"attitude", end.attitude ? attitude_result(*end.attitude) : json(nullptr)},
             {"elapsed_ms", end.elapsed.count()}};
+        if (!end.detail.empty()) {
+            result["ended"]["detail"] = end.detail;  // stalled: where the gimbal stopped
+        }
         waiter->respond(std::move(result));
     };
 }

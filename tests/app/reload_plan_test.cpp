@@ -44,17 +44,19 @@ TEST(PlanReload, FailsafePoliciesApplyAtOnce) {
     EXPECT_EQ(plan.in_effect.failsafe.on_shutdown, config::Failsafe::kHold);
 }
 
-TEST(PlanReload, MotionToleranceAndTimeoutApplyAtOnce) {
+TEST(PlanReload, MotionToleranceTimeoutAndStallApplyAtOnce) {
     config::Config running;
     config::Config next;
     next.motion.tolerance_deg = 1.0;
     next.motion.timeout = config::Millis(3000);
+    next.motion.stall = config::Millis(0);
     const auto plan = app::plan_reload(running, next);
-    EXPECT_EQ(plan.applied,
-              (std::vector<std::string>{"motion.tolerance_deg", "motion.timeout_ms"}));
+    EXPECT_EQ(plan.applied, (std::vector<std::string>{"motion.tolerance_deg", "motion.timeout_ms",
+                                                      "motion.stall_ms"}));
     EXPECT_TRUE(plan.need_restart.empty());
     EXPECT_EQ(plan.in_effect.motion.tolerance_deg, 1.0);
     EXPECT_EQ(plan.in_effect.motion.timeout, config::Millis(3000));
+    EXPECT_EQ(plan.in_effect.motion.stall, config::Millis(0));
 }
 
 TEST(PlanReload, TheBrakingMarginAppliesAtOnce) {

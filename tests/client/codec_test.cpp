@@ -117,6 +117,14 @@ TEST(ClientCodec, AngleWaitResultCarriesTheEnd) {
         R"({"sent":true,"ended":{"reason":"link_down","elapsed_ms":5,"attitude":null}})"));
     ASSERT_TRUE(none.ended.has_value());
     EXPECT_FALSE(none.ended->attitude.has_value()) << "null when there is no sample";
+    EXPECT_EQ(none.ended->detail, "") << "no detail unless stalled";
+    const auto stalled = angle_result(json::parse(
+        R"({"sent":true,"ended":{"reason":"stalled","elapsed_ms":2400,"attitude":null,
+            "detail":"stalled at pitch -90.00 (target -100.00, 10.00° short): no progress"}})"));
+    ASSERT_TRUE(stalled.ended.has_value());
+    EXPECT_EQ(stalled.ended->reason, "stalled");
+    EXPECT_EQ(stalled.ended->detail,
+              "stalled at pitch -90.00 (target -100.00, 10.00° short): no progress");
 }
 
 TEST(ClientCodec, AttitudeWithRatesAndDrops) {

@@ -306,5 +306,93 @@ TEST_F(TrackerTest, TheClampedAxesAreToldInTheEvents) {
     EXPECT_EQ(events.back().clamped, (std::vector<std::string>{"pitch"}));
 }
 
+// ---- stalls ---------------------------------------------------------------------
+
+const auto t0 = std::chrono::steady_clock::time_point{} + std::chrono::hours(1);
+
+TEST(Progress, NoProgressForTheWindowIsAStall) {
+    Progress p({0, -10000, 0}, t0, 2000ms);
+    EXPECT_FALSE(p.stalled({0, -8000, 0}, t0 + 100ms));
+    EXPECT_FALSE(p.stalled({0, -9000, 0}, t0 + 1000ms)) << "progress";
+    EXPECT_FALSE(p.stalled({0, -9000, 0}, t0 + 2999ms));
+    EXPECT_TRUE(p.stalled({0, -9000, 0}, t0 + 3000ms)) << "2 s since the last progress";
+    EXPECT_EQ(p.where(), "pitch -90.00 (target -100.00, 10.00° short)");
+}
+
+TEST(Progress, JitterAroundAStopIsNoProgress) {
+    Progress p({0, 0, 17500}, t0, 500ms);
+    EXPECT_FALSE(p.stalled({0, 0, 17000}, t0));
+    // ±0.09°: a new smallest distance, but less than Progress::kStep below it.
+    EXPECT_FALSE(p.stalled({0, 0, 17009}, t0 + 200ms));
+    EXPECT_FALSE(p.stalled({0, 0, 16991}, t0 + 400ms));
+    EXPECT_TRUE(p.stalled({0, 0, 17009}, t0 + 500ms));
+    EXPECT_EQ(p.where(), "yaw 170.09 (target 175.00, 4.91° short)");
+}
+
+TEST(Progress, TheFarthestAxisIsTheDistanceAndAZeroWindowNeverStalls) {
+    Progress p({-4500, 3000, 0}, t0, 0ms);
+    EXPECT_FALSE(p.stalled({-4400, 0, 0}, t0));
+    EXPECT_FALSE(p.stalled({-4400, 0, 0}, t0 + 3600s)) << "off";
+    // Roll at its end 1° short, pitch moving: progress while pitch closes in.
+    Progress q({-4500, 3000, 0}, t0, 1000ms);
+    EXPECT_FALSE(q.stalled({-4400, 0, 0}, t0));
+    EXPECT_FALSE(q.stalled({-4400, 2000, 0}, t0 + 900ms));
+    EXPECT_FALSE(q.stalled({-4400, 2950, 0}, t0 + 1800ms)) << "pitch within 0.5°, roll 1° off";
+    EXPECT_TRUE(q.stalled({-4400, 2950, 0}, t0 + 2800ms));
+    EXPECT_EQ(q.where(), "roll -44.00 (target -45.00, 1.00° short)");
+}
+
+// A tracker with a 500 ms stall window; samples stamped from `started`.
+class StallTest : public TrackerTest {
+  protected:
+    std::chrono::steady_clock::time_point started;
+};
+
+TEST_F(StallTest, AStalledMotionEndsSayingWhereTheGimbalStopped) {
+    MotionTracker stalling{
+        io, {0.5, 60000ms, 500ms}, [this](const MotionEvent& e) { events.push_back(e); }};
+    stalling.start(alice, MotionMode::kAngle, {0, -10000, 0}, waiter());
+    started = std::chrono::steady_clock::now();
+    auto offer = [&](Axes hall, std::chrono::milliseconds at) {
+        auto s = sample(hall);
+        s.received = started + at;
+        stalling.on_attitude(s);
+    };
+    offer({0, -5000, 0}, 100ms);
+    offer({0, -9000, 0}, 300ms);
+    offer({0, -9000, 0}, 700ms);
+    EXPECT_TRUE(stalling.active());
+    offer({0, -9000, 0}, 800ms);
+    ASSERT_FALSE(stalling.active());
+    ASSERT_EQ(events.back().change, MotionChange::kEnded);
+    EXPECT_EQ(events.back().reason, EndReason::kStalled);
+    const std::string detail =
+        "stalled at pitch -90.00 (target -100.00, 10.00° short): no progress for 500 ms; "
+        "beyond the gimbal's reach, or blocked?";
+    EXPECT_EQ(events.back().detail, detail);
+    io.poll();
+    ASSERT_EQ(ends.size(), 1u);
+    EXPECT_EQ(ends[0].reason, EndReason::kStalled);
+    EXPECT_EQ(ends[0].detail, detail);
+    EXPECT_EQ(to_string(EndReason::kStalled), "stalled");
+}
+
+TEST_F(StallTest, AnUpdateStartsTheWindowAgain) {
+    MotionTracker stalling{
+        io, {0.5, 60000ms, 500ms}, [this](const MotionEvent& e) { events.push_back(e); }};
+    stalling.start(alice, MotionMode::kAngle, {0, -10000, 0});
+    started = std::chrono::steady_clock::now();
+    auto offer = [&](Axes hall, std::chrono::milliseconds at) {
+        auto s = sample(hall);
+        s.received = started + at;
+        stalling.on_attitude(s);
+    };
+    offer({0, -9000, 0}, 0ms);
+    stalling.start(alice, MotionMode::kAngle, {0, -8000, 0});  // an update: a new target
+    offer({0, -9000, 0}, 400ms);
+    offer({0, -9000, 0}, 600ms);
+    EXPECT_TRUE(stalling.active()) << "the window runs from the update's first sample";
+}
+
 }  // namespace
 }  // namespace gport::daemon

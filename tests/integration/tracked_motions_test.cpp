@@ -15,7 +15,8 @@ namespace {
 class TrackedMotions : public SimDaemonTest {
   protected:
     std::string config_extra() const override {
-        return R"("motion": {"tolerance_deg": 0.5, "timeout_ms": 1500})";
+        // No stall detection here: an unreachable target ends by the timeout.
+        return R"("motion": {"tolerance_deg": 0.5, "timeout_ms": 1500, "stall_ms": 0})";
     }
 
     // Sends a request without reading its reply; returns its id.
@@ -169,6 +170,56 @@ TEST_F(TrackedMotions, GportctlWaitPrintsTheEndAndExitsByIt) {
     EXPECT_EQ(gportctl({"angle", "--pitch", "-100", "--clamp", "--wait"}), 2)
         << "clamped to -100 is still beyond the gimbal's -90";
     EXPECT_EQ(gportctl({"speed", "--yaw", "5", "--for", "300ms", "--lease", "200", "--clamp"}), 0);
+}
+
+// Issue 32, item 2: a target beyond the gimbal's reach ends as soon as the
+// gimbal has stopped short of it (no progress for motion.stall_ms), saying
+// where, instead of waiting out the timeout.
+class Stalls : public TrackedMotions {
+  protected:
+    std::string config_extra() const override {
+        return R"("motion": {"timeout_ms": 600000, "stall_ms": 500})";
+    }
+};
+
+TEST_F(Stalls, ATargetBeyondReachEndsStalledNamingWhereTheGimbalStopped) {
+    Client watcher(daemon_->socket());
+    ASSERT_TRUE(watcher.call("subscribe", {{"topics", {"motion"}}}).contains("result"));
+    auto result = client_->call("angle", {{"pitch", 100}, {"wait", true}}, 60s)["result"];
+    ASSERT_TRUE(result.is_object());
+    EXPECT_EQ(result["ended"]["reason"], "stalled");
+    EXPECT_EQ(result["ended"]["detail"],
+              "stalled at pitch 90.00 (target 100.00, 10.00° short): no progress for 500 ms; "
+              "beyond the gimbal's reach, or blocked?");
+    EXPECT_NEAR(result["ended"]["attitude"]["hall"]["pitch"].get<double>(), 90.0, 0.01);
+    EXPECT_LT(result["ended"]["elapsed_ms"].get<int>(), 60000) << "long before the timeout";
+    Json ended;
+    while (auto n = watcher.notification("motion")) {
+        if ((*n)["params"].value("change", "") == "ended") {
+            ended = (*n)["params"];
+            break;
+        }
+    }
+    EXPECT_EQ(ended.value("reason", ""), "stalled");
+    EXPECT_EQ(ended.value("detail", ""), result["ended"]["detail"]);
+    EXPECT_TRUE(client_->call("status")["result"]["motion"].is_null());
+}
+
+TEST_F(Stalls, AReachableTargetIsReachedNotStalled) {
+    // The move itself is progress all the way: a half-second window is enough.
+    auto result =
+        client_->call("angle", {{"pitch", -60}, {"yaw", 120}, {"wait", true}}, 60s)["result"];
+    ASSERT_TRUE(result.is_object());
+    EXPECT_EQ(result["ended"]["reason"], "reached");
+    EXPECT_FALSE(result["ended"].contains("detail"));
+}
+
+TEST_F(Stalls, GportctlPrintsWhereItStoppedAndExits2) {
+    std::string out;
+    EXPECT_EQ(gportctl({"angle", "--pitch", "-100", "--wait"}, &out), 2) << out;
+    EXPECT_NE(out.find("ended: stalled after"), std::string::npos) << out;
+    EXPECT_NE(out.find("stalled at pitch -90.00 (target -100.00, 10.00° short)"), std::string::npos)
+        << out;
 }
 
 }  // namespace

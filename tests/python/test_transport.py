@@ -131,18 +131,22 @@ def test_wait_sends_the_flag_and_parses_ended(fake: Callable[[Script], str]) -> 
     def script(connection: socket.socket, request: Any) -> None:
         seen.append(request)
         time.sleep(0.3)
-        ended = {"reason": "reached", "attitude": sample, "elapsed_ms": 812}
+        ended: dict[str, Any] = {"reason": "reached", "attitude": sample, "elapsed_ms": 812}
         result: dict[str, Any] = {"sent": True, "ended": ended}
         if request["method"] == "angle":
             result.update(angle={"roll": 0, "pitch": 0, "yaw": 10}, clamped=[])
+        else:  # a centre stopped short by something in the way
+            ended.update(reason="stalled", detail="stalled at roll 40.00 (target 0.00, 40.00° short)")
         send(connection, {"jsonrpc": "2.0", "id": request["id"], "result": result})
 
     with gport.Client(fake(script), timeout=0.1) as client:
         result = client.angle(yaw=10, wait=True)
         assert result.ended is not None and result.ended.reason == "reached"
         assert result.ended.elapsed_ms == 812
+        assert result.ended.detail == "", "no detail unless stalled"
         assert result.ended.attitude is not None and result.ended.attitude.hall.yaw == 9.8
         centered = client.center(wait=True)
-        assert centered.ended is not None and centered.ended.reason == "reached"
+        assert centered.ended is not None and centered.ended.reason == "stalled"
+        assert centered.ended.detail.startswith("stalled at roll 40.00")
     assert seen[0]["params"] == {"roll": 0.0, "pitch": 0.0, "yaw": 10, "wait": True}
     assert seen[1]["params"] == {"wait": True}

@@ -153,9 +153,10 @@ class SpeedResult:
 class Ended:
     """How a waited-for angle or centre motion ended."""
 
-    reason: str  # reached, timeout, replaced, stop, owner_gone, ...
+    reason: str  # reached, stalled, timeout, replaced, stop, owner_gone, ...
     attitude: Attitude | None
     elapsed_ms: int
+    detail: str = ""  # stalled: where the gimbal stopped ("stalled at pitch -90.00 ..."), else ""
 
 
 @dataclass(frozen=True)
@@ -428,6 +429,7 @@ def _ended(raw: Json | None) -> Ended | None:
         reason=str(raw["reason"]),
         attitude=None if sample is None else parse_attitude(sample),
         elapsed_ms=int(raw.get("elapsed_ms", 0)),
+        detail=str(raw.get("detail", "")),
     )
 
 

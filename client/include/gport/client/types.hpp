@@ -123,9 +123,11 @@ struct CenterOptions {
 
 // How a tracked angle or centre motion ended (`wait: true`).
 struct MotionEnd {
-    std::string reason{};  // reached, timeout, replaced, stop, owner_gone, ...
+    std::string reason{};  // reached, stalled, timeout, replaced, stop, owner_gone, ...
     std::optional<AttitudeSample> attitude{};
     std::int64_t elapsed_ms = 0;
+    std::string
+        detail{};  // stalled: where the gimbal stopped ("stalled at pitch -90.00 ..."), else
 };
 
 struct AngleResult {

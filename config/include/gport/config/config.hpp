@@ -127,6 +127,7 @@ struct FailsafeConfig {                        // "failsafe"
 struct MotionConfig {            // "motion"
     double tolerance_deg = 0.5;  // "tolerance_deg": reached within this of the target
     Millis timeout{10000};       // "timeout_ms": not reached by then -> ends "timeout"
+    Millis stall{2000};          // "stall_ms": no progress for this long -> "stalled"; 0: off
 };
 
 // The capture log (docs/configuration.md, "captures"; docs/operations.md).

@@ -102,6 +102,7 @@ struct MotionEnd {
     EndReason reason = EndReason::kReached;
     std::optional<AttitudeSample> attitude;  // the latest sample when it ended, if any
     Millis elapsed{0};                       // from the command to the end
+    std::string detail{};                    // kStalled: where the gimbal stopped, else empty
 };
 
 // Told once how a tracked motion ended; runs later on the loop, never from

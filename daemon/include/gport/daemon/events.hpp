@@ -56,7 +56,7 @@ using protocol::to_string;
 enum class MotionChange { kStarted, kReplaced, kEnded, kUpdated };
 
 // Why a motion ended. Speed motions end with the first eight; tracked angle
-// and centre motions (MotionTracker) with kReached, kTimeout, kReplaced (a
+// and centre motions (MotionTracker) with kReached, kTimeout, kStalled, kReplaced (a
 // newer angle or centre), kStop, kOwnerGone (only a waiting owner),
 // kSuperseded (a speed or lock), kPreempted, kLinkDown or kShutdown.
 enum class EndReason {
@@ -70,6 +70,7 @@ enum class EndReason {
     kLeaseExpired,  // no update from its owner within the lease
     kReached,       // every axis within motion.tolerance_deg of its target, twice running
     kTimeout,       // not reached within motion.timeout_ms
+    kStalled,       // no progress towards the target for motion.stall_ms
     kReplaced,      // a newer angle or centre command
     kLimit,         // every moving axis was braked at its soft limit
     kNoAttitude,    // no fresh attitude to brake by while a soft limit applies
@@ -85,6 +86,7 @@ struct MotionEvent {
     std::optional<EndReason> reason;   // set when change == kEnded; kLimit on a braking kUpdated
     std::vector<std::string> braked;   // reason kLimit: the axes held at zero by the soft limits
     std::vector<std::string> clamped;  // angle and centre: target axes clamped into the limits
+    std::string detail{};              // reason kStalled: where the gimbal stopped, else empty
 };
 
 // Implemented by whoever listens to the core. Called on the event loop.
@@ -145,6 +147,8 @@ constexpr std::string_view to_string(EndReason reason) {
             return "reached";
         case EndReason::kTimeout:
             return "timeout";
+        case EndReason::kStalled:
+            return "stalled";
         case EndReason::kReplaced:
             return "replaced";
         case EndReason::kLimit:

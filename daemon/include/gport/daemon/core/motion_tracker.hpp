@@ -2,9 +2,11 @@
 // gimbal turns to an angle (or the centre) on its own; the tracker watches
 // the attitude and ends the motion with kReached once every axis's hall
 // (joint) angle is within the tolerance of its target for two consecutive
-// samples, or with kTimeout when that has not happened within the timeout
-// (nothing is sent then). Anything else that ends it (a newer command, stop,
-// preemption, the waiting owner's departure, the link, shutdown) calls end().
+// samples, with kStalled when the hall angles have made no progress towards
+// the target for the stall window (a target beyond the gimbal's reach, an arm
+// that is blocked: the end says where it stopped), or with kTimeout when it
+// has not arrived within the timeout (nothing is sent then). Anything else that ends it (a newer
+// command, stop, preemption, the waiting owner's departure, the link, shutdown) calls end().
 //
 // Hall angles, not IMU angles: the angle command is relative to the aircraft
 // like the hall angles are, so a target is compared with what it commands.
@@ -59,6 +61,33 @@ class Arrival {
     unsigned consecutive_ = 0;
 };
 
+// Pure: whether a motion still makes progress. Its distance is the largest
+// axis's |hall − target|; progress is a new smallest distance at least kStep
+// below the previous smallest, so jitter around a stop is none. No progress
+// within the window after the start or the last progress: stalled.
+class Progress {
+  public:
+    Progress(protocol::Axes target, SteadyTime since, Millis window)
+        : target_(target), since_(since), window_(window) {}
+
+    // Offers a sample's hall angles received at `now`; true once no progress
+    // came for the window (a zero window: never).
+    bool stalled(const protocol::Axes& hall, SteadyTime now);
+    Millis window() const { return window_; }
+    // Where it stopped: "pitch -90.00 (target -100.00, 10.00° short)", the
+    // axis farthest from its target in the last sample offered.
+    std::string where() const;
+
+    static constexpr std::int32_t kStep = 10;  // 0.1°, in 0.01°
+
+  private:
+    protocol::Axes target_;
+    SteadyTime since_;  // the start, or the last progress
+    Millis window_;
+    std::optional<std::int32_t> best_;
+    protocol::Axes last_{};
+};
+
 class MotionTracker {
   public:
     using Emit = std::function<void(const MotionEvent&)>;
@@ -66,6 +95,7 @@ class MotionTracker {
     struct Options {
         double tolerance_deg = 0.5;
         Millis timeout{10000};
+        Millis stall{2000};  // zero: no stall detection
     };
 
     static constexpr Millis kUpdateNoteInterval{500};
@@ -84,8 +114,8 @@ class MotionTracker {
     // Offers every attitude sample (also between motions: the latest one is
     // what a waiter is told); may end the motion with kReached.
     void on_attitude(const AttitudeSample& sample);
-    // Ends the motion, if any, with `reason`. Emits last.
-    void end(EndReason reason);
+    // Ends the motion, if any, with `reason` (`detail`: see MotionEnd). Emits last.
+    void end(EndReason reason, std::string detail = {});
 
     bool active() const { return motion_.has_value(); }
     bool waiting() const { return motion_ && static_cast<bool>(motion_->on_end); }
@@ -102,6 +132,7 @@ class MotionTracker {
         SteadyTime started;
         SteadyTime commanded;  // the last start or update: the timeout runs from it
         Arrival arrival;
+        Progress progress;
         MotionEndCallback on_end;
         SteadyTime noted;             // when the last event of this motion went out
         bool update_pending = false;  // an update not yet published
@@ -112,7 +143,8 @@ class MotionTracker {
     bool is_update(const ClientInfo& owner, MotionMode mode) const;
     void update(protocol::Axes target, MotionEndCallback on_end, std::vector<std::string> clamped);
     void note_update();
-    MotionEvent event(MotionChange change, std::optional<EndReason> reason) const;
+    MotionEvent event(MotionChange change, std::optional<EndReason> reason,
+                      std::string detail = {}) const;
     void arm();
 
     boost::asio::io_context& io_;
