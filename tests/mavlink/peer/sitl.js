@@ -33,8 +33,15 @@
 // again after the reboot; MAVn_POSITION stays at its default), equal to
 // ArduPilot's CAMERA_FEEDBACK, CAMERA_CAPTURE_STATUS.image_count 2, and
 // each CAMERA_IMAGE_CAPTURED's q the attitude gportd logged with it.
+// MODE "router": the deployment docs/mavlink.md describes ("Deployment with
+// mavlink-router"): SITL's SERIAL1 (the flight controller's UART) ->
+// mavlink-routerd (MAVLINK_ROUTER, ../shared/tools/mavlink-router) ->
+// gport-mavlink, and the ground station on the router's TCP port, not
+// SITL's: discovery, a pitch/yaw command, a request to the gimbal (1/154)
+// answered, all through the router.
 //
-// Exits 77 (skipped, saying why) when SITL_DIR has no arducopter.
+// Exits 77 (skipped, saying why) when SITL_DIR has no arducopter, or in
+// "router" mode when MAVLINK_ROUTER (the 7th argument) is not there.
 const fs = require('fs');
 const net = require('net');
 const path = require('path');
@@ -43,7 +50,7 @@ const { PassThrough } = require('stream');
 const { MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, ardupilotmega } = require('node-mavlink');
 const h = require('./harness');
 
-const [sitlDir, gportdPath, simPath, bridgePath, workRoot, mode = 'gimbal'] = process.argv.slice(2);
+const [sitlDir, gportdPath, simPath, bridgePath, workRoot, mode = 'gimbal', routerPath] = process.argv.slice(2);
 const { check, figures, sleep, until, commandLong, heartbeat } = h;
 const MAV_CMD_DO_DIGICAM_CONTROL = 203;
 const MAV_CMD_DO_MOUNT_CONTROL = 205;
@@ -400,17 +407,64 @@ function streamChecks(bridge) {
     `${again.length} repeated (the streams came)`);
 }
 
+// ---- router mode: mavlink-routerd between SITL, gport-mavlink and the
+// ground station, with the config docs/mavlink.md shows (ports made free).
+async function startRouter(fcPort, gimbalPort) {
+  let tcpPort = 0;
+  for (let i = 0; i < 50 && !tcpPort; i += 1) {
+    const p = 30000 + Math.floor(Math.random() * 20000);
+    if (await tcpPortFree(p)) tcpPort = p;
+  }
+  const conf = path.join(workRoot, 'main.conf');
+  fs.writeFileSync(conf, [
+    '[General]', `TcpServerPort = ${tcpPort}`, 'ReportStats = false', '',
+    '# the flight controller: SITL\'s SERIAL1 (on a vehicle: [UartEndpoint fc], Device=/dev/ttyAMA0)',
+    '[UdpEndpoint fc]', 'Mode = Server', 'Address = 127.0.0.1', `Port = ${fcPort}`, '',
+    '# gport-mavlink (--mavlink udpin:127.0.0.1:PORT)',
+    '[UdpEndpoint gimbal]', 'Mode = Normal', 'Address = 127.0.0.1', `Port = ${gimbalPort}`, '',
+  ].join('\n'));
+  // -d: an empty folder instead of this machine's /etc/mavlink-router/config.d
+  const confDir = path.join(workRoot, 'router.d');
+  fs.mkdirSync(confDir, { recursive: true });
+  const router = h.start(workRoot, 'mavlink-routerd', routerPath, ['-c', conf, '-d', confDir]);
+  return { router, tcpPort };
+}
+
+async function routerChecks(gcs, bridge) {
+  let t0 = Date.now();
+  gcs.command(MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW, [-20, -35, NaN, NaN, 0, 0, 0]);
+  const moved = await until(() => h.angleFrames(t0, [0, -20, -35], 0.6).pop(), 8000, 'an angle through the router').catch(() => null);
+  check(moved !== null, `through mavlink-router: PITCHYAW -20/-35 -> angle frame ${moved && JSON.stringify(moved.j.angle)}`);
+  t0 = Date.now();
+  gcs.commandTo(MAV_CMD_REQUEST_MESSAGE, [GIMBAL_DEVICE_INFORMATION], 154);
+  const info = await until(() => gcs.since(t0, 'GIMBAL_DEVICE_INFORMATION')[0], 5000, 'GIMBAL_DEVICE_INFORMATION').catch(() => null);
+  const ack = gcs.since(t0, 'COMMAND_ACK').find((a) => a.header.compid === 154 && a.data.command === MAV_CMD_REQUEST_MESSAGE);
+  check(info !== null && ack && ack.data.result === 0,
+    `the ground station's REQUEST_MESSAGE to 1/154 through the router: ACK ${ack && ack.data.result}, GIMBAL_DEVICE_INFORMATION ${info ? 'came' : 'did not come'}`);
+  const peers = bridge.lines.filter((l) => /replying to 127\.0\.0\.1:\d+/.test(l));
+  figures.push(`gport-mavlink's peer lines: ${peers.length} (${peers.map((l) => l.replace(/.*replying to /, '')).join(' | ')})`);
+  check(peers.length >= 1 && new Set(peers.map((l) => l.match(/replying to (\S+)/)[1])).size === 1,
+    'gport-mavlink sees one peer: the router');
+}
+
 async function main() {
   if (!fs.existsSync(path.join(sitlDir, 'arducopter')) || !fs.existsSync(path.join(sitlDir, 'run'))) {
     console.log(`SKIP: no ArduCopter SITL in ${sitlDir} (GPORT_ARDUPILOT_SITL_DIR; see docs/mavlink.md, "Tests")`);
+    process.exit(77);
+  }
+  if (mode === 'router' && !(routerPath && fs.existsSync(routerPath))) {
+    console.log(`SKIP: no mavlink-routerd at ${routerPath} (GPORT_MAVLINK_ROUTER; see docs/mavlink.md, "Tests")`);
     process.exit(77);
   }
   fs.rmSync(workRoot, { recursive: true, force: true });
   fs.mkdirSync(workRoot, { recursive: true });
   const { sim, gportd, sock } = await h.startGimbal(workRoot, gportdPath, simPath);
   const udpPort = await h.freeUdpPort();
+  // Router mode: SITL's SERIAL1 goes to the router (udpPort), the router to
+  // gport-mavlink (bridgePort).
+  const bridgePort = mode === 'router' ? await h.freeUdpPort() : udpPort;
   const key = h.MavLinkPacketSignature.key('gport-mavlink sitl passphrase');
-  const bridgeArgs = ['--socket', sock, '--mavlink', `udpin:127.0.0.1:${udpPort}`];
+  const bridgeArgs = ['--socket', sock, '--mavlink', `udpin:127.0.0.1:${bridgePort}`];
   if (mode === 'signed') {
     const keyFile = path.join(workRoot, 'mavlink.key');
     fs.writeFileSync(keyFile, key.toString('hex') + '\n', { mode: 0o600 });
@@ -421,12 +475,13 @@ async function main() {
   if (mode === 'gimbal' || mode === 'camera') bridgeArgs.push('--log-level', 'debug');
   const bridge = h.start(workRoot, 'gport-mavlink', bridgePath, bridgeArgs);
   const gcsPort = await freeBasePort();
+  const routed = mode === 'router' ? await startRouter(udpPort, bridgePort) : null;
   const started = Date.now();
   const sitl = startSitl(gcsPort, udpPort);
   process.on('exit', () => { try { process.kill(sitl.pid, 'SIGKILL'); } catch (e) { /* gone */ } });
   const gcs = new GroundStation();
   try {
-    await connectGcs(gcs, gcsPort);
+    await connectGcs(gcs, routed ? routed.tcpPort : gcsPort);
     const beat = () => {
       gcs.send(heartbeat({ type: 6, autopilot: 8 }));
       // The heading (ATTITUDE, 10 Hz), asked until it comes: SITL may not listen yet.
@@ -448,6 +503,7 @@ async function main() {
       if (mode === 'quiet') await quietChecks(gcs, gportd, bridge);
       else if (mode === 'signed') await signedChecks(gcs, bridge);
       else if (mode === 'camera') await cameraChecks(gcs, bridge, sock, mark);
+      else if (mode === 'router') await routerChecks(gcs, bridge);
       else {
         await rangeChecks(gcs);
         await gimbalChecks(gcs, sitl, sim);
@@ -471,7 +527,7 @@ async function main() {
   }
   if (h.failures.length === 0) fs.rmSync(sitl.dir, { recursive: true, force: true });
   else console.log(`SITL's folder kept: ${sitl.dir}`);
-  h.finish(workRoot, [bridge, gportd, sim]);
+  h.finish(workRoot, [bridge, gportd, sim].concat(routed ? [routed.router] : []));
 }
 
 main().catch((error) => {
