@@ -2,20 +2,21 @@
 # Installs what is missing, builds, and shows gportd working against its
 # simulated gimbal: gportctl reads status, watches attitude, shows the live
 # monitor for 3 s, moves the gimbal, and changes a setting. Everything runs
-# from build/release; nothing is installed and the daemon is stopped at the end.
+# from build/demo; nothing is installed and the daemon is stopped at the end.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/deps.sh
-gport_install_deps
+gport_install_deps build   # only what building needs: not the tests' toolchain
 
-echo "== building (Release)"
-cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build/release -j "$(nproc)" --target gportd gportctl gport-sim
+echo "== building (Release; the programs only, no tests, benchmarks or man pages)"
+cmake -S . -B build/demo -G Ninja -DCMAKE_BUILD_TYPE=Release -DGPORT_BUILD_TESTS=OFF \
+  -DGPORT_BUILD_BENCH=OFF -DGPORT_BUILD_MAN=OFF >/dev/null
+cmake --build build/demo -j "$(nproc)" --target gportd gportctl gport-sim
 
 workdir=$(mktemp -d)
 socket="$workdir/gportd.sock"
-gportd=build/release/app/gportd
-gportctl=build/release/cli/gportctl
+gportd=build/demo/app/gportd
+gportctl=build/demo/cli/gportctl
 export GPORT_SOCKET="$socket"
 
 echo "== starting: gportd --simulate --socket $socket"

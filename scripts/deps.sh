@@ -1,11 +1,25 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages gportd needs to build, test and package,
-# when any is missing. Sourced by demo.sh and test.sh; needs root for apt.
+# Installs the Debian 12 packages gportd needs, when any is missing, in two
+# sets: `gport_install_deps build` what building and running the programs
+# need (scripts/demo.sh), `gport_install_deps` (or `all`) that and what the
+# tests, benchmarks, fuzzers and packaging need (scripts/test.sh). Sourced;
+# needs root for apt.
 set -euo pipefail
 
-GPORT_PACKAGES=(
+# Building and running gportd, gportctl, gport-sim, gport-mavlink and the
+# client library (cmake -DGPORT_BUILD_TESTS=OFF -DGPORT_BUILD_BENCH=OFF
+# -DGPORT_BUILD_MAN=OFF).
+GPORT_BUILD_PACKAGES=(
   cmake ninja-build g++ pkg-config
   libboost-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libsystemd-dev libcli11-dev
+  # OpenSSL 3's libcrypto (SHA-256, EVP) for MAVLink 2 message signing in
+  # gport-mavlink (mavlink/src/signing.cpp): a well-kept library rather than
+  # our own SHA-256; its runtime, libssl3, is on every Debian system.
+  libssl-dev
+)
+
+# The tests, benchmarks, fuzzers, man pages and packages, on top of the above.
+GPORT_TEST_PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev
   systemd dpkg-dev
@@ -41,10 +55,6 @@ GPORT_PACKAGES=(
   # this script installs gpsd it turns that off (USBAUTO="false" in
   # /etc/default/gpsd, read by gpsdctl@.service; nothing is masked).
   gpsd
-  # OpenSSL 3's libcrypto (SHA-256, EVP) for MAVLink 2 message signing in
-  # gport-mavlink (mavlink/src/signing.cpp): a well-kept library rather than
-  # our own SHA-256; its runtime, libssl3, is on every Debian system.
-  libssl-dev
   # liburing for bench/fanout_bench (io_uring against sendmsg for one
   # frame's fan-out, docs/performance.md); gportd itself does not use it.
   liburing-dev
@@ -54,10 +64,16 @@ GPORT_PACKAGES=(
 # (e.g. a NodeSource nodejs, which bundles npm and conflicts with Debian's).
 declare -gA GPORT_PACKAGE_COMMANDS=([nodejs]=node [npm]=npm)
 
+# gport_install_deps [build|all]: installs what is missing of that set
+# (default all).
 gport_install_deps() {
-  local missing=()
-  local p
-  for p in "${GPORT_PACKAGES[@]}"; do
+  local set=${1:-all} missing=() wanted=() p
+  case "$set" in
+    build) wanted=("${GPORT_BUILD_PACKAGES[@]}") ;;
+    all) wanted=("${GPORT_BUILD_PACKAGES[@]}" "${GPORT_TEST_PACKAGES[@]}") ;;
+    *) echo "error: gport_install_deps: no package set '$set' (build or all)" >&2; return 1 ;;
+  esac
+  for p in "${wanted[@]}"; do
     if [[ -n ${GPORT_PACKAGE_COMMANDS[$p]:-} ]] && command -v "${GPORT_PACKAGE_COMMANDS[$p]}" >/dev/null; then
       continue
     fi
