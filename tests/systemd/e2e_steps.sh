@@ -204,6 +204,14 @@ check "gport-sim received alice's speed (0x85, yaw 1200 = 12 deg/s)" \
     eventually 5 sim_traced gimbal-sim '"mode":"speed","speed":\[0,0,1200\]'
 check "alice reads attitude through the shared-memory channel under the unit's sandbox (memfd, SCM_RIGHTS, futex)" \
     timeout 10 setpriv --reuid=alice --regid=alice --init-groups -- gportctl watch attitude --shared-memory --count 5
+check "alice (in gport): gportctl photo prints its capture index" \
+    sh -c "setpriv --reuid=alice --regid=alice --init-groups -- gportctl photo | grep -q 'capture [0-9]'"
+check "the capture log is gportd:gport, directory 750 and file 640 ($(stat -c '%U:%G %a' /var/lib/gportd /var/lib/gportd/captures.jsonl 2>&1 | xargs))" \
+    sh -c "[ \"\$(stat -c '%U:%G %a' /var/lib/gportd /var/lib/gportd/captures.jsonl | xargs)\" = 'gportd:gport 750 gportd:gport 640' ]"
+check "alice (in gport) reads the capture log's file; bob (not in gport) cannot" \
+    sh -c "as_user() { u=\$1; shift; setpriv --reuid=\$u --regid=\$u --init-groups -- \"\$@\"; }
+           as_user alice grep -q '\"kind\":\"photo\"' /var/lib/gportd/captures.jsonl &&
+           ! as_user bob cat /var/lib/gportd/captures.jsonl >/dev/null 2>&1"
 out=$(as_user bob gportctl status 2>&1)
 rc=$?
 if [ "$rc" -eq 69 ] && printf '%s' "$out" | grep -qi 'permission denied'; then
