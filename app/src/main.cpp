@@ -4,6 +4,7 @@
 
 #include "gport/app/config_error_server.hpp"
 #include "gport/app/daemon.hpp"
+#include "gport/app/probe.hpp"
 #include "gport/config/command_line.hpp"
 #include "gport/config/loader.hpp"
 
@@ -23,6 +24,9 @@ int main(int argc, char** argv) {
     if (command_line->version) {
         std::fputs(cfg::version_text().c_str(), stdout);
         return 0;
+    }
+    if (command_line->probe) {
+        return gport::app::run_probe(*command_line->probe);
     }
     const auto config = cfg::load_config(*command_line);
     if (!config) {

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <iterator>
 #include <vector>
 
 #include "checks.hpp"
@@ -51,6 +53,11 @@ class Parser {
                detail::check_state_dir);
         app_.add_flag("--simulate", simulate_,
                       "drive the built-in simulated gimbal instead of a device");
+        app_.add_option("--probe", probe_,
+                        "find the G-Port: listen on DEVICEs (default: the usual serial "
+                        "devices) for its attitude frames, report, exit 0 if found, 1 if not")
+            ->expected(0, -1)
+            ->type_name("[DEVICE...]");
     }
 
     Result<CommandLine> parse(std::span<const char* const> argv) {
@@ -79,6 +86,11 @@ class Parser {
         set(line.log_level, "--log-level", log_level_);
         set(line.state_dir, "--state-dir", state_dir_);
         line.simulate = simulate_;
+        if (app_.count("--probe") > 0) {
+            line.probe.emplace();  // CLI11 gives a bare --probe one empty value
+            std::copy_if(probe_.begin(), probe_.end(), std::back_inserter(*line.probe),
+                         [](const std::string& device) { return !device.empty(); });
+        }
         return line;
     }
 
@@ -101,6 +113,7 @@ class Parser {
 
     std::string config_, device_, socket_, log_level_, state_dir_;
     bool simulate_ = false;
+    std::vector<std::string> probe_;
     CLI::App app_;
 };
 

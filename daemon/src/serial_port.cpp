@@ -8,6 +8,8 @@
 #include <boost/asio/write.hpp>
 #include <utility>
 
+#include "gport/daemon/serial_candidates.hpp"
+
 namespace gport::daemon {
 
 namespace asio = boost::asio;
@@ -66,8 +68,12 @@ void SerialPort::try_open() {
         open_error_ = error;
         ++stats_.failures;
         if (auto count = open_failures_log_.occur()) {
-            log_->warn("cannot open device {}: {} ({} attempt{} since last report); retrying",
-                       device_, error, *count, *count == 1 ? "" : "s");
+            // A missing device: say which exist and what to set.
+            const auto hint = ec == boost::system::errc::no_such_file_or_directory
+                                  ? "; " + candidates_hint(serial_candidates())
+                                  : std::string();
+            log_->warn("cannot open device {}: {} ({} attempt{} since last report); retrying{}",
+                       device_, error, *count, *count == 1 ? "" : "s", hint);
         }
         schedule_reopen();
         return;

@@ -25,6 +25,18 @@ TEST(CommandLine, NoOptionsLeavesEverythingUnset) {
     EXPECT_FALSE(c->simulate || c->help || c->version);
 }
 
+TEST(CommandLine, ProbeWithAndWithoutDevices) {
+    auto none = parse({"--probe"});
+    ASSERT_TRUE(none.ok()) << none.error().text();
+    ASSERT_TRUE(none->probe.has_value());
+    EXPECT_TRUE(none->probe->empty()) << "no devices: the usual ones";
+    auto some = parse({"--probe", "/dev/ttyUSB0", "/dev/serial0"});
+    ASSERT_TRUE(some.ok()) << some.error().text();
+    ASSERT_TRUE(some->probe.has_value());
+    EXPECT_EQ(*some->probe, (std::vector<std::string>{"/dev/ttyUSB0", "/dev/serial0"}));
+    EXPECT_FALSE(parse({})->probe.has_value());
+}
+
 TEST(CommandLine, EveryOptionWithSeparateValues) {
     auto c = parse({"--config", "/tmp/g.json", "--device", "/dev/ttyUSB1", "--socket",
                     "/tmp/g.sock", "--log-level", "debug", "--simulate"});
@@ -74,9 +86,10 @@ TEST(CommandLine, EmptyValuesAreRefused) {
 }
 
 TEST(CommandLine, UnknownOptionListsTheOptions) {
-    EXPECT_THAT(parse({"--verbose"}).error().messages,
-                ElementsAre("unknown option --verbose; the options are --help, --version, "
-                            "--config, --device, --socket, --log-level, --state-dir, --simulate"));
+    EXPECT_THAT(
+        parse({"--verbose"}).error().messages,
+        ElementsAre("unknown option --verbose; the options are --help, --version, "
+                    "--config, --device, --socket, --log-level, --state-dir, --simulate, --probe"));
     EXPECT_THAT(parse({"--devices=/dev/x"}).error().messages,
                 ElementsAre(HasSubstr("unknown option --devices;")));
 }

@@ -2,6 +2,7 @@
 //
 //   gportd [--config FILE] [--device PATH] [--socket PATH] [--log-level LEVEL]
 //          [--state-dir DIR] [--simulate] [--help] [--version]
+//   gportd --probe [DEVICE...]
 //
 // Options with a value accept both "--opt VALUE" and "--opt=VALUE"; when an
 // option is repeated the last one wins. Values given here override the file.
@@ -16,6 +17,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "gport/base/exit_status.hpp"
 #include "gport/config/result.hpp"
@@ -52,8 +54,11 @@ struct CommandLine {
     std::optional<std::string> log_level;    // --log-level: overrides log.level
     std::optional<std::string> state_dir;    // --state-dir: overrides captures.dir
     bool simulate = false;                   // --simulate: use the built-in simulated gimbal
-    bool help = false;                       // --help / -h: print usage() and exit 0
-    bool version = false;                    // --version: print version_text() and exit 0
+    // --probe [DEVICE...]: listen for a G-Port on DEVICEs (none given: the
+    // usual serial devices), report, exit (gport/app/probe.hpp).
+    std::optional<std::vector<std::string>> probe;
+    bool help = false;     // --help / -h: print usage() and exit 0
+    bool version = false;  // --version: print version_text() and exit 0
 };
 
 // `args` is argv as given to main (args[0], the program name, is skipped).
