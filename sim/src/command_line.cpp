@@ -3,11 +3,14 @@
 #include "gport/sim/command_line.hpp"
 
 #include <fmt/format.h>
+#include <grp.h>
 
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <functional>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "gport/base/args.hpp"
@@ -126,6 +129,14 @@ class Parser {
                         "refused otherwise; removed on exit and while vanished)")
             ->type_name("PATH")
             ->check(args::check_with(not_empty))
+            ->group("Device");
+        app_.add_option("--group", group_,
+                        "give every slave this group, as udev gives an adapter (e.g. dialout, "
+                        "so that an installed gportd may open it; needs root)")
+            ->type_name("GROUP")
+            ->group("Device");
+        app_.add_option("--mode", mode_, "give every slave these permissions (octal, e.g. 0660)")
+            ->type_name("OCTAL")
             ->group("Device");
         app_.add_flag("--pace", cl_.options.pace,
                       "pace output as a 115200-baud UART (86.8 us a byte); default: at once")
@@ -248,6 +259,9 @@ class Parser {
             cl_.options.faults.shape = WriteShape::kMerge;
             cl_.options.faults.merge_count = merge_;
         }
+        if (auto e = slave_access()) {
+            return Error{*e};
+        }
         if (app_.count("--form") > 0) {
             cl_.options.model.form = form_ == "12" ? AttitudeForm::kShort12 : AttitudeForm::kLong24;
         }
@@ -257,7 +271,32 @@ class Parser {
         return cl_;
     }
 
+    // --group and --mode: a group that exists, octal permission bits.
+    std::optional<std::string> slave_access() {
+        if (app_.count("--group") > 0) {
+            const group* g = ::getgrnam(group_.c_str());
+            if (g == nullptr) {
+                return fmt::format("--group {}: no such group (see /etc/group)", group_);
+            }
+            cl_.options.slave_gid = static_cast<int>(g->gr_gid);
+        }
+        if (app_.count("--mode") > 0) {
+            const bool octal = !mode_.empty() && mode_.size() <= 4 &&
+                               mode_.find_first_not_of("01234567") == std::string::npos;
+            const unsigned bits = octal ? static_cast<unsigned>(std::stoul(mode_, nullptr, 8)) : 0;
+            if (!octal || bits == 0 || bits > 0777) {
+                return fmt::format(
+                    "--mode {}: must be octal permission bits from 0001 to 0777, "
+                    "such as 0660",
+                    mode_);
+            }
+            cl_.options.slave_mode = bits;
+        }
+        return std::nullopt;
+    }
+
     CommandLine cl_;
+    std::string group_, mode_;
     std::string form_;
     unsigned merge_ = 0;
     bool split_ = false;

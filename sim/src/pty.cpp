@@ -51,7 +51,7 @@ std::string read_link(const std::string& path) {
 
 }  // namespace
 
-PtyMaster open_pty() {
+PtyMaster open_pty(const SlaveAccess& access) {
     const int fd = ::posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0) {
         fail("posix_openpt");
@@ -69,6 +69,13 @@ PtyMaster open_pty() {
         }
         PtyMaster pty{fd, name.data()};
         make_slave_raw(pty.slave_path);
+        if (access.gid >= 0 && ::chown(pty.slave_path.c_str(), static_cast<uid_t>(-1),
+                                       static_cast<gid_t>(access.gid)) != 0) {
+            fail("chown " + pty.slave_path + " (--group needs root, or to be in that group)");
+        }
+        if (access.mode != 0 && ::chmod(pty.slave_path.c_str(), access.mode) != 0) {
+            fail("chmod " + pty.slave_path);
+        }
         return pty;
     } catch (...) {
         ::close(fd);

@@ -214,7 +214,7 @@ void PtySimulator::Impl::replay(Duration now) {
 
 void PtySimulator::Impl::open_device() {
     try {
-        PtyMaster pty = open_pty();
+        PtyMaster pty = open_pty({options_.slave_gid, options_.slave_mode});
         device_.assign(pty.fd);
         slave_path_ = pty.slave_path;
         link_.point_to(slave_path_);

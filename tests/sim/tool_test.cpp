@@ -1,5 +1,6 @@
 // The gport-sim executable, spawned as a user or an integration test would.
 #include <fcntl.h>
+#include <grp.h>
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <signal.h>
@@ -144,6 +145,37 @@ TEST(GportSimTool, ABadOptionIsAUsageErrorWithAClearMessage) {
     const auto err = c.all_stderr();
     EXPECT_NE(err.find("--rate: -3: expected frames per second from 0 to 10000"), std::string::npos)
         << err;
+}
+
+// As udev makes an adapter root:dialout 0660: here our own primary group,
+// which an unprivileged test may give its own pty (root may give any).
+TEST(GportSimTool, GroupAndModeAreSetOnTheSlave) {
+    const group* g = ::getgrgid(::getgid());
+    ASSERT_NE(g, nullptr);
+    Child c({"--group", g->gr_name, "--mode", "0640"});
+    const auto slave = c.line();
+    ASSERT_TRUE(slave.has_value());
+    struct stat st {};
+    ASSERT_EQ(::stat(slave->c_str(), &st), 0);
+    EXPECT_EQ(st.st_gid, ::getgid());
+    EXPECT_EQ(st.st_mode & 0777U, 0640U);
+    c.signal(SIGTERM);
+    EXPECT_EQ(c.wait(), 0);
+}
+
+TEST(GportSimTool, AnUnknownGroupOrABadModeIsAUsageError) {
+    Child nogroup({"--group", "no-such-group-here"});
+    EXPECT_EQ(nogroup.wait(), 64);
+    EXPECT_NE(nogroup.all_stderr().find("--group no-such-group-here: no such group"),
+              std::string::npos)
+        << nogroup.all_stderr();
+    for (const char* mode : {"660x", "0", "1777", "rw-rw----"}) {
+        Child bad({"--mode", mode});
+        EXPECT_EQ(bad.wait(), 64) << mode;
+        EXPECT_NE(bad.all_stderr().find("must be octal permission bits from 0001 to 0777"),
+                  std::string::npos)
+            << bad.all_stderr();
+    }
 }
 
 TEST(GportSimTool, AnUnreadableRecordingIsReported) {

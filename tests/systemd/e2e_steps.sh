@@ -77,14 +77,12 @@ sim_traced() { sim_trace "$1" | grep -q -- "$2"; }
 last_speed() { sim_trace "$1" | grep '"mode":"speed"' | tail -n 1; }
 
 # start_sim UNIT LINK: gport-sim on a pty linked at LINK, the pty root:dialout
-# 0660 as udev makes a real adapter.
+# 0660 as udev makes a real adapter (docs/operations.md, "The installed
+# service on gport-sim").
 start_sim() {
-    systemd-run --quiet --unit="$1" /usr/bin/gport-sim --link "$2" --trace ||
+    systemd-run --quiet --unit="$1" /usr/bin/gport-sim --link "$2" --trace --group dialout --mode 0660 ||
         { fail "gport-sim $1 on $2 did not start"; return 1; }
     eventually 10 test -L "$2" || { fail "gport-sim $1 made no link $2"; return 1; }
-    local slave
-    slave=$(readlink -f "$2")
-    chown root:dialout "$slave" && chmod 0660 "$slave"
 }
 
 # This machine's /dev/null is 0644 and nspawn copies its mode; make it 0666

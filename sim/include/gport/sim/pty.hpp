@@ -15,9 +15,15 @@ struct PtyMaster {
 // CR/LF translation): the slave is opened once here, set with cfmakeraw and
 // closed again before anyone else can open it. Leaving it closed also makes
 // the master report POLLHUP until a client opens it, which is how the
-// simulator knows nobody is listening. Throws std::system_error naming the
-// failed call.
-PtyMaster open_pty();
+// simulator knows nobody is listening. `access` sets the slave's group and
+// mode as udev would a real adapter's (e.g. root:dialout 0660, so that an
+// installed gportd, in group dialout, may open it). Throws std::system_error
+// naming the failed call.
+struct SlaveAccess {
+    int gid = -1;       // the slave's group; -1: as devpts made it
+    unsigned mode = 0;  // its permission bits; 0: as devpts made them
+};
+PtyMaster open_pty(const SlaveAccess& access = {});
 
 // True while some process has the slave open (the master has no POLLHUP).
 bool peer_present(int master_fd);

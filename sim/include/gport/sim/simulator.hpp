@@ -30,8 +30,10 @@ namespace gport::sim {
 struct SimOptions {
     ModelOptions model;
     FaultOptions faults;
-    std::string link_path;  // keep a symlink here to the slave; empty: none
-    bool pace = false;      // space writes as a 115200-baud UART would (86.8 µs a byte)
+    std::string link_path;    // keep a symlink here to the slave; empty: none
+    int slave_gid = -1;       // every slave's group (--group); -1: as devpts makes it
+    unsigned slave_mode = 0;  // every slave's mode (--mode); 0: as devpts makes it
+    bool pace = false;        // space writes as a 115200-baud UART would (86.8 µs a byte)
     // The line rate in both directions (8N1: 10 bits a byte), 0 = off. The
     // client's bytes are read at most baud/10 a second, so they wait in the
     // pty's buffer as they would in a UART's, and output is paced at the same
