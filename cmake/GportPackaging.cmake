@@ -139,7 +139,9 @@ set(CPACK_DEBIAN_PACKAGE_DEPENDS "systemd, udev, init-system-helpers (>= 1.54~)"
 # in this package under /usr/lib/python3/dist-packages rather than in a
 # separate python3-gport: it is a few small files, versioned with the daemon
 # whose protocol it speaks. Python is only suggested: the daemon runs without it.
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libboost-dev (>= 1.74), pkg-config, python3 (>= 3.11)")
+# `gportctl geotag` runs exiftool (libimage-exiftool-perl): suggested too.
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS
+    "libboost-dev (>= 1.74), pkg-config, python3 (>= 3.11), libimage-exiftool-perl")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 
 # Maintainer scripts, plus a conffiles list generated from what was actually

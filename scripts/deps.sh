@@ -55,6 +55,9 @@ GPORT_TEST_PACKAGES=(
   # this script installs gpsd it turns that off (USBAUTO="false" in
   # /etc/default/gpsd, read by gpsdctl@.service; nothing is masked).
   gpsd
+  # exiftool: gportctl geotag's tests write and read tags in JPEGs they make
+  # (tests/integration/geotag_test.cpp); users install it to use the command.
+  libimage-exiftool-perl
   # liburing for bench/fanout_bench (io_uring against sendmsg for one
   # frame's fan-out, docs/performance.md); gportd itself does not use it.
   liburing-dev

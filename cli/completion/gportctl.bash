@@ -6,7 +6,7 @@
 _gportctl() {
     local cur=${COMP_WORDS[COMP_CWORD]}
     local prev=${COMP_WORDS[COMP_CWORD - 1]}
-    local commands="status attitude watch speed stop angle center lock photo record settings monitor call captures wait limits help"
+    local commands="status attitude watch speed stop angle center lock photo record settings monitor call captures geotag wait limits help"
     local global="--socket --json --help --version"
     COMPREPLY=()
 
@@ -63,6 +63,10 @@ _gportctl() {
         settings) options="--dead-zone --follow-speed --inverted" ;;
         monitor) options="--control --for --color --ascii" ;;
         captures) options="--since --limit --follow --csv" ;;
+        geotag)
+            options="--captures --since --tolerance --clock-offset --in-order --write --geo-txt"
+            ((positionals == 0)) && compopt -o dirnames 2>/dev/null
+            ;;
         wait)
             options="--timeout"
             ((positionals == 0)) && arguments="link"

@@ -81,6 +81,10 @@ struct Values {
     std::string wait_for, timeout_text;  // wait
     double lat = 0, lon = 0, alt = 0;    // photo, record
     std::string meta;
+    std::string geotag_dir, tolerance_text = "2s", geo_txt;  // geotag
+    std::vector<std::string> captures_files;
+    double clock_offset = 0;
+    bool in_order = false, write = false;
 };
 
 // The command word in `args` (the first argument that is not an option or
@@ -202,6 +206,7 @@ class Parser {
         add_monitor();
         add_call();
         add_captures();
+        add_geotag_dir();
         add_wait();
         command("limits", "limits", "the soft limits gportd enforces (angles, max speed)");
         auto* help = command("help", "", "this text, or a command's");
@@ -279,6 +284,45 @@ class Parser {
                "the capture's meta, empty when it has none), or with --json one capture\n"
                "object per line. --follow goes on with each new capture (the capture\n"
                "topic) until Ctrl-C; --limit then counts only the captures listed first.\n");
+    }
+
+    void add_geotag_dir() {
+        auto* sub = command("geotag", "",
+                            "write each photo's position and gimbal angles into its image file");
+        sub->add_option("dir", v_.geotag_dir, "the folder of the camera's JPEG files")
+            ->required()
+            ->type_name("DIR");
+        sub->add_option("--captures", v_.captures_files,
+                        "read the captures from these capture log files (captures.jsonl*) "
+                        "instead of gportd")
+            ->type_name("FILE...");
+        sub->add_option("--since", v_.since, "only captures from INDEX on (default: all)")
+            ->type_name("INDEX")
+            ->check(args::integer_in(0, std::numeric_limits<long>::max()));
+        sub->add_option("--tolerance", v_.tolerance_text,
+                        "match an image to a capture at most DURATION apart (default 2s)")
+            ->type_name("DURATION")
+            ->check(args::duration_in(1ms, 3600s));
+        sub->add_option("--clock-offset", v_.clock_offset,
+                        "the camera's clock minus UTC in seconds, when its images carry no "
+                        "OffsetTimeOriginal (3600: a camera set to UTC+1; default 0)")
+            ->type_name("SECONDS")
+            ->check(args::number_in(-86400, 86400, "seconds"));
+        sub->add_flag("--in-order", v_.in_order,
+                      "match the images, oldest first, to the photos in index order instead "
+                      "of by time");
+        sub->add_flag("--write", v_.write, "write the tags (default: a dry run that only reports)");
+        sub->add_option("--geo-txt", v_.geo_txt,
+                        "also write OpenDroneMap's image geolocation file (geo.txt) here")
+            ->type_name("FILE");
+        footer(sub,
+               "Matches the JPEG files in DIR to gportd's photo captures, closest in time\n"
+               "first (the camera's DateTimeOriginal; --in-order when its clock is not\n"
+               "set), prints what matched and what did not, and with --write writes each\n"
+               "capture's position (EXIF GPS) and the gimbal's pitch and roll (and yaw\n"
+               "when the meta has heading_deg; XMP drone-dji Gimbal*Degree) with exiftool\n"
+               "(libimage-exiftool-perl), which keeps every original as NAME_original.\n"
+               "Exits 0 when every image matched, 1 when some did not.\n");
     }
 
     void add_watch() {
@@ -486,6 +530,8 @@ class Parser {
             monitor(*sub, inv);
         } else if (inv.command == "captures") {
             captures(inv);
+        } else if (inv.command == "geotag") {
+            geotag_dir(inv);
         } else if (inv.command == "wait" && sub->count("--timeout") > 0) {
             inv.timeout = args::parse_duration(v_.timeout_text);
         }
@@ -629,6 +675,17 @@ class Parser {
             inv.params["wait"] = true;
             inv.wait = true;
         }
+    }
+
+    void geotag_dir(Invocation& inv) const {
+        inv.geotag_dir = v_.geotag_dir;
+        inv.captures_files = v_.captures_files;
+        inv.since = static_cast<std::uint64_t>(v_.since);
+        inv.tolerance = *args::parse_duration(v_.tolerance_text);
+        inv.clock_offset_s = v_.clock_offset;
+        inv.in_order = v_.in_order;
+        inv.write = v_.write;
+        inv.geo_txt = v_.geo_txt;
     }
 
     void captures(Invocation& inv) const {

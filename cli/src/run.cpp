@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <memory>
 
+#include "geotag_dir.hpp"
 #include "gport/cli/captures.hpp"
 #include "gport/cli/monitor.hpp"
 #include "gport/cli/output.hpp"
@@ -52,6 +53,10 @@ class Runner {
         }
         if (inv_.command == "captures") {
             return captures();
+        }
+        if (inv_.command == "geotag") {
+            return geotag_dir(
+                inv_, [this](auto& m, auto& p, auto& r) { return call(m, p, r); }, out_, err_);
         }
         if (inv_.command == "wait") {
             return wait_link(
@@ -483,6 +488,11 @@ int run(const Invocation& invocation, std::ostream& out, std::ostream& err,
         std::function<bool()> interrupted, Terminals terminals) {
     if (invocation.command == "monitor") {
         return run_monitor(invocation.monitor, out, err, interrupted);
+    }
+    if (invocation.command == "geotag" && !invocation.captures_files.empty()) {
+        // From capture log files: no daemon to ask.
+        return geotag_dir(
+            invocation, [](auto&, auto&, auto&) { return kExitUnavailable; }, out, err);
     }
     std::optional<Connection> opened;
     try {

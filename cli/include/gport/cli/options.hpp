@@ -49,6 +49,14 @@ struct Invocation {
     bool follow = false;                                // captures --follow
     bool csv = false;                                   // captures --csv
     std::optional<std::chrono::milliseconds> timeout;   // wait --timeout (none: forever)
+    // geotag DIR (docs/operations.md, "Photos matched to their files")
+    std::string geotag_dir;
+    std::vector<std::string> captures_files;    // --captures FILE...: not from gportd
+    std::chrono::milliseconds tolerance{2000};  // --tolerance
+    double clock_offset_s = 0;                  // --clock-offset: camera clock minus UTC
+    bool in_order = false;                      // --in-order
+    bool write = false;                         // --write (else a dry run)
+    std::string geo_txt;                        // --geo-txt FILE
 };
 
 struct UsageError {

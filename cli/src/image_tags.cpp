@@ -1,0 +1,235 @@
+#include "image_tags.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <tuple>
+
+namespace gport::cli {
+namespace {
+
+using nlohmann::json;
+
+std::optional<double> number_at(const json& object, const char* key) {
+    if (!object.is_object()) {
+        return std::nullopt;
+    }
+    const auto it = object.find(key);
+    if (it == object.end() || !it->is_number()) {
+        return std::nullopt;
+    }
+    return it->get<double>();
+}
+
+// "2026:11:27 14:03:05" (EXIF's local time) -> seconds since the epoch as
+// if it were UTC; empty when it is not that shape.
+std::optional<std::int64_t> exif_seconds(const std::string& text) {
+    std::tm tm{};
+    char tail = 0;
+    if (std::sscanf(text.c_str(), "%4d:%2d:%2d %2d:%2d:%2d%c", &tm.tm_year, &tm.tm_mon, &tm.tm_mday,
+                    &tm.tm_hour, &tm.tm_min, &tm.tm_sec, &tail) != 6 ||
+        tm.tm_year < 1970 || tm.tm_mon < 1 || tm.tm_mon > 12 || tm.tm_mday < 1 || tm.tm_mday > 31 ||
+        tm.tm_hour > 23 || tm.tm_min > 59 || tm.tm_sec > 60) {
+        return std::nullopt;
+    }
+    tm.tm_year -= 1900;
+    tm.tm_mon -= 1;
+    return static_cast<std::int64_t>(::timegm(&tm));
+}
+
+// "+01:00" / "-05:30" -> seconds east of UTC.
+std::optional<std::int64_t> offset_seconds(const json& value) {
+    if (!value.is_string()) {
+        return std::nullopt;
+    }
+    const auto text = value.get<std::string>();
+    int hours = 0;
+    int minutes = 0;
+    char sign = 0;
+    if (std::sscanf(text.c_str(), "%c%2d:%2d", &sign, &hours, &minutes) != 3 ||
+        (sign != '+' && sign != '-') || hours > 14 || minutes > 59) {
+        return std::nullopt;
+    }
+    const std::int64_t s = hours * 3600 + minutes * 60;
+    return sign == '-' ? -s : s;
+}
+
+// SubSecTimeOriginal: the digits of a fraction of a second ("25" = 0.25 s);
+// exiftool -n may give it as a number.
+std::int64_t subsecond_us(const json& value) {
+    std::string digits = value.is_string()           ? value.get<std::string>()
+                         : value.is_number_integer() ? std::to_string(value.get<std::int64_t>())
+                                                     : std::string();
+    if (digits.empty() || digits.size() > 9 ||
+        !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+        return 0;
+    }
+    digits.resize(6, '0');
+    return std::stoll(digits);
+}
+
+std::string name_of(const std::string& path) {
+    return std::filesystem::path(path).filename().string();
+}
+
+}  // namespace
+
+std::optional<PhotoCapture> photo_capture(const json& capture) {
+    if (!capture.is_object() || capture.value("kind", "") != "photo") {
+        return std::nullopt;
+    }
+    const auto index = capture.find("index");
+    const auto utc = capture.find("utc_us");
+    if (index == capture.end() || !index->is_number_unsigned() || utc == capture.end() ||
+        !utc->is_number_integer()) {
+        return std::nullopt;
+    }
+    PhotoCapture p;
+    p.index = index->get<std::uint64_t>();
+    p.utc_us = utc->get<std::int64_t>();
+    const json meta = capture.value("meta", json::object());
+    p.lat = number_at(meta, "lat");
+    p.lon = number_at(meta, "lon");
+    p.alt_m = number_at(meta, "alt_m");
+    if (!p.lat || !p.lon || std::abs(*p.lat) > 90 || std::abs(*p.lon) > 180) {
+        p.lat.reset();  // half a position, or none that exists, is no position
+        p.lon.reset();
+    }
+    const json attitude = capture.value("attitude", json());
+    const json imu = attitude.is_object() ? attitude.value("imu", json()) : json();
+    const json hall = attitude.is_object() ? attitude.value("hall", json()) : json();
+    p.pitch = number_at(imu, "pitch");
+    p.roll = number_at(imu, "roll");
+    const auto heading = number_at(meta, "heading_deg");
+    const auto hall_yaw = number_at(hall, "yaw");
+    if (heading && hall_yaw) {
+        p.yaw = std::remainder(*heading + *hall_yaw, 360.0);
+    }
+    return p;
+}
+
+ImageFile image_file(const json& exif, double clock_offset_s) {
+    ImageFile f;
+    f.path = exif.value("SourceFile", "");
+    const json taken = exif.value("DateTimeOriginal", json());
+    f.taken = taken.is_string() ? taken.get<std::string>() : std::string();
+    if (const auto local = exif_seconds(f.taken)) {
+        const auto offset = offset_seconds(exif.value("OffsetTimeOriginal", json()));
+        const auto shift_us = offset
+                                  ? *offset * 1000000
+                                  : static_cast<std::int64_t>(std::llround(clock_offset_s * 1e6));
+        f.utc_us =
+            *local * 1000000 + subsecond_us(exif.value("SubSecTimeOriginal", json())) - shift_us;
+    }
+    return f;
+}
+
+Matching match_by_time(const std::vector<ImageFile>& images,
+                       const std::vector<PhotoCapture>& captures, std::int64_t tolerance_us) {
+    std::vector<std::tuple<std::int64_t, std::size_t, std::size_t>>
+        pairs;  // |delta|, image, capture
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        for (std::size_t c = 0; images[i].utc_us && c < captures.size(); ++c) {
+            const auto delta = std::llabs(*images[i].utc_us - captures[c].utc_us);
+            if (delta <= tolerance_us) {
+                pairs.emplace_back(delta, i, c);
+            }
+        }
+    }
+    std::sort(pairs.begin(), pairs.end());
+    std::vector<bool> image_used(images.size()), capture_used(captures.size());
+    Matching m;
+    for (const auto& [delta, i, c] : pairs) {
+        if (!image_used[i] && !capture_used[c]) {
+            image_used[i] = capture_used[c] = true;
+            m.matched.push_back({i, c, *images[i].utc_us - captures[c].utc_us});
+        }
+    }
+    std::sort(m.matched.begin(), m.matched.end(),
+              [](const Match& a, const Match& b) { return a.image < b.image; });
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        if (!image_used[i]) {
+            m.images_left.push_back(i);
+        }
+    }
+    for (std::size_t c = 0; c < captures.size(); ++c) {
+        if (!capture_used[c]) {
+            m.captures_left.push_back(c);
+        }
+    }
+    return m;
+}
+
+Matching match_in_order(const std::vector<ImageFile>& images,
+                        const std::vector<PhotoCapture>& captures) {
+    std::vector<std::size_t> by_time(images.size()), by_index(captures.size());
+    for (std::size_t i = 0; i < by_time.size(); ++i) {
+        by_time[i] = i;
+    }
+    for (std::size_t c = 0; c < by_index.size(); ++c) {
+        by_index[c] = c;
+    }
+    std::stable_sort(by_time.begin(), by_time.end(), [&](std::size_t a, std::size_t b) {
+        return std::tuple(images[a].utc_us.value_or(0), name_of(images[a].path)) <
+               std::tuple(images[b].utc_us.value_or(0), name_of(images[b].path));
+    });
+    std::stable_sort(by_index.begin(), by_index.end(), [&](std::size_t a, std::size_t b) {
+        return captures[a].index < captures[b].index;
+    });
+    Matching m;
+    const std::size_t n = std::min(by_time.size(), by_index.size());
+    for (std::size_t k = 0; k < n; ++k) {
+        m.matched.push_back({by_time[k], by_index[k], 0});
+    }
+    m.images_left.assign(by_time.begin() + static_cast<std::ptrdiff_t>(n), by_time.end());
+    m.captures_left.assign(by_index.begin() + static_cast<std::ptrdiff_t>(n), by_index.end());
+    return m;
+}
+
+std::vector<std::string> tag_arguments(const PhotoCapture& c) {
+    std::vector<std::string> args;
+    if (c.lat && c.lon) {
+        args.push_back(fmt::format("-GPSLatitude={:.7f}", std::abs(*c.lat)));
+        args.push_back(fmt::format("-GPSLatitudeRef={}", *c.lat < 0 ? "S" : "N"));
+        args.push_back(fmt::format("-GPSLongitude={:.7f}", std::abs(*c.lon)));
+        args.push_back(fmt::format("-GPSLongitudeRef={}", *c.lon < 0 ? "W" : "E"));
+        if (c.alt_m) {
+            args.push_back(fmt::format("-GPSAltitude={:.3f}", std::abs(*c.alt_m)));
+            args.push_back(fmt::format("-GPSAltitudeRef={}", *c.alt_m < 0 ? 1 : 0));
+        }
+    }
+    if (c.pitch) {
+        args.push_back(fmt::format("-XMP-drone-dji:GimbalPitchDegree={:.2f}", *c.pitch));
+    }
+    if (c.roll) {
+        args.push_back(fmt::format("-XMP-drone-dji:GimbalRollDegree={:.2f}", *c.roll));
+    }
+    if (c.yaw) {
+        args.push_back(fmt::format("-XMP-drone-dji:GimbalYawDegree={:.2f}", *c.yaw));
+    }
+    return args;
+}
+
+std::string geo_txt(const std::vector<ImageFile>& images, const std::vector<PhotoCapture>& captures,
+                    const Matching& matching) {
+    std::string out = "EPSG:4326\n";
+    for (const auto& m : matching.matched) {
+        const auto& c = captures[m.capture];
+        if (!c.lat || !c.lon) {
+            continue;
+        }
+        out += fmt::format("{} {:.7f} {:.7f}", name_of(images[m.image].path), *c.lon, *c.lat);
+        if (c.alt_m) {
+            out += fmt::format(" {:.3f} {:.2f} {:.2f} {:.2f}", *c.alt_m, c.yaw.value_or(0.0),
+                               c.pitch.value_or(0.0), c.roll.value_or(0.0));
+        }
+        out += "\n";
+    }
+    return out;
+}
+
+}  // namespace gport::cli

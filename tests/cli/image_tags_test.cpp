@@ -1,0 +1,130 @@
+// gportctl geotag's pure part: the camera's time, matching, the tags and
+// OpenDroneMap's geo.txt (cli/src/image_tags.hpp).
+#include "image_tags.hpp"
+
+#include <gtest/gtest.h>
+
+namespace gport::cli {
+namespace {
+
+using nlohmann::json;
+
+constexpr std::int64_t kT = 1795762800;  // 2026-11-27 07:00:00 UTC
+
+TEST(ImageTime, LocalTimeWithItsOffsetOrTheClockOffsetAndSubseconds) {
+    const auto with_offset = image_file(json{{"SourceFile", "/d/A.JPG"},
+                                             {"DateTimeOriginal", "2026:11:27 08:00:00"},
+                                             {"SubSecTimeOriginal", "25"},
+                                             {"OffsetTimeOriginal", "+01:00"}},
+                                        -7200);  // the file's own offset wins over --clock-offset
+    ASSERT_TRUE(with_offset.utc_us);
+    EXPECT_EQ(*with_offset.utc_us, kT * 1000000 + 250000);
+    const auto by_clock = image_file(json{{"SourceFile", "/d/B.JPG"},
+                                          {"DateTimeOriginal", "2026:11:27 01:30:00"},
+                                          {"SubSecTimeOriginal", 5}},
+                                     -19800);  // a camera set to UTC-05:30
+    ASSERT_TRUE(by_clock.utc_us);
+    EXPECT_EQ(*by_clock.utc_us, kT * 1000000 + 500000);
+    for (const char* bad : {"", "2026-11-27 07:00:00", "2026:13:27 07:00:00", "0000:00:00 00:00:00",
+                            "2026:11:27 07:00:00 trailing"}) {
+        EXPECT_FALSE(
+            image_file(json{{"SourceFile", "/d/C.JPG"}, {"DateTimeOriginal", bad}}, 0).utc_us)
+            << bad;
+    }
+    EXPECT_FALSE(image_file(json{{"SourceFile", "/d/D.JPG"}}, 0).utc_us) << "no time at all";
+}
+
+PhotoCapture capture_at(std::uint64_t index, std::int64_t utc_s) {
+    PhotoCapture c;
+    c.index = index;
+    c.utc_us = utc_s * 1000000;
+    return c;
+}
+
+ImageFile image_at(const std::string& path, std::optional<std::int64_t> utc_s) {
+    ImageFile f;
+    f.path = path;
+    if (utc_s) {
+        f.utc_us = *utc_s * 1000000;
+    }
+    return f;
+}
+
+TEST(MatchByTime, ClosestFirstOneToOneWithinTheTolerance) {
+    // Two images near capture 2: the closer one takes it; the other falls
+    // back to nothing (capture 1 is 3 s away, beyond 2 s).
+    const std::vector<PhotoCapture> captures{capture_at(1, kT), capture_at(2, kT + 3),
+                                             capture_at(3, kT + 10)};
+    const std::vector<ImageFile> images{image_at("a", kT + 3), image_at("b", kT + 4),
+                                        image_at("c", kT + 11), image_at("d", std::nullopt)};
+    const auto m = match_by_time(images, captures, 2000000);
+    ASSERT_EQ(m.matched.size(), 2U);
+    EXPECT_EQ(m.matched[0].image, 0U);
+    EXPECT_EQ(m.matched[0].capture, 1U);
+    EXPECT_EQ(m.matched[0].delta_us, 0);
+    EXPECT_EQ(m.matched[1].image, 2U);
+    EXPECT_EQ(m.matched[1].capture, 2U);
+    EXPECT_EQ(m.matched[1].delta_us, 1000000);
+    EXPECT_EQ(m.images_left, (std::vector<std::size_t>{1, 3}));
+    EXPECT_EQ(m.captures_left, (std::vector<std::size_t>{0}));
+}
+
+TEST(MatchInOrder, OldestImageToLowestIndexAndTheRestReported) {
+    const std::vector<PhotoCapture> captures{capture_at(7, kT), capture_at(5, kT)};
+    const std::vector<ImageFile> images{image_at("IMG_2.JPG", kT + 9),
+                                        image_at("IMG_1.JPG", kT + 9),
+                                        image_at("IMG_0.JPG", kT + 1)};
+    const auto m = match_in_order(images, captures);
+    ASSERT_EQ(m.matched.size(), 2U);
+    EXPECT_EQ(m.matched[0].image, 2U) << "the oldest image";
+    EXPECT_EQ(m.matched[0].capture, 1U) << "capture 5";
+    EXPECT_EQ(m.matched[1].image, 1U) << "same time: by name";
+    EXPECT_EQ(m.matched[1].capture, 0U) << "capture 7";
+    EXPECT_EQ(m.images_left, (std::vector<std::size_t>{0}));
+    EXPECT_TRUE(m.captures_left.empty());
+}
+
+TEST(PhotoCapture, PositionAnglesAndYawOnlyWithAHeading) {
+    const json capture = json::parse(R"({"index":12,"kind":"photo","utc_us":1795762800000000,
+        "attitude":{"imu":{"roll":0.12,"pitch":-30.05,"yaw":12.5},"hall":{"roll":0.1,"pitch":-29.98,"yaw":45.01},"age_ms":7},
+        "meta":{"lat":-35.363261,"lon":149.1652299,"alt_m":584.09}})");
+    const auto p = photo_capture(capture);
+    ASSERT_TRUE(p);
+    EXPECT_EQ(p->index, 12U);
+    EXPECT_EQ(p->pitch, -30.05);
+    EXPECT_EQ(p->roll, 0.12);
+    EXPECT_FALSE(p->yaw) << "the hall yaw is relative to the vehicle: no heading, no yaw";
+    EXPECT_EQ(
+        tag_arguments(*p),
+        (std::vector<std::string>{
+            "-GPSLatitude=35.3632610", "-GPSLatitudeRef=S", "-GPSLongitude=149.1652299",
+            "-GPSLongitudeRef=E", "-GPSAltitude=584.090", "-GPSAltitudeRef=0",
+            "-XMP-drone-dji:GimbalPitchDegree=-30.05", "-XMP-drone-dji:GimbalRollDegree=0.12"}));
+    auto with_heading = capture;
+    with_heading["meta"]["heading_deg"] = 350;
+    EXPECT_NEAR(*photo_capture(with_heading)->yaw, 35.01, 1e-9) << "350 + 45.01, wrapped";
+    auto record = capture;
+    record["kind"] = "record_start";
+    EXPECT_FALSE(photo_capture(record)) << "only photos";
+    auto half = capture;
+    half["meta"].erase("lon");
+    EXPECT_FALSE(photo_capture(half)->lat) << "half a position is none";
+    EXPECT_FALSE(photo_capture(json::parse(R"({"index":-1,"kind":"photo","utc_us":1})")));
+}
+
+TEST(GeoTxt, Epsg4326ThenNameLonLatAltAndAnglesZeroWhenUnknown) {
+    PhotoCapture a = capture_at(1, kT);
+    a.lat = 47.397742;
+    a.lon = 8.545594;
+    a.alt_m = 488.5;
+    a.pitch = -90;
+    PhotoCapture b = capture_at(2, kT + 5);  // no position: not listed
+    const std::vector<ImageFile> images{image_at("/d/IMG_1.JPG", kT),
+                                        image_at("/d/IMG_2.JPG", kT + 5)};
+    const auto m = match_by_time(images, {a, b}, 1000000);
+    EXPECT_EQ(geo_txt(images, {a, b}, m),
+              "EPSG:4326\nIMG_1.JPG 8.5455940 47.3977420 488.500 0.00 -90.00 0.00\n");
+}
+
+}  // namespace
+}  // namespace gport::cli
