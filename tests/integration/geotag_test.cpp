@@ -98,7 +98,7 @@ class Geotag : public SimDaemonTest {
     }
 
     // An image file taken `skew_ms` after `utc_us` by the camera's clock.
-    std::string image(const std::string& name, std::int64_t utc_us, int skew_ms) {
+    std::string image(const std::string& name, std::int64_t utc_us, std::int64_t skew_ms) {
         const auto path = images_ + "/" + name;
         std::ofstream(path, std::ios::binary) << minimal_jpeg();
         std::string subsec;
