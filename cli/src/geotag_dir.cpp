@@ -128,7 +128,7 @@ int write_tags(const std::vector<ImageFile>& images, const std::vector<PhotoCapt
         }
     }
     if (files.empty()) {
-        out << "nothing to write: the matched captures hold no position or angles\n";
+        out << "nothing to write: no image matched a capture with a position or angles\n";
         return kExitOk;
     }
     if (auto failed = write_image_tags(files, tags)) {

@@ -92,22 +92,22 @@ void close_listener(Listener& l) {
     l.fd = -1;
 }
 
+// One read per readiness: back in poll() the deadline is checked again, so a
+// device that never stops sending cannot hold the probe past it.
 void read_available(Listener& l, ProbeResult& result) {
     std::array<std::uint8_t, 4096> buffer{};
-    for (;;) {
-        const auto n = ::read(l.fd, buffer.data(), buffer.size());
-        if (n <= 0) {
-            return;  // EAGAIN, or a hang-up: nothing more now
-        }
-        result.bytes += static_cast<std::uint64_t>(n);
-        l.decoder.feed(
-            std::span(buffer.data(), static_cast<std::size_t>(n)),
-            [&](const protocol::FrameView& frame) {
-                if (frame.command == static_cast<std::uint8_t>(protocol::Command::kAttitude)) {
-                    ++result.frames;
-                }
-            });
+    const auto n = ::read(l.fd, buffer.data(), buffer.size());
+    if (n <= 0) {
+        return;  // EAGAIN, or a hang-up: nothing now
     }
+    result.bytes += static_cast<std::uint64_t>(n);
+    l.decoder.feed(
+        std::span(buffer.data(), static_cast<std::size_t>(n)),
+        [&](const protocol::FrameView& frame) {
+            if (frame.command == static_cast<std::uint8_t>(protocol::Command::kAttitude)) {
+                ++result.frames;
+            }
+        });
 }
 
 void listen_all(std::vector<Listener>& listeners, std::vector<ProbeResult>& results,

@@ -342,22 +342,27 @@ TEST(Progress, TheFarthestAxisIsTheDistanceAndAZeroWindowNeverStalls) {
     EXPECT_EQ(q.where(), "roll -44.00 (target -45.00, 1.00° short)");
 }
 
-// A tracker with a 500 ms stall window; samples stamped from `started`.
+// A tracker with a 500 ms stall window (and a timeout that never comes);
+// offer() stamps each sample `at` after the motion started.
 class StallTest : public TrackerTest {
   protected:
+    void start(Axes target, MotionEndCallback on_end = {}) {
+        stalling.start(alice, MotionMode::kAngle, target, std::move(on_end));
+        started = std::chrono::steady_clock::now();
+    }
+    void offer(Axes hall, std::chrono::milliseconds at) {
+        auto s = sample(hall);
+        s.received = started + at;
+        stalling.on_attitude(s);
+    }
+
+    MotionTracker stalling{
+        io, {0.5, 60000ms, 500ms}, [this](const MotionEvent& e) { events.push_back(e); }};
     std::chrono::steady_clock::time_point started;
 };
 
 TEST_F(StallTest, AStalledMotionEndsSayingWhereTheGimbalStopped) {
-    MotionTracker stalling{
-        io, {0.5, 60000ms, 500ms}, [this](const MotionEvent& e) { events.push_back(e); }};
-    stalling.start(alice, MotionMode::kAngle, {0, -10000, 0}, waiter());
-    started = std::chrono::steady_clock::now();
-    auto offer = [&](Axes hall, std::chrono::milliseconds at) {
-        auto s = sample(hall);
-        s.received = started + at;
-        stalling.on_attitude(s);
-    };
+    start({0, -10000, 0}, waiter());
     offer({0, -5000, 0}, 100ms);
     offer({0, -9000, 0}, 300ms);
     offer({0, -9000, 0}, 700ms);
@@ -378,15 +383,7 @@ TEST_F(StallTest, AStalledMotionEndsSayingWhereTheGimbalStopped) {
 }
 
 TEST_F(StallTest, AnUpdateStartsTheWindowAgain) {
-    MotionTracker stalling{
-        io, {0.5, 60000ms, 500ms}, [this](const MotionEvent& e) { events.push_back(e); }};
-    stalling.start(alice, MotionMode::kAngle, {0, -10000, 0});
-    started = std::chrono::steady_clock::now();
-    auto offer = [&](Axes hall, std::chrono::milliseconds at) {
-        auto s = sample(hall);
-        s.received = started + at;
-        stalling.on_attitude(s);
-    };
+    start({0, -10000, 0});
     offer({0, -9000, 0}, 0ms);
     stalling.start(alice, MotionMode::kAngle, {0, -8000, 0});  // an update: a new target
     offer({0, -9000, 0}, 400ms);

@@ -178,6 +178,23 @@ TEST_F(Geotag, DryRunThenWriteTheRightPositionIntoEachFile) {
         << geo_text.str();
 }
 
+// The attacker: an image whose name holds a newline and an exiftool option
+// would add lines to exiftool's argument file. It is refused, naming the
+// file, and nothing is written to any image.
+TEST_F(Geotag, AFileNameThatWouldInjectAnExiftoolOptionIsRefused) {
+    const auto t1 = photo({{"lat", 47.0}, {"lon", 8.0}});
+    std::this_thread::sleep_for(1500ms);
+    const auto t2 = photo({{"lat", 48.0}, {"lon", 9.0}});
+    const auto good = image("GOOD.JPG", t1, 0);
+    const auto evil = image("EVIL\n-GPSLatitude=0\n-overwrite_original\n.JPG", t2, 0);
+    const auto r = gportctl({images_, "--clock-offset", "3600", "--write"});
+    EXPECT_EQ(r.status, 1) << r.out;
+    EXPECT_NE(r.out.find("a file name holds a newline"), std::string::npos) << r.out;
+    EXPECT_FALSE(tags(good).contains("GPSLatitude")) << "nothing written";
+    EXPECT_FALSE(tags(evil).contains("GPSLatitude")) << "nothing written";
+    EXPECT_FALSE(fs::exists(good + "_original"));
+}
+
 TEST_F(Geotag, InOrderAndFromCaptureLogFiles) {
     const auto t1 = photo({{"lat", 10.0}, {"lon", 20.0}});
     const auto t2 = photo({{"lat", 11.0}, {"lon", 21.0}});

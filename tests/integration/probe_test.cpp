@@ -20,27 +20,32 @@
 namespace gport::testing {
 namespace {
 
-// A pseudo-terminal whose slave is linked at `link`; with `chatter`, a thread
-// writes bytes that hold no valid G-Port frame (0xAE never starts one: every
-// byte is below 0x80) into it every 20 ms.
+// A pseudo-terminal whose slave is linked at `link`. A chattering one gets
+// bytes that hold no valid G-Port frame (0xAE never starts one: every byte
+// is below 0x80) every 20 ms; a flooding one as fast as they are read.
 class Decoy {
   public:
-    Decoy(const std::string& link, bool chatter) {
+    enum class Kind { kSilent, kChatter, kFlood };
+
+    Decoy(const std::string& link, Kind kind) {
         EXPECT_EQ(::openpty(&master_, &slave_, nullptr, nullptr, nullptr), 0);
         std::filesystem::create_symlink(::ptsname(master_), link);
-        if (chatter) {
-            writer_ = std::thread([this] {
-                std::minstd_rand random(7);
-                while (!stop_) {
-                    std::array<unsigned char, 64> bytes{};
-                    for (auto& b : bytes) {
-                        b = static_cast<unsigned char>(random() % 0x80);
-                    }
-                    [[maybe_unused]] auto n = ::write(master_, bytes.data(), bytes.size());
-                    std::this_thread::sleep_for(20ms);
-                }
-            });
+        if (kind == Kind::kSilent) {
+            return;
         }
+        ::fcntl(master_, F_SETFL, O_NONBLOCK);  // a full pty never blocks the writer
+        const auto pause = kind == Kind::kChatter ? 20ms : 0ms;
+        writer_ = std::thread([this, pause] {
+            std::minstd_rand random(7);
+            std::array<unsigned char, 4096> bytes{};
+            while (!stop_) {
+                for (auto& b : bytes) {
+                    b = static_cast<unsigned char>(random() % 0x80);
+                }
+                const auto n = ::write(master_, bytes.data(), pause > 0ms ? 64 : bytes.size());
+                std::this_thread::sleep_for(n < 0 ? 1ms : pause);
+            }
+        });
     }
     ~Decoy() {
         stop_ = true;
@@ -93,8 +98,8 @@ Probe probe(std::vector<std::string> devices) {
 TEST(Probe, FindsTheGportAmongDecoysAndSaysWhatEachOneIs) {
     TempDir dir;
     SimProcess sim(dir);
-    Decoy chatty(dir.file("chatty"), true);
-    Decoy silent(dir.file("silent"), false);
+    Decoy chatty(dir.file("chatty"), Decoy::Kind::kChatter);
+    Decoy silent(dir.file("silent"), Decoy::Kind::kSilent);
     std::ofstream(dir.file("plain")) << "not a tty\n";
     const auto p = probe(
         {dir.file("chatty"), sim.link(), dir.file("silent"), dir.file("none"), dir.file("plain")});
@@ -122,11 +127,28 @@ TEST(Probe, FindsTheGportAmongDecoysAndSaysWhatEachOneIs) {
 
 TEST(Probe, NoGportAmongDecoysExits1AndSaysWhatToCheck) {
     TempDir dir;
-    Decoy chatty(dir.file("chatty"), true);
+    Decoy chatty(dir.file("chatty"), Decoy::Kind::kChatter);
     const auto p = probe({dir.file("chatty"), dir.file("none")});
     EXPECT_EQ(p.status, 1) << p.text();
     EXPECT_NE(p.text().find("No G-Port found. Is it powered and wired"), std::string::npos)
         << p.text();
+}
+
+// The attacker: a device that never stops sending (a pty written as fast
+// as it is read) cannot hold the probe past its listening time, and what it
+// sends is counted, not kept.
+TEST(Probe, ADeviceThatFloodsCannotHoldTheProbe) {
+    TempDir dir;
+    SimProcess sim(dir);
+    Decoy flood(dir.file("flood"), Decoy::Kind::kFlood);
+    const auto start = std::chrono::steady_clock::now();
+    const auto p = probe({dir.file("flood"), sim.link()});
+    const auto took = std::chrono::steady_clock::now() - start;
+    EXPECT_EQ(p.status, 0) << p.text();
+    EXPECT_NE(p.line_of(dir.file("flood")).find("bytes, 0 G-Port frames"), std::string::npos)
+        << p.text();
+    EXPECT_NE(p.line_of(sim.link()).find("G-Port: "), std::string::npos) << p.text();
+    EXPECT_LT(took, 20s) << "listening is 1.5 s; generous for a loaded machine";
 }
 
 TEST(Probe, TwoNamesOfOneDeviceAreListenedOnOnce) {

@@ -54,6 +54,17 @@ class TrackedMotions : public SimDaemonTest {
         return process.wait(30s).value_or(-1);
     }
 
+    // The params of the next motion `ended` event `watcher` receives (empty
+    // when none comes), skipping the others.
+    static Json next_ended(Client& watcher) {
+        while (auto n = watcher.notification("motion")) {
+            if ((*n)["params"].value("change", "") == "ended") {
+                return (*n)["params"];
+            }
+        }
+        return Json::object();
+    }
+
     int next_id_ = 1000;
 };
 
@@ -131,14 +142,7 @@ TEST_F(TrackedMotions, AFireAndForgetAngleGoesOnAfterItsOwnerLeaves) {
     Client watcher(daemon_->socket());
     ASSERT_TRUE(watcher.call("subscribe", {{"topics", {"motion"}}}).contains("result"));
     EXPECT_EQ(gportctl({"angle", "--pitch", "40"}), 0);
-    Json last;
-    while (auto n = watcher.notification("motion")) {
-        last = (*n)["params"];
-        if (last.value("change", "") == "ended") {
-            break;
-        }
-    }
-    EXPECT_EQ(last.value("reason", ""), "reached");
+    EXPECT_EQ(next_ended(watcher).value("reason", ""), "reached");
 }
 
 TEST_F(TrackedMotions, AWaiterThatDisconnectsEndsItOwnerGoneWithZeroSpeed) {
@@ -193,13 +197,7 @@ TEST_F(Stalls, ATargetBeyondReachEndsStalledNamingWhereTheGimbalStopped) {
               "beyond the gimbal's reach, or blocked?");
     EXPECT_NEAR(result["ended"]["attitude"]["hall"]["pitch"].get<double>(), 90.0, 0.01);
     EXPECT_LT(result["ended"]["elapsed_ms"].get<int>(), 60000) << "long before the timeout";
-    Json ended;
-    while (auto n = watcher.notification("motion")) {
-        if ((*n)["params"].value("change", "") == "ended") {
-            ended = (*n)["params"];
-            break;
-        }
-    }
+    const Json ended = next_ended(watcher);
     EXPECT_EQ(ended.value("reason", ""), "stalled");
     EXPECT_EQ(ended.value("detail", ""), result["ended"]["detail"]);
     EXPECT_TRUE(client_->call("status")["result"]["motion"].is_null());
