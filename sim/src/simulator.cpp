@@ -156,7 +156,7 @@ void PtySimulator::Impl::on_tick() {
     const Duration now = elapsed();
     apply_schedule(now);
     if (device_.is_open()) {
-        check_peer();
+        check_peer(now);
     }
     produce(now);
     schedule_tick(now);
@@ -243,7 +243,7 @@ void PtySimulator::Impl::close_device() {
     link_.remove();
 }
 
-void PtySimulator::Impl::check_peer() {
+void PtySimulator::Impl::check_peer(Duration now) {
     const bool present = peer_present(device_.native_handle());
     if (present && !peer_) {
         peer_ = true;
@@ -251,6 +251,8 @@ void PtySimulator::Impl::check_peer() {
         event("peer_open", slave_path_);
     } else if (!present && peer_) {
         peer_gone();
+    } else if (!present) {
+        release_unseen_exclusive_mode(now);
     }
     if (peer_ && !reading_ && !line_waiting_ && !paused_) {
         arm_read();
@@ -277,6 +279,35 @@ void PtySimulator::Impl::release_exclusive_mode() {
         event("exclusive_stuck", slave_path_, e.what());
         return;
     }
+    act_on(found);
+}
+
+// A client that opened the slave, set TIOCEXCL and closed it between two
+// ticks (a daemon stopped right after it opened, or a tick delayed on a
+// loaded machine) was never seen, so peer_gone() never ran for it. While no
+// client is present the mode is therefore checked every 100 ms as well. Where
+// the mode cannot be read (qemu-user has no TIOCGEXCL) this check gives up
+// quietly: peer_gone() already reports that on every departure.
+void PtySimulator::Impl::release_unseen_exclusive_mode(Duration now) {
+    constexpr Duration kEvery = std::chrono::milliseconds(100);
+    if (!idle_check_possible_ || now < idle_check_due_) {
+        return;
+    }
+    idle_check_due_ = now + kEvery;
+    Exclusivity found = Exclusivity::kNone;
+    try {
+        found = release_exclusive(slave_path_);
+    } catch (const std::system_error&) {
+        idle_check_possible_ = false;
+        return;
+    }
+    if (found != Exclusivity::kNone) {
+        event("unseen_client_left_exclusive", slave_path_);
+        act_on(found);
+    }
+}
+
+void PtySimulator::Impl::act_on(Exclusivity found) {
     if (found == Exclusivity::kCleared) {
         event("exclusive_cleared", slave_path_);
     } else if (found == Exclusivity::kStuck) {
@@ -284,6 +315,7 @@ void PtySimulator::Impl::release_exclusive_mode() {
             event("exclusive_stuck", slave_path_,
                   "the slave stays exclusive (TIOCEXCL): clearing it needs CAP_SYS_ADMIN, and "
                   "without --link the pty cannot be replaced");
+            idle_check_possible_ = false;  // said once; the idle check would repeat it
             return;
         }
         replace_pty();

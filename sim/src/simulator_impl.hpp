@@ -53,9 +53,11 @@ class PtySimulator::Impl : public std::enable_shared_from_this<PtySimulator::Imp
     // --- the device (simulator.cpp)
     void open_device();
     void close_device();
-    void check_peer();
+    void check_peer(Duration now);
     void peer_gone();
     void release_exclusive_mode();
+    void release_unseen_exclusive_mode(Duration now);
+    void act_on(Exclusivity found);
     void replace_pty();
 
     // --- input (simulator_input.cpp)
@@ -97,6 +99,8 @@ class PtySimulator::Impl : public std::enable_shared_from_this<PtySimulator::Imp
     boost::asio::steady_timer pace_timer_;
     boost::asio::steady_timer line_timer_;  // --baud: the next bytes' arrival
     bool peer_ = false;
+    Duration idle_check_due_{};        // release_unseen_exclusive_mode()
+    bool idle_check_possible_ = true;  // false where TIOCGEXCL fails (qemu-user)
     bool reading_ = false;
     bool pacing_ = false;
     bool paused_ = false;  // pause_reading(): the client's bytes stay in the pty

@@ -104,6 +104,31 @@ TEST(PtySimulator, AGoneClientsExclusiveModeIsReleased) {
     EXPECT_FALSE(decode_all(again.read_for(300ms)).attitudes().empty());
 }
 
+// The systemd e2e once lost its link for a whole run this way: the daemon
+// started by the package opened the device and was stopped before the
+// simulator's next tick, leaving the mode behind unseen. Here the client
+// comes and goes on the simulator's own thread, so no tick can see it.
+TEST(PtySimulator, AnUnseenClientsExclusiveModeIsReleasedToo) {
+    GPORT_SKIP_WITHOUT_TIOCGEXCL();
+    const auto link = (std::filesystem::temp_directory_path() /
+                       ("gport-sim-unseen." + std::to_string(::getpid())))
+                          .string();
+    SimOptions o;
+    o.link_path = link;
+    SimThread sim(o);
+    const bool set = sim.on_io([&](PtySimulator&) {
+        Client client(link);
+        return client.ok() && ::ioctl(client.fd(), TIOCEXCL) == 0;
+    });
+    ASSERT_TRUE(set);
+    ASSERT_TRUE(eventually([&] { return sim.traced("unseen_client_left_exclusive"); }));
+    EXPECT_EQ(sim.stats().peer_opens, 0U);
+    Client again(link);
+    ASSERT_TRUE(again.ok());
+    EXPECT_FALSE(exclusive(again.fd()));
+    EXPECT_FALSE(decode_all(again.read_for(300ms)).attitudes().empty());
+}
+
 TEST(PtySimulator, AClientThatNeverSetTheModeLeavesTheSameSlave) {
     GPORT_SKIP_WITHOUT_TIOCGEXCL();
     SimThread sim(SimOptions{});
