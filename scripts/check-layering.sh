@@ -13,6 +13,10 @@
 #     the folder's CMakeLists.txt and *.cmake files, outside comments, where
 #     <target> is a library some layered folder declares (add_library or
 #     gport_add_library); the target's folder must be on the list.
+#   - private headers: a folder may use another's public headers only; the
+#     headers under include/gport/<part>/core/ (the daemon's core, behind
+#     its Api) are <part>/'s own, whatever the table allows (ipc/ may use
+#     daemon/'s Api, not its core).
 # Targets declared outside the layered folders are refused too (e.g.
 # gport::test_fakes of tests/support), except the top-level CMakeLists.txt's
 # (gport::asio, gport::version: Boost.Asio and the generated version header,
@@ -125,6 +129,8 @@ for folder in "${order[@]}"; do
       fail "$file:$line: includes \"$target\", which reaches $part/, outside the layered folders"
     elif ! may_use "$folder" "$part"; then
       fail "$file:$line: includes \"$target\": $folder/ may not use $part/ (it may use: $(allowed_text "$folder"))"
+    elif [[ $target == gport/$part/core/* && $folder != "$part" ]]; then
+      fail "$file:$line: includes \"$target\": gport/$part/core/ is private to $part/ (use $part/'s public headers)"
     fi
   done < <(grep -rnE '^[[:space:]]*#[[:space:]]*include[[:space:]]*["<](gport/|\.\./)' \
              --include='*.cpp' --include='*.hpp' --include='*.h' --include='*.cc' \

@@ -33,7 +33,7 @@ constexpr std::array<Axis, 3> kAxes{{
 
 // The failsafe's centre is clamped into the soft limits, as `center` is:
 // accepted (the gimbal still ends inside its limits), but worth a word.
-void centre_outside_limits(const Config& config, std::vector<std::string>& out) {
+void center_outside_limits(const Config& config, std::vector<std::string>& out) {
     std::string policies;
     for (const auto& policy : kPolicies) {
         if (config.failsafe.*policy.member == Failsafe::kCenter) {
@@ -60,7 +60,7 @@ void centre_outside_limits(const Config& config, std::vector<std::string>& out) 
 
 std::vector<std::string> advisories(const Config& config) {
     std::vector<std::string> out;
-    centre_outside_limits(config, out);
+    center_outside_limits(config, out);
     return out;
 }
 

@@ -171,13 +171,13 @@ Outcome<AngleSent> Motion::angle(const ClientInfo& client, Limited target,
 // Where the soft limits exclude 0 on an axis, the gimbal's own centre command
 // would drive that axis out of range: an angle frame to the clamped centre
 // goes instead (for the command, the failsafe and MAVLink's NEUTRAL/RETRACT).
-gp::Control Motion::centre_control(const Limited& centre) {
-    return centre.clamped.empty() ? gp::Control::center() : gp::Control::angle_of(centre.axes);
+gp::Control Motion::center_control(const Limited& target) {
+    return target.clamped.empty() ? gp::Control::center() : gp::Control::angle_of(target.axes);
 }
 
 Outcome<AngleSent> Motion::center(const ClientInfo& client, MotionEndCallback on_end) {
-    const Limited target = centre();
-    auto sent = position(client, centre_control(target), MotionMode::kCenter, std::move(on_end),
+    const Limited target = center_target();
+    auto sent = position(client, center_control(target), MotionMode::kCenter, std::move(on_end),
                          target.clamped);
     if (!sent) {
         return sent.error();

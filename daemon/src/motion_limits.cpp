@@ -46,7 +46,7 @@ Outcome<Limited> MotionLimits::angle(protocol::Axes target, bool clamp) const {
     return out;
 }
 
-Limited MotionLimits::centre() const {
+Limited MotionLimits::center_target() const {
     return *angle(protocol::Axes{}, true);  // with clamp, angle() never refuses
 }
 

@@ -174,14 +174,14 @@ std::optional<gp::Control> Motion::failsafe_frame(config::Failsafe& action,
         return gp::Control::angle_of(hold->axes);
     }
     if (action == config::Failsafe::kCenter) {
-        const Limited target = centre();
+        const Limited target = center_target();
         if (!target.clamped.empty()) {
             note = fmt::format(
                 " at the centre clamped into the soft limits (roll {:.2f}°, "
                 "pitch {:.2f}°, yaw {:.2f}°)",
                 target.axes.roll / 100.0, target.axes.pitch / 100.0, target.axes.yaw / 100.0);
         }
-        return centre_control(target);
+        return center_control(target);
     }
     return std::nullopt;
 }

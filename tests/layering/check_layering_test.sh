@@ -70,6 +70,13 @@ expect "upward include" \
     "cli/src/options.cpp:$line: includes \"gport/ipc/json_rpc.hpp\": cli/ may not use ipc/" \
     "(it may use: base contract client)"
 
+# 1b. A private header of a folder it may use: ipc/ may use daemon/'s Api,
+#     not the core's headers.
+fresh
+append "$case/ipc/src/server.cpp" '#include "gport/daemon/core/serial_port.hpp"'
+expect "private header" \
+    "ipc/src/server.cpp:$line: includes \"gport/daemon/core/serial_port.hpp\": gport/daemon/core/ is private to daemon/"
+
 # 2. An upward link, by alias.
 fresh
 append "$case/cli/CMakeLists.txt" 'target_link_libraries(gportctl PRIVATE gport::ipc)'

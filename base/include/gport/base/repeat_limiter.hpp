@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <optional>
 
-namespace gport::daemon {
+namespace gport::base {
 
 class RepeatLimiter {
   public:
@@ -43,4 +43,4 @@ class RepeatLimiter {
     bool reported_ = false;
 };
 
-}  // namespace gport::daemon
+}  // namespace gport::base

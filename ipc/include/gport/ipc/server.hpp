@@ -33,9 +33,9 @@
 #include <variant>
 #include <vector>
 
+#include "gport/base/repeat_limiter.hpp"
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
-#include "gport/daemon/core/repeat_limiter.hpp"
 #include "gport/ipc/capture_log.hpp"
 #include "gport/ipc/json_rpc.hpp"
 #include "gport/ipc/session_host.hpp"
@@ -146,7 +146,7 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     // Exhaustion of descriptors or memory for the channel: counted, and
     // logged once, then as a summary at most once a minute.
     std::uint64_t channel_failures_ = 0;
-    daemon::RepeatLimiter channel_failure_log_{std::chrono::minutes(1)};
+    base::RepeatLimiter channel_failure_log_{std::chrono::minutes(1)};
     std::unordered_map<std::uint64_t, std::shared_ptr<Session>> sessions_;
     // Sessions that closed while the map was being walked; erased afterwards.
     std::vector<std::uint64_t> closed_ids_;
@@ -161,7 +161,7 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     bool trim_armed_ = false;
     // Clients whose supplementary groups could not be read (SO_PEERGROUPS):
     // judged by uid and primary gid; logged once, then at most once a minute.
-    daemon::RepeatLimiter peer_groups_log_{std::chrono::minutes(1)};
+    base::RepeatLimiter peer_groups_log_{std::chrono::minutes(1)};
     // Refused clients are summarised in the log, not one line each.
     std::uint64_t refused_ = 0;
     std::chrono::steady_clock::time_point refused_logged_{};

@@ -12,10 +12,10 @@
 #include <optional>
 #include <string_view>
 
+#include "gport/base/repeat_limiter.hpp"
 #include "gport/base/token_bucket.hpp"
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
-#include "gport/daemon/core/repeat_limiter.hpp"
 #include "gport/daemon/outcome.hpp"
 
 namespace gport::daemon {
@@ -39,8 +39,8 @@ class CameraGate {
   private:
     base::TokenBucket rate_;
     std::uint64_t refused_ = 0;
-    RepeatLimiter photo_log_;
-    RepeatLimiter record_log_;
+    base::RepeatLimiter photo_log_;
+    base::RepeatLimiter record_log_;
 };
 
 }  // namespace gport::daemon

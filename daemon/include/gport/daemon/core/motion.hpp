@@ -79,7 +79,7 @@ class Motion {
     Outcome<SpeedStarted> speed(const ClientInfo& client, SpeedRequest request);
     Outcome<Limited> check_angle(protocol::Axes angle, bool clamp) const;
     // The centre (0/0/0) clamped into the soft limits.
-    Limited centre() const { return MotionLimits(limits_).centre(); }
+    Limited center_target() const { return MotionLimits(limits_).center_target(); }
     // angle and centre become tracked motions (a newer one replaces the
     // running one: kReplaced); lock ends any motion (kSuperseded) and is not
     // tracked: it has no target.
@@ -133,7 +133,7 @@ class Motion {
                            std::vector<std::string> clamped = {});
     // The centre command, or the angle frame to the centre clamped into the
     // soft limits.
-    static protocol::Control centre_control(const Limited& centre);
+    static protocol::Control center_control(const Limited& target);
 
     // The keepalive: its timer, a tick, and braking the running speed.
     void arm_keepalive();

@@ -31,7 +31,7 @@ class MotionLimits {
     Outcome<Limited> angle(protocol::Axes target, bool clamp) const;
     // 0/0/0 clamped into the angle ranges: the centre that `center` and the
     // failsafe aim at (docs/api.md, "center and the soft limits").
-    Limited centre() const;
+    Limited center_target() const;
     // Speeds in 0.01°/s, the same for |speed| above limits.max_speed.
     Outcome<Limited> speed(protocol::Axes speed, bool clamp) const;
 

@@ -26,8 +26,8 @@
 #include <string>
 #include <string_view>
 
+#include "gport/base/repeat_limiter.hpp"
 #include "gport/config/config.hpp"
-#include "gport/daemon/core/repeat_limiter.hpp"
 #include "gport/daemon/core/write_queue.hpp"
 #include "gport/daemon/outcome.hpp"
 #include "gport/protocol/frame.hpp"
@@ -107,8 +107,8 @@ class SerialPort {
     config::Millis backoff_;
     Handlers handlers_;
     std::shared_ptr<spdlog::logger> log_;
-    RepeatLimiter open_failures_log_;
-    RepeatLimiter losses_log_;
+    base::RepeatLimiter open_failures_log_;
+    base::RepeatLimiter losses_log_;
     std::array<std::uint8_t, 4096> read_buffer_{};
     WriteQueue queue_{kMaxQueuedFrames};
     std::optional<WriteQueue::Entry> in_flight_;  // its bytes are what async_write reads
