@@ -9,6 +9,7 @@
 #include "exiftool.hpp"
 #include "gport/cli/captures.hpp"
 #include "gport/cli/printable.hpp"
+#include "gport/contract/names.hpp"
 #include "image_tags.hpp"
 
 namespace gport::cli {
@@ -28,7 +29,8 @@ int captures_from_gportd(const Invocation& inv, const CallFn& call,
     std::uint64_t since = inv.since;
     for (bool more = true; more;) {
         json result;
-        if (const int s = call("captures", {{"since", since}, {"limit", kPage}}, result);
+        if (const int s =
+                call(contract::method::kCaptures, {{"since", since}, {"limit", kPage}}, result);
             s != kExitOk) {
             return s;
         }

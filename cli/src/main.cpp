@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "gport/cli/run.hpp"
+#include "gport/contract/names.hpp"
 
 namespace {
 
@@ -30,7 +31,7 @@ int main(int argc, char** argv) {
     catch_signal(SIGTERM);
     std::signal(SIGPIPE, SIG_IGN);
     std::vector<std::string> args(argv + 1, argv + argc);
-    return gport::cli::main_with(args, std::getenv("GPORT_SOCKET"), std::cout, std::cerr,
-                                 [] { return g_interrupted != 0; },
+    return gport::cli::main_with(args, std::getenv(gport::contract::kSocketEnv), std::cout,
+                                 std::cerr, [] { return g_interrupted != 0; },
                                  {::isatty(STDOUT_FILENO) == 1, ::isatty(STDERR_FILENO) == 1});
 }

@@ -12,6 +12,7 @@
 #include "geotag.hpp"
 #include "gport/base/args.hpp"
 #include "gport/contract/limits.hpp"
+#include "gport/contract/names.hpp"
 #include "suggest.hpp"
 
 namespace gport::cli {
@@ -326,7 +327,8 @@ class Parser {
     }
 
     void add_watch() {
-        auto* sub = command("watch", "subscribe", "stream attitude, link and motion events");
+        auto* sub = command("watch", contract::method::kSubscribe,
+                            "stream attitude, link and motion events");
         sub->add_option("topics", v_.topics, "attitude, link, motion (default: all three)")
             ->check(args::one_of(kTopics));
         sub->add_option("--rate", v_.rate, "at most HZ attitude samples a second (the newest)")

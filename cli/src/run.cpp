@@ -17,6 +17,7 @@
 #include "gport/client/connection.hpp"
 #include "gport/client/error.hpp"
 #include "gport/contract/errors.hpp"
+#include "gport/contract/names.hpp"
 #include "wait.hpp"
 
 namespace gport::cli {
@@ -209,7 +210,7 @@ class Runner {
         for (bool more = true; more && left > 0;) {
             json result;
             const json params = {{"since", since}, {"limit", std::min(left, kCapturesPage)}};
-            if (const int s = call("captures", params, result); s != kExitOk) {
+            if (const int s = call(contract::method::kCaptures, params, result); s != kExitOk) {
                 return s;
             }
             const auto page = read_captures_page(result, since);
@@ -228,7 +229,9 @@ class Runner {
     int captures() {
         json ignored;
         if (inv_.follow) {
-            if (const int s = call("subscribe", {{"topics", {"capture"}}}, ignored); s != kExitOk) {
+            if (const int s =
+                    call(contract::method::kSubscribe, {{"topics", {"capture"}}}, ignored);
+                s != kExitOk) {
                 return s;
             }
         }
@@ -283,7 +286,8 @@ class Runner {
         const Unwatch unwatch{conn_};  // before the feed goes
         json result = {{"topics", json::array()}};
         if (!params["topics"].empty()) {
-            if (const int status = call("subscribe", params, result); status != kExitOk) {
+            if (const int status = call(contract::method::kSubscribe, params, result);
+                status != kExitOk) {
                 return status;
             }
         }
@@ -382,7 +386,7 @@ class Runner {
     int stop_and_exit() {
         conn_.interrupted = [] { return false; };
         json ignored;
-        const int status = call("stop", json::object(), ignored);
+        const int status = call(contract::method::kStop, json::object(), ignored);
         if (status == kExitOk && !inv_.json) {
             out_ << "stopped\n";
         }
@@ -395,12 +399,13 @@ class Runner {
     int speed_for() {
         json result;
         if (const int status =
-                call("subscribe",
+                call(contract::method::kSubscribe,
                      {{"topics", {"motion", "attitude"}}, {"max_rate_hz", kProgressHz}}, result);
             status != kExitOk) {
             return status;
         }
-        if (const int status = call("speed", inv_.params, result); status != kExitOk) {
+        if (const int status = call(contract::method::kSpeed, inv_.params, result);
+            status != kExitOk) {
             return status;
         }
         print(result);
@@ -451,7 +456,7 @@ class Runner {
         json params = inv_.params;
         params["duration_ms"] = std::chrono::milliseconds(kResendDuration).count();
         json result;
-        if (const int status = call("speed", params, result); status != kExitOk) {
+        if (const int status = call(contract::method::kSpeed, params, result); status != kExitOk) {
             return status;
         }
         if (!inv_.json) {
@@ -468,7 +473,8 @@ class Runner {
             if (conn_.interrupted()) {
                 return stop_and_exit();
             }
-            if (const int status = call("speed", params, result); status != kExitOk) {
+            if (const int status = call(contract::method::kSpeed, params, result);
+                status != kExitOk) {
                 return conn_.interrupted() ? stop_and_exit() : status;
             }
         }

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "gport/cli/printable.hpp"
+#include "gport/contract/names.hpp"
 
 namespace gport::cli {
 namespace {
@@ -98,11 +99,12 @@ int wait_link(const Invocation& inv, Connection& conn, const CallFn& call, std::
               std::ostream& err) {
     LinkWait wait(inv, conn, out, err);  // the timeout counts from here
     json result;
-    if (const int s = call("subscribe", {{"topics", {"link"}}}, result); s != kExitOk) {
+    if (const int s = call(contract::method::kSubscribe, {{"topics", {"link"}}}, result);
+        s != kExitOk) {
         return s;
     }
     // Notifications that came before status's reply are older than it.
-    if (const int s = call("status", json::object(), result); s != kExitOk) {
+    if (const int s = call(contract::method::kStatus, json::object(), result); s != kExitOk) {
         return s;
     }
     return wait.until_up(result.value("link", json::object()));

@@ -26,6 +26,7 @@
 #include "gport/client/attitude_feed.hpp"
 #include "gport/client/channel_claims.hpp"
 #include "gport/client/lines.hpp"
+#include "gport/contract/names.hpp"
 
 namespace gport::client {
 
@@ -70,7 +71,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         if (!params.empty()) {
             request["params"] = params;
         }
-        if (method == "attitude_channel") {
+        if (method == contract::method::kAttitudeChannel) {
             claims.expect(id);  // two descriptors may come with its reply
         }
         auto& call = pending[id];
@@ -199,7 +200,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     // shared by every later one ("descriptors":0).
     void open_channel(Handler<AttitudeChannel> done) {
         std::weak_ptr<Impl> weak = weak_from_this();
-        call("attitude_channel", json::object(),
+        call(contract::method::kAttitudeChannel, json::object(),
              [weak, done = std::move(done)](std::optional<Error> error, const json& reply) {
                  AttitudeChannel channel;
                  const auto self = weak.lock();
@@ -414,44 +415,46 @@ void AsyncClient::async_connect(const std::string& path,
 }
 
 void AsyncClient::async_status(Handler<Status> handler) {
-    impl_->call("status", json::object(), typed(std::move(handler), codec::status));
+    impl_->call(contract::method::kStatus, json::object(),
+                typed(std::move(handler), codec::status));
 }
 
 void AsyncClient::async_attitude(Handler<AttitudeSample> handler) {
-    impl_->call("attitude", json::object(), typed(std::move(handler), codec::attitude));
+    impl_->call(contract::method::kAttitude, json::object(),
+                typed(std::move(handler), codec::attitude));
 }
 
 void AsyncClient::async_speed(const Axes& speed, const SpeedOptions& options,
                               Handler<SpeedResult> handler) {
-    impl_->call("speed", codec::speed_params(speed, options),
+    impl_->call(contract::method::kSpeed, codec::speed_params(speed, options),
                 typed(std::move(handler), codec::speed_result));
 }
 
 void AsyncClient::async_stop(Handler<Done> handler) {
-    impl_->call("stop", json::object(), typed(std::move(handler), done));
+    impl_->call(contract::method::kStop, json::object(), typed(std::move(handler), done));
 }
 
 void AsyncClient::async_angle(const Axes& target, const AngleOptions& options,
                               Handler<AngleResult> handler) {
-    impl_->call("angle", codec::angle_params(target, options),
+    impl_->call(contract::method::kAngle, codec::angle_params(target, options),
                 typed(std::move(handler), codec::angle_result));
 }
 
 void AsyncClient::async_center(const CenterOptions& options, Handler<CenterResult> handler) {
-    impl_->call("center", codec::center_params(options),
+    impl_->call(contract::method::kCenter, codec::center_params(options),
                 typed(std::move(handler), codec::center_result));
 }
 
 void AsyncClient::async_lock(Handler<Done> handler) {
-    impl_->call("lock", json::object(), typed(std::move(handler), done));
+    impl_->call(contract::method::kLock, json::object(), typed(std::move(handler), done));
 }
 
 void AsyncClient::async_photo(Handler<Done> handler) {
-    impl_->call("photo", json::object(), typed(std::move(handler), done));
+    impl_->call(contract::method::kPhoto, json::object(), typed(std::move(handler), done));
 }
 
 void AsyncClient::async_record(std::optional<bool> on, bool force, Handler<RecordResult> handler) {
-    impl_->call("record", codec::record_params(on, force),
+    impl_->call(contract::method::kRecord, codec::record_params(on, force),
                 typed(std::move(handler), codec::record_result));
 }
 
@@ -461,7 +464,7 @@ void AsyncClient::async_photo(const CaptureOptions& options, Handler<PhotoResult
         asio::post(impl_->io, [handler = std::move(handler), e = *error] { handler(e, {}); });
         return;
     }
-    impl_->call("photo", params, typed(std::move(handler), codec::photo_result));
+    impl_->call(contract::method::kPhoto, params, typed(std::move(handler), codec::photo_result));
 }
 
 void AsyncClient::async_photo_report(const CaptureOptions& options, Handler<PhotoReport> handler) {
@@ -470,7 +473,7 @@ void AsyncClient::async_photo_report(const CaptureOptions& options, Handler<Phot
         asio::post(impl_->io, [handler = std::move(handler), e = *error] { handler(e, {}); });
         return;
     }
-    impl_->call("photo", params, typed(std::move(handler), codec::photo_report));
+    impl_->call(contract::method::kPhoto, params, typed(std::move(handler), codec::photo_report));
 }
 
 void AsyncClient::async_record(std::optional<bool> on, bool force, const CaptureOptions& options,
@@ -480,41 +483,45 @@ void AsyncClient::async_record(std::optional<bool> on, bool force, const Capture
         asio::post(impl_->io, [handler = std::move(handler), e = *error] { handler(e, {}); });
         return;
     }
-    impl_->call("record", params, typed(std::move(handler), codec::record_result));
+    impl_->call(contract::method::kRecord, params, typed(std::move(handler), codec::record_result));
 }
 
 void AsyncClient::async_captures(std::uint64_t since, std::optional<std::uint32_t> limit,
                                  Handler<CapturesPage> handler) {
-    impl_->call("captures", codec::captures_params(since, limit),
+    impl_->call(contract::method::kCaptures, codec::captures_params(since, limit),
                 typed(std::move(handler),
                       [since](const json& result) { return codec::captures_page(result, since); }));
 }
 
 void AsyncClient::async_acquire(Handler<Control> handler) {
-    impl_->call("acquire", json::object(), typed(std::move(handler), codec::control));
+    impl_->call(contract::method::kAcquire, json::object(),
+                typed(std::move(handler), codec::control));
 }
 
 void AsyncClient::async_release(Handler<Control> handler) {
-    impl_->call("release", json::object(), typed(std::move(handler), codec::control));
+    impl_->call(contract::method::kRelease, json::object(),
+                typed(std::move(handler), codec::control));
 }
 
 void AsyncClient::async_settings(Handler<Settings> handler) {
-    impl_->call("get_settings", json::object(), typed(std::move(handler), codec::settings));
+    impl_->call(contract::method::kGetSettings, json::object(),
+                typed(std::move(handler), codec::settings));
 }
 
 void AsyncClient::async_limits(Handler<Limits> handler) {
-    impl_->call("limits", json::object(), typed(std::move(handler), codec::limits));
+    impl_->call(contract::method::kLimits, json::object(),
+                typed(std::move(handler), codec::limits));
 }
 
 void AsyncClient::async_set_settings(const SettingsChange& change, Handler<Settings> handler) {
-    impl_->call("set_settings", codec::settings_params(change),
+    impl_->call(contract::method::kSetSettings, codec::settings_params(change),
                 typed(std::move(handler), codec::settings));
 }
 
 void AsyncClient::async_subscribe(const std::vector<std::string>& topics,
                                   std::optional<double> max_rate_hz,
                                   Handler<Subscription> handler) {
-    impl_->call("subscribe", codec::subscribe_params(topics, max_rate_hz),
+    impl_->call(contract::method::kSubscribe, codec::subscribe_params(topics, max_rate_hz),
                 typed(std::move(handler), codec::subscription));
 }
 
@@ -550,7 +557,7 @@ void AsyncClient::async_subscribe(const std::vector<std::string>& topics,
             finish(std::nullopt, Subscription{});
             return;
         }
-        self->call("subscribe", codec::subscribe_params(rest, std::nullopt),
+        self->call(contract::method::kSubscribe, codec::subscribe_params(rest, std::nullopt),
                    typed(std::move(finish), codec::subscription));
     });
 }
@@ -564,7 +571,7 @@ void AsyncClient::async_unsubscribe(const std::vector<std::string>& topics,
     if (topics.empty() || std::find(topics.begin(), topics.end(), "attitude") != topics.end()) {
         impl_->stop_ring();
     }
-    impl_->call("unsubscribe", codec::unsubscribe_params(topics),
+    impl_->call(contract::method::kUnsubscribe, codec::unsubscribe_params(topics),
                 typed(std::move(handler), codec::subscription));
 }
 

@@ -9,6 +9,7 @@
 #include "codec.hpp"
 #include "gport/client/attitude_feed.hpp"
 #include "gport/client/connection.hpp"
+#include "gport/contract/names.hpp"
 #include "notification_queue.hpp"
 
 namespace gport::client {
@@ -116,7 +117,9 @@ struct Client::Impl {
     // ---- the shared-memory attitude channel ---------------------------------
     // The connection's channel: mapped from its first reply's descriptors,
     // shared by every later one.
-    AttitudeChannel open_channel() { return connection.channel_from(call_raw("attitude_channel")); }
+    AttitudeChannel open_channel() {
+        return connection.channel_from(call_raw(contract::method::kAttitudeChannel));
+    }
 
     // Attitude from the ring from now on, woken through the connection's poll.
     void start_ring() {
@@ -162,7 +165,7 @@ struct Client::Impl {
 };
 
 std::string Client::default_socket() {
-    const char* env = std::getenv("GPORT_SOCKET");
+    const char* env = std::getenv(kSocketEnv);
     return env != nullptr && *env != '\0' ? std::string(env) : std::string(kDefaultSocket);
 }
 
@@ -183,10 +186,10 @@ Client& Client::operator=(Client&& other) noexcept = default;
 Client::~Client() = default;
 
 Status Client::status() {
-    return codec::status(impl().call("status"));
+    return codec::status(impl().call(contract::method::kStatus));
 }
 AttitudeSample Client::attitude() {
-    return codec::attitude(impl().call("attitude"));
+    return codec::attitude(impl().call(contract::method::kAttitude));
 }
 
 SpeedResult Client::speed(const Axes& speed, std::optional<Milliseconds> duration,
@@ -195,34 +198,39 @@ SpeedResult Client::speed(const Axes& speed, std::optional<Milliseconds> duratio
 }
 
 SpeedResult Client::speed(const Axes& speed, const SpeedOptions& options) {
-    return codec::speed_result(impl().call("speed", codec::speed_params(speed, options)));
+    return codec::speed_result(
+        impl().call(contract::method::kSpeed, codec::speed_params(speed, options)));
 }
 
 void Client::stop() {
-    impl().call("stop");
+    impl().call(contract::method::kStop);
 }
 
 AngleResult Client::angle(const Axes& target, const AngleOptions& options) {
-    return codec::angle_result(impl().call("angle", codec::angle_params(target, options)));
+    return codec::angle_result(
+        impl().call(contract::method::kAngle, codec::angle_params(target, options)));
 }
 
 CenterResult Client::center(const CenterOptions& options) {
-    return codec::center_result(impl().call("center", codec::center_params(options)));
+    return codec::center_result(
+        impl().call(contract::method::kCenter, codec::center_params(options)));
 }
 
 void Client::lock() {
-    impl().call("lock");
+    impl().call(contract::method::kLock);
 }
 void Client::photo() {
-    impl().call("photo");
+    impl().call(contract::method::kPhoto);
 }
 
 RecordResult Client::record() {
-    return codec::record_result(impl().call("record", codec::record_params(std::nullopt, false)));
+    return codec::record_result(
+        impl().call(contract::method::kRecord, codec::record_params(std::nullopt, false)));
 }
 
 RecordResult Client::record(bool on, bool force) {
-    return codec::record_result(impl().call("record", codec::record_params(on, force)));
+    return codec::record_result(
+        impl().call(contract::method::kRecord, codec::record_params(on, force)));
 }
 
 PhotoReport Client::photo(const CaptureOptions& options) {
@@ -230,7 +238,7 @@ PhotoReport Client::photo(const CaptureOptions& options) {
     if (auto error = codec::add_meta(params, options)) {
         throw *error;
     }
-    return codec::photo_report(impl().call("photo", params));
+    return codec::photo_report(impl().call(contract::method::kPhoto, params));
 }
 
 RecordResult Client::record(std::optional<bool> on, bool force, const CaptureOptions& options) {
@@ -238,12 +246,12 @@ RecordResult Client::record(std::optional<bool> on, bool force, const CaptureOpt
     if (auto error = codec::add_meta(params, options)) {
         throw *error;
     }
-    return codec::record_result(impl().call("record", params));
+    return codec::record_result(impl().call(contract::method::kRecord, params));
 }
 
 CapturesPage Client::captures(std::uint64_t since, std::optional<std::uint32_t> limit) {
-    return codec::captures_page(impl().call("captures", codec::captures_params(since, limit)),
-                                since);
+    return codec::captures_page(
+        impl().call(contract::method::kCaptures, codec::captures_params(since, limit)), since);
 }
 
 void Client::on_capture(std::function<void(const CaptureEntry&)> callback) {
@@ -251,26 +259,27 @@ void Client::on_capture(std::function<void(const CaptureEntry&)> callback) {
 }
 
 Control Client::acquire() {
-    return codec::control(impl().call("acquire"));
+    return codec::control(impl().call(contract::method::kAcquire));
 }
 Control Client::release() {
-    return codec::control(impl().call("release"));
+    return codec::control(impl().call(contract::method::kRelease));
 }
 Limits Client::limits() {
-    return codec::limits(impl().call("limits"));
+    return codec::limits(impl().call(contract::method::kLimits));
 }
 Settings Client::settings() {
-    return codec::settings(impl().call("get_settings"));
+    return codec::settings(impl().call(contract::method::kGetSettings));
 }
 
 Settings Client::set_settings(const SettingsChange& change) {
-    return codec::settings(impl().call("set_settings", codec::settings_params(change)));
+    return codec::settings(
+        impl().call(contract::method::kSetSettings, codec::settings_params(change)));
 }
 
 Subscription Client::subscribe(const std::vector<std::string>& topics,
                                std::optional<double> max_rate_hz) {
     return codec::subscription(
-        impl().call("subscribe", codec::subscribe_params(topics, max_rate_hz)));
+        impl().call(contract::method::kSubscribe, codec::subscribe_params(topics, max_rate_hz)));
 }
 
 Subscription Client::subscribe(const std::vector<std::string>& topics,
@@ -286,7 +295,7 @@ Subscription Client::subscribe(const std::vector<std::string>& topics,
     Subscription result;
     if (!rest.empty()) {
         result = codec::subscription(
-            impl.call("subscribe", codec::subscribe_params(rest, std::nullopt)));
+            impl.call(contract::method::kSubscribe, codec::subscribe_params(rest, std::nullopt)));
     }
     impl.start_ring();
     result.topics.emplace_back("attitude");
@@ -298,7 +307,8 @@ Subscription Client::unsubscribe(const std::vector<std::string>& topics) {
     if (topics.empty() || std::find(topics.begin(), topics.end(), "attitude") != topics.end()) {
         impl.stop_ring();
     }
-    return codec::subscription(impl.call("unsubscribe", codec::unsubscribe_params(topics)));
+    return codec::subscription(
+        impl.call(contract::method::kUnsubscribe, codec::unsubscribe_params(topics)));
 }
 
 AttitudeChannel Client::attitude_channel() {

@@ -15,6 +15,7 @@
 #include "connect_error.hpp"
 #include "gport/base/descriptors.hpp"
 #include "gport/client/error.hpp"
+#include "gport/contract/names.hpp"
 
 namespace gport::client {
 namespace {
@@ -127,7 +128,7 @@ std::optional<int> Connection::send(const std::string& method, const nlohmann::j
     if (!params.empty()) {
         request["params"] = params;
     }
-    if (method == "attitude_channel") {
+    if (method == contract::method::kAttitudeChannel) {
         claims_.expect(id);  // two descriptors may come with its reply
     }
     if (!write_all(request.dump() + "\n", deadline)) {

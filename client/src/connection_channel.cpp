@@ -3,12 +3,14 @@
 // (ChannelClaims).
 #include "gport/client/connection.hpp"
 #include "gport/client/error.hpp"
+#include "gport/contract/names.hpp"
 
 namespace gport::client {
 
 AttitudeChannel Connection::attitude_channel(
     const std::function<void(const nlohmann::json&)>& on_notification) {
-    const auto reply = call("attitude_channel", nlohmann::json::object(), on_notification);
+    const auto reply =
+        call(contract::method::kAttitudeChannel, nlohmann::json::object(), on_notification);
     if (!reply) {
         throw Error(ErrorCode::kTransport, "the connection to gportd was lost");
     }

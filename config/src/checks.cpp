@@ -55,7 +55,7 @@ std::optional<std::string> check_device_path(std::string_view path) {
 }
 
 std::optional<std::string> check_socket_path(std::string_view path) {
-    if (auto problem = check_absolute_path(path, "/run/gportd.sock")) {
+    if (auto problem = check_absolute_path(path, contract::kDefaultSocket)) {
         return problem;
     }
     if (path.size() > kMaxSocketPath) {

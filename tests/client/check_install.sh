@@ -35,8 +35,9 @@ libdir=$(dirname "$(dirname "$pc")")
 [ -e "$prefix/include/gport/client/client.hpp" ] || fail "no include/gport/client/client.hpp"
 [ ! -e "$prefix/include/gport/client/connection.hpp" ] \
     || fail "the internal connection.hpp was installed"
-# error.hpp and types.hpp include the wire contract's errors.hpp and counters.hpp.
-for header in errors.hpp counters.hpp; do
+# error.hpp, types.hpp and client.hpp include the wire contract's errors.hpp,
+# counters.hpp and names.hpp.
+for header in errors.hpp counters.hpp names.hpp; do
     [ -e "$prefix/include/gport/contract/$header" ] || fail "no include/gport/contract/$header"
 done
 soname=$(objdump -p "$libdir/libgport-client.so.1" | awk '$1 == "SONAME" { print $2 }')

@@ -8,7 +8,8 @@ JSON); PYTHON_PACKAGE_DIR holds the package gport (client/python). Checked:
   - every error code of the contract has its exception class in
     gport.errors, with that code, and gport.errors maps no other code;
   - gport._protocol.TOPICS are the contract's topics, in its order;
-  - gport._protocol.CHANNEL_METHOD is one of the contract's methods.
+  - gport._protocol.CHANNEL_METHOD is one of the contract's methods;
+  - gport._protocol.DEFAULT_SOCKET and SOCKET_ENV are the contract's.
 Each difference is printed, naming the contract's entry and the Python name;
 the exit status is 1 if there is any.
 
@@ -59,6 +60,8 @@ def python_values(package_dir: str) -> dict[str, Any]:
         "by_code": {code: cls.__name__ for code, cls in errors._BY_CODE.items()},
         "topics": list(protocol.TOPICS),
         "channel_method": protocol.CHANNEL_METHOD,
+        "default_socket": protocol.DEFAULT_SOCKET,
+        "socket_env": protocol.SOCKET_ENV,
     }
 
 
@@ -98,6 +101,11 @@ def differences(contract: dict[str, Any], py: dict[str, Any]) -> list[str]:
         problems.append(
             f"gport._protocol.CHANNEL_METHOD {py['channel_method']!r} is not a contract method"
         )
+    for key, name in (("default_socket", "DEFAULT_SOCKET"), ("socket_env", "SOCKET_ENV")):
+        if py[key] != contract[key]:
+            problems.append(
+                f"gport._protocol.{name} is {py[key]!r}, the contract's is {contract[key]!r}"
+            )
     return problems
 
 
@@ -120,6 +128,8 @@ def self_test(contract: dict[str, Any], py: dict[str, Any]) -> list[str]:
     drifted("extra code", lambda p: p["by_code"].update({-32050: "Busy"}), "maps -32050")
     drifted("topic added", lambda p: p["topics"].append("video"), "TOPICS is")
     drifted("topic dropped", lambda p: p["topics"].remove("capture"), "TOPICS is")
+    drifted("socket moved", lambda p: p.update(default_socket="/tmp/g.sock"), "DEFAULT_SOCKET is")
+    drifted("env renamed", lambda p: p.update(socket_env="GPORTD_SOCKET"), "SOCKET_ENV is")
     drifted("method renamed", lambda p: p.update(channel_method="channel"), "CHANNEL_METHOD")
     return failures
 

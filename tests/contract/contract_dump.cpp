@@ -17,6 +17,8 @@ int main() {
 #define GPORT_DUMP_ERROR(name, code, meaning) out["errors"][#name] = code;
     GPORT_CONTRACT_ERROR_CODES(GPORT_DUMP_ERROR)
 #undef GPORT_DUMP_ERROR
+    out["default_socket"] = c::kDefaultSocket;
+    out["socket_env"] = c::kSocketEnv;
     out["topics"] = nlohmann::ordered_json::array();
     for (const auto topic : c::kTopics) {
         out["topics"].push_back(std::string(topic));

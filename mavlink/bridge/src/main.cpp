@@ -11,6 +11,7 @@
 
 #include "bridge.hpp"
 #include "gport/base/exit_status.hpp"
+#include "gport/client/client.hpp"
 #include "gport/mavlink/bridge/signing_files.hpp"
 #include "gport/systemd/logger.hpp"
 
@@ -55,8 +56,9 @@ std::optional<std::unique_ptr<bridge::SigningSession>> open_signing(const bridge
 }  // namespace
 
 int main(int argc, char** argv) {
-    const auto parsed = bridge::parse_options(std::vector<std::string>(argv, argv + argc),
-                                              {env("GPORT_SOCKET"), env("STATE_DIRECTORY")});
+    const auto parsed =
+        bridge::parse_options(std::vector<std::string>(argv, argv + argc),
+                              {env(gport::client::Client::kSocketEnv), env("STATE_DIRECTORY")});
     if (!parsed.options) {
         std::fputs(parsed.text.c_str(), parsed.exit_code == 0 ? stdout : stderr);
         return parsed.exit_code;

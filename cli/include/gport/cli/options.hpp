@@ -13,6 +13,7 @@
 #include "gport/base/exit_status.hpp"
 #include "gport/base/result.hpp"
 #include "gport/cli/monitor.hpp"
+#include "gport/contract/names.hpp"
 
 namespace gport::cli {
 
@@ -25,7 +26,7 @@ using gport::kExitNotReached;
 using gport::kExitUnavailable;
 using gport::kExitUsage;
 
-inline constexpr std::string_view kDefaultSocket = "/run/gportd.sock";
+inline constexpr std::string_view kDefaultSocket = contract::kDefaultSocket;
 
 struct Invocation {
     std::string command;  // subcommand as typed: "status", "watch", "settings", ...

@@ -40,12 +40,15 @@
 #include "gport/client/export.hpp"
 #include "gport/client/limits.hpp"
 #include "gport/client/types.hpp"
+#include "gport/contract/names.hpp"
 
 namespace gport::client {
 
 class GPORT_CLIENT_API Client {
   public:
-    static constexpr const char* kDefaultSocket = "/run/gportd.sock";
+    // The wire contract's (gport/contract/names.hpp).
+    static constexpr const char* kDefaultSocket = contract::kDefaultSocket;
+    static constexpr const char* kSocketEnv = contract::kSocketEnv;
 
     // $GPORT_SOCKET when set and not empty, else kDefaultSocket.
     static std::string default_socket();

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "gport/contract/limits.hpp"
+#include "gport/contract/names.hpp"
 
 namespace gport::config {
 
@@ -24,13 +25,13 @@ struct SerialConfig {                    // "serial"
     unsigned baud = 115200;              // "baud": one of the standard termios rates
 };
 
-struct SocketConfig {                       // "socket"
-    std::string path = "/run/gportd.sock";  // "path"
-    unsigned mode = 0660;                   // "mode": octal string such as "0660"
-    std::string group;                      // "group": name; empty keeps the daemon's group
-    std::size_t line_limit = 64 * 1024;     // "line_limit": bytes per request line
-    std::size_t max_clients = 128;          // "max_clients"
-    std::size_t queue_limit = 256;          // "queue_limit": outbound lines per client
+struct SocketConfig {                             // "socket"
+    std::string path = contract::kDefaultSocket;  // "path"
+    unsigned mode = 0660;                         // "mode": octal string such as "0660"
+    std::string group;                            // "group": name; empty keeps the daemon's group
+    std::size_t line_limit = 64 * 1024;           // "line_limit": bytes per request line
+    std::size_t max_clients = 128;                // "max_clients"
+    std::size_t queue_limit = 256;                // "queue_limit": outbound lines per client
     // Slots and fairness (docs/configuration.md says why these defaults).
     std::size_t max_clients_per_uid = 64;    // "max_clients_per_uid"
     std::size_t reserved_command_slots = 8;  // "reserved_command_slots": kept for commanders

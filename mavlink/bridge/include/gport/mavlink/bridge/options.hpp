@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gport/client/client.hpp"
 #include "gport/mavlink/bridge/mapping.hpp"
 
 namespace gport::mavlink::bridge {
@@ -26,7 +27,7 @@ std::optional<Endpoint> parse_endpoint(const std::string& url, std::string& erro
 std::string to_string(const Endpoint& endpoint);
 
 struct Options {
-    std::string socket = "/run/gportd.sock";
+    std::string socket = client::Client::kDefaultSocket;
     // Loopback only: behind mavlink-router (docs/mavlink.md, "Security").
     Endpoint mavlink{Endpoint::Kind::kUdpIn, "127.0.0.1", 14560};
     std::optional<std::uint8_t> sysid = 1;      // the vehicle's; empty: `auto` (adopt)
