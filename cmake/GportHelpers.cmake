@@ -14,6 +14,16 @@ function(gport_set_warnings target)
   endif()
 endfunction()
 
+# gport_test_code(<target>): code that only tests is built at -O1 in a Release
+# build, not -O3: the suites' unity units are the largest of the build and
+# -O1 compiles them about a third faster (tests/cli's: 104 s at -O3, 69 s at
+# -O1), while the code under test, in its libraries and programs, stays -O3.
+# (A precompiled header for GoogleTest, Asio, nlohmann-json and spdlog saved
+# 4.5 s of that unit's 77 s and costs 24 s and 200 MB per build: not used.)
+function(gport_test_code target)
+  target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:-O1>)
+endfunction()
+
 # gport_add_library(<name> <alias> [STRICT] SOURCES ... [PUBLIC_LIBS ...] [PRIVATE_LIBS ...])
 # Declares a static library with include/ as its public include directory and
 # an alias gport::<alias>.
@@ -38,6 +48,7 @@ function(gport_add_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gmock GTest::gtest_main)
   gport_set_warnings(${name})
+  gport_test_code(${name})
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 120)
   endif()

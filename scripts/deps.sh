@@ -67,8 +67,9 @@ GPORT_TEST_PACKAGES=(
 # (e.g. a NodeSource nodejs, which bundles npm and conflicts with Debian's).
 declare -gA GPORT_PACKAGE_COMMANDS=([nodejs]=node [npm]=npm)
 
-# gport_install_deps [build|all]: installs what is missing of that set
-# (default all).
+# gport_install_deps [build|all] [PACKAGE...]: installs what is missing of
+# that set (default all) and of the packages named after it, in one apt run
+# (scripts/test.sh adds the ARM stages' cross compilers: gport_cross_packages).
 gport_install_deps() {
   local set=${1:-all} missing=() wanted=() p
   case "$set" in
@@ -76,6 +77,8 @@ gport_install_deps() {
     all) wanted=("${GPORT_BUILD_PACKAGES[@]}" "${GPORT_TEST_PACKAGES[@]}") ;;
     *) echo "error: gport_install_deps: no package set '$set' (build or all)" >&2; return 1 ;;
   esac
+  [ $# -gt 0 ] && shift
+  wanted+=("$@")
   for p in "${wanted[@]}"; do
     if [[ -n ${GPORT_PACKAGE_COMMANDS[$p]:-} ]] && command -v "${GPORT_PACKAGE_COMMANDS[$p]}" >/dev/null; then
       continue
@@ -117,18 +120,25 @@ gport_cross_triple() {
 # for each architecture (amd64 packages: the target's own libraries go into a
 # sysroot, scripts/cross-sysroot.sh, never into this machine's dpkg).
 gport_install_cross_deps() {
-  local arch triple missing=()
-  command -v qemu-aarch64-static >/dev/null || missing+=(qemu-user-static)
-  for arch in "$@"; do
-    triple=$(gport_cross_triple "$arch")
-    command -v "$triple-g++" >/dev/null || missing+=("g++-$triple")
-  done
+  local missing=()
+  mapfile -t missing < <(gport_cross_packages "$@")
   if [ ${#missing[@]} -gt 0 ]; then
     echo "== installing: ${missing[*]}"
     export DEBIAN_FRONTEND=noninteractive
     apt-get update -qq
     apt-get install -y -qq --no-install-recommends "${missing[@]}"
   fi
+}
+
+# gport_cross_packages ARCH...: the packages of gport_install_cross_deps that
+# are missing, one per line.
+gport_cross_packages() {
+  local arch triple
+  command -v qemu-aarch64-static >/dev/null || echo qemu-user-static
+  for arch in "$@"; do
+    triple=$(gport_cross_triple "$arch")
+    command -v "$triple-g++" >/dev/null || echo "g++-$triple"
+  done
 }
 
 # gport_qemu_arch ARCH: qemu-user's name of a Debian architecture.

@@ -9,6 +9,8 @@
 #
 #   scripts/systemd-e2e.sh [BUILD_DIR]      # default build/release, built
 #   GPORT_E2E_DEB=path/gportd_X_amd64.deb scripts/systemd-e2e.sh   # a given .deb
+#   scripts/systemd-e2e.sh --root-only      # only make (or check) the cached
+#       Debian root: scripts/test.sh runs it beside the build
 #   GPORT_E2E_ARCH=arm64 scripts/systemd-e2e.sh build/arm64   # an arm64 root,
 #       run under qemu-user through binfmt_misc (docs/operations.md, "Building
 #       for ARM": what qemu-user cannot do for systemd there)
@@ -26,6 +28,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 project=$(pwd)
+root_only=no
+if [ "${1:-}" = --root-only ]; then
+    root_only=yes
+    shift
+fi
 build=${1:-build/release}
 work=$project/build/systemd-e2e
 arch=${GPORT_E2E_ARCH:-$(dpkg --print-architecture)}
@@ -61,6 +68,48 @@ die() {
 [ "$(id -u)" -eq 0 ] || skip "needs root: debootstrap and systemd-nspawn (run it with sudo)"
 [ -d /sys/fs/cgroup ] || skip "no /sys/fs/cgroup: systemd cannot boot in a container here"
 
+# What this script needs; scripts/deps.sh (gport_install_deps) lists them too.
+need() {
+    command -v "$1" >/dev/null && return 0
+    say "installing $2"
+    { apt-get update -qq && apt-get install -y -qq --no-install-recommends "$2" >/dev/null; } ||
+        die "cannot install $2"
+}
+
+# ---- the Debian root (cached), made once ---------------------------------------
+mirror() {
+    local m
+    m=$(awk '/^URIs:/ { print $2; exit }' /etc/apt/sources.list.d/debian.sources 2>/dev/null || true)
+    [ -n "$m" ] || m=$(awk '/^deb / { print $2; exit }' /etc/apt/sources.list 2>/dev/null || true)
+    echo "${m:-http://deb.debian.org/debian}"
+}
+
+root_is_fresh() {
+    [ "${GPORT_E2E_NEW_ROOT:-0}" != 1 ] && [ -x "$root/lib/systemd/systemd" ] &&
+        [ "$(cat "$root/.gport-e2e-recipe" 2>/dev/null)" = "$root_recipe" ] &&
+        [ -z "$(find "$root/.gport-e2e-recipe" -mtime +7)" ]
+}
+
+make_root() {
+    root_is_fresh && return 0
+    say "building the Debian 12 root in $root (debootstrap, once; about a minute)"
+    rm -rf "$root" "$root.tmp"
+    debootstrap --arch="$arch" --variant=minbase --include="$root_packages" bookworm "$root.tmp" "$(mirror)" \
+        >"$work/debootstrap.log" 2>&1 ||
+        { tail -n 20 "$work/debootstrap.log"; die "debootstrap failed (log: $work/debootstrap.log)"; }
+    echo "$root_recipe" >"$root.tmp/.gport-e2e-recipe"
+    mv "$root.tmp" "$root"
+}
+
+if [ "$root_only" = yes ]; then
+    [ "$native" = yes ] || die "--root-only makes this machine's own architecture's root"
+    need debootstrap debootstrap
+    mkdir -p "$work"
+    make_root
+    say "root ready: $root ($(($(date +%s) - start)) s)"
+    exit 0
+fi
+
 # nspawn first turns "/" into a slave mount (mount MS_REC|MS_SLAVE on "/"),
 # which fails with EINVAL when "/" is not a mount point: in a plain chroot,
 # such as the fresh-machine CI root. There, run again from a private mount
@@ -89,13 +138,6 @@ if ! mountpoint -q / && [ -z "${GPORT_E2E_REBOUND:-}" ]; then
     ' _ "$work/rebound" "$project" "$@"
 fi
 
-# What this script needs; scripts/deps.sh (gport_install_deps) lists them too.
-need() {
-    command -v "$1" >/dev/null && return 0
-    say "installing $2"
-    { apt-get update -qq && apt-get install -y -qq --no-install-recommends "$2" >/dev/null; } ||
-        die "cannot install $2"
-}
 need debootstrap debootstrap
 need systemd-nspawn systemd-container
 if [ "$native" = no ]; then
@@ -124,29 +166,8 @@ cp "$deb" "$stage/"
 cp tests/systemd/e2e_steps.sh "$stage/"
 say "package: $(basename "$deb")"
 
-# ---- the Debian root (cached) ------------------------------------------------
-mirror() {
-    local m
-    m=$(awk '/^URIs:/ { print $2; exit }' /etc/apt/sources.list.d/debian.sources 2>/dev/null || true)
-    [ -n "$m" ] || m=$(awk '/^deb / { print $2; exit }' /etc/apt/sources.list 2>/dev/null || true)
-    echo "${m:-http://deb.debian.org/debian}"
-}
-
-root_is_fresh() {
-    [ "${GPORT_E2E_NEW_ROOT:-0}" != 1 ] && [ -x "$root/lib/systemd/systemd" ] &&
-        [ "$(cat "$root/.gport-e2e-recipe" 2>/dev/null)" = "$root_recipe" ] &&
-        [ -z "$(find "$root/.gport-e2e-recipe" -mtime +7)" ]
-}
-
-if ! root_is_fresh; then
-    say "building the Debian 12 root in $root (debootstrap, once; about a minute)"
-    rm -rf "$root" "$root.tmp"
-    debootstrap --arch="$arch" --variant=minbase --include="$root_packages" bookworm "$root.tmp" "$(mirror)" \
-        >"$work/debootstrap.log" 2>&1 ||
-        { tail -n 20 "$work/debootstrap.log"; die "debootstrap failed (log: $work/debootstrap.log)"; }
-    echo "$root_recipe" >"$root.tmp/.gport-e2e-recipe"
-    mv "$root.tmp" "$root"
-fi
+# ---- the Debian root (cached; made by make_root above) -----------------------
+make_root
 
 # A fresh copy for this run: nothing of ours, nothing left by an earlier run.
 rm -rf "$run"

@@ -14,7 +14,10 @@
 #      (but the source checks of stage 1);
 #   4. each fuzzer for $GPORT_FUZZ_SECONDS (40) on its corpus, one per core
 #      at a time.
-# The ArduCopter and PX4 SITL tests run in the Release stage only (GPORT_SITL_TESTS).
+# What waits on the network rather than the CPU runs beside the Release
+# build, each with its log in build/ci-logs: the ARM sysroots, the e2e stage's
+# Debian root and the node-mavlink install of the tests (npm ci). The
+# ArduCopter and PX4 SITL tests run in the Release stage only (GPORT_SITL_TESTS).
 # Used word for word by .ci/run. The builds are unity builds (each target's
 # sources compiled as one unit), which halves the compile time on a 2-core
 # machine; every file also compiles on its own in a normal build.
@@ -41,6 +44,8 @@ stage_table() {
     printf '%6d s  %s\n' "$((next - stage_starts[i]))" "${stage_names[$i]%% (*}"
   done
   printf '%6d s  total\n' "$((now - start))"
+  # Whatever still runs beside (after a failure) goes with us.
+  jobs -p | xargs -r kill 2>/dev/null || true
 }
 trap stage_table EXIT
 
@@ -48,20 +53,57 @@ stage "Layering"
 scripts/check-layering.sh
 
 source scripts/deps.sh
-gport_install_deps
+arm_arches=()
+[ "${GPORT_ARM:-}" = skip ] || arm_arches=(arm64 armhf)
+# One apt run for the tests' packages and the ARM stages' cross compilers.
+mapfile -t cross_packages < <(gport_cross_packages "${arm_arches[@]}")
+gport_install_deps all "${cross_packages[@]}"
 
 jobs=$(nproc)
 fuzz_seconds=${GPORT_FUZZ_SECONDS:-40}
 
+# beside NAME CMD...: runs CMD in the background, its output in
+# build/ci-logs/NAME.log; await NAME waits for it and fails, printing the log,
+# if it failed.
+logs=build/ci-logs
+mkdir -p "$logs"
+declare -A beside_pids=()
+beside() {
+  local name=$1
+  shift
+  "$@" >"$logs/$name.log" 2>&1 &
+  beside_pids[$name]=$!
+}
+await() {
+  local name=$1 status=0
+  wait "${beside_pids[$name]}" || status=$?
+  if [ "$status" -ne 0 ] && [ "$status" -ne "${2:-0}" ]; then
+    cat "$logs/$name.log"
+    echo "error: $name failed (exit $status; log $logs/$name.log)" >&2
+    exit 1
+  fi
+  return "$status"
+}
+# The node-mavlink install of the peer tests in BUILD (the folder
+# tests/mavlink/peer/CMakeLists.txt names; a test would otherwise run it).
+npm_install() { tests/mavlink/peer/run.sh "$1/tests/mavlink/peer/mavlink-peer" --install-only; }
+
 stage "Release build"
+for arch in "${arm_arches[@]}"; do
+  beside "sysroot-$arch" scripts/cross-sysroot.sh "$arch" "${GPORT_SYSROOTS:-/var/cache/gport}/sysroot-$arch"
+done
+beside e2e-root scripts/systemd-e2e.sh --root-only
+beside npm-release npm_install build/release
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DGPORT_WERROR=ON \
   -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16
 cmake --build build/release -j "$jobs"
 stage "Release tests"
+await npm-release
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 
 stage "systemd end-to-end (the Release build's .deb on a real systemd, in a container)"
 e2e_status=0
+await e2e-root 77 || true  # a skip (77) is reported by the stage itself
 scripts/systemd-e2e.sh build/release || e2e_status=$?
 if [ "$e2e_status" -eq 77 ]; then
   echo "systemd end-to-end: SKIPPED (the reason is above)"
@@ -74,6 +116,9 @@ if [ "${GPORT_ARM:-}" = skip ]; then
   stage "ARM stages: SKIPPED (GPORT_ARM=skip)"
 else
   stage "ARM stages (scripts/test-arm.sh)"
+  for arch in "${arm_arches[@]}"; do
+    await "sysroot-$arch"
+  done
   scripts/test-arm.sh
 fi
 
@@ -85,8 +130,10 @@ CC=clang-14 CXX=clang++-14 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=
   -DGPORT_SANITIZE=ON -DGPORT_BUILD_FUZZ=ON -DGPORT_BUILD_BENCH=OFF -DGPORT_WERROR=ON \
   -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_SITL_TESTS=OFF \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1"
+beside npm-asan npm_install build/asan  # from npm's cache now
 cmake --build build/asan -j "$jobs"
 stage "ASan+UBSan tests"
+await npm-asan
 # The checks of the sources themselves (layering, man pages) ran in the
 # Release stage: they do not depend on how the code was built.
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \

@@ -7,6 +7,8 @@
 # Debian's nodejs and npm (scripts/deps.sh).
 #
 #   run.sh WORKDIR SCRIPT ARGS...
+#   run.sh WORKDIR --install-only     # only the npm ci (scripts/test.sh runs
+#                                     # it beside the build, off the tests' time)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 work=$1
@@ -55,4 +57,7 @@ if ! cmp -s "$here/package-lock.json" "$work/package-lock.json" ||
   fi
 fi
 exec 9>&-
+if [[ $script == --install-only ]]; then
+  exit 0
+fi
 NODE_PATH="$work/node_modules" node "$here/$script" "$@"
