@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <string>
+
 #include "gport/daemon/client_log.hpp"
 #include "gport/daemon/core/motion.hpp"
 
@@ -12,6 +14,16 @@ namespace gport::daemon {
 
 namespace gp = gport::protocol;
 using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// "roll 1.00°, pitch -2.50°, yaw 0.00°", for the journal.
+std::string axes_text(const gp::Axes& axes) {
+    const auto [roll, pitch, yaw] = gp::degrees_of(axes);
+    return fmt::format("roll {:.2f}°, pitch {:.2f}°, yaw {:.2f}°", roll, pitch, yaw);
+}
+
+}  // namespace
 
 // ---- the attitude ------------------------------------------------------------
 
@@ -51,9 +63,8 @@ void Motion::watch_speed(SteadyTime now) {
     if (const auto owner = keepalive_.owner()) {
         const ClientLogScope scope(*owner);
         const auto& hall = latest_->attitude.hall;
-        log_->info("braking {} at the soft limits: hall roll {:.2f}°, pitch {:.2f}°, yaw {:.2f}°",
-                   fmt::join(braked.braked, ", "), hall.roll / 100.0, hall.pitch / 100.0,
-                   hall.yaw / 100.0);
+        log_->info("braking {} at the soft limits: hall {}", fmt::join(braked.braked, ", "),
+                   axes_text(hall));
     }
     brake_speed(braked);
 }
@@ -168,18 +179,13 @@ std::optional<gp::Control> Motion::failsafe_frame(config::Failsafe& action,
             action = config::Failsafe::kStop;
             return std::nullopt;
         }
-        note =
-            fmt::format(" at hall roll {:.2f}°, pitch {:.2f}°, yaw {:.2f}°",
-                        hold->axes.roll / 100.0, hold->axes.pitch / 100.0, hold->axes.yaw / 100.0);
+        note = " at hall " + axes_text(hold->axes);
         return gp::Control::angle_of(hold->axes);
     }
     if (action == config::Failsafe::kCenter) {
         const Limited target = center_target();
         if (!target.clamped.empty()) {
-            note = fmt::format(
-                " at the centre clamped into the soft limits (roll {:.2f}°, "
-                "pitch {:.2f}°, yaw {:.2f}°)",
-                target.axes.roll / 100.0, target.axes.pitch / 100.0, target.axes.yaw / 100.0);
+            note = " at the centre clamped into the soft limits (" + axes_text(target.axes) + ")";
         }
         return center_control(target);
     }

@@ -15,10 +15,6 @@ namespace {
 
 constexpr unsigned kSeals = F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL;
 
-std::array<double, 3> degrees_of(const protocol::Axes& axes) {
-    return {degrees(axes.roll), degrees(axes.pitch), degrees(axes.yaw)};
-}
-
 std::string failed(const char* step) {
     return std::string(step) + ": " + std::strerror(errno);
 }
@@ -30,11 +26,11 @@ base::RingSample ring_sample(const daemon::AttitudeSample& sample) {
     base::RingSample out;
     out.seq = sample.seq;
     out.t = epoch_seconds(sample.wall);
-    out.imu = degrees_of(a.imu);
-    out.hall = degrees_of(a.hall);
+    out.imu = protocol::degrees_of(a.imu);
+    out.hall = protocol::degrees_of(a.hall);
     if (a.rates) {
         out.has_rates = true;
-        out.hall_rates = degrees_of(a.rates->hall);
+        out.hall_rates = protocol::degrees_of(a.rates->hall);
         out.imu_rates = {degrees(a.rates->imu_x), degrees(a.rates->imu_y), degrees(a.rates->imu_z)};
     }
     return out;

@@ -17,7 +17,8 @@ using detail::degrees;
 using nlohmann::json;
 
 contract::AttitudePayload::Axes payload_axes(const protocol::Axes& axes) {
-    return {degrees(axes.roll), degrees(axes.pitch), degrees(axes.yaw)};
+    const auto [roll, pitch, yaw] = protocol::degrees_of(axes);
+    return {roll, pitch, yaw};
 }
 
 Line notification(std::string_view topic, json params) {

@@ -23,8 +23,8 @@ nlohmann::json client_json(const daemon::ClientInfo& client) {
 }
 
 nlohmann::json axes_json(const protocol::Axes& axes) {
-    return {
-        {"roll", degrees(axes.roll)}, {"pitch", degrees(axes.pitch)}, {"yaw", degrees(axes.yaw)}};
+    const auto [roll, pitch, yaw] = protocol::degrees_of(axes);
+    return {{"roll", roll}, {"pitch", pitch}, {"yaw", yaw}};
 }
 
 double epoch_seconds(daemon::WallTime time) {

@@ -136,7 +136,6 @@ void Bridge::connect() {
 void Bridge::on_connected() {
     backoff_ = 100ms;
     connected_ = true;
-    meta_supported_ = true;  // perhaps another gportd now
     filter_.reset();
     spdlog::info("gportd: connected to {}", options_.socket);
     gportd_.async_status([this](std::optional<client::Error> error, client::Status status) {

@@ -112,15 +112,13 @@ class Bridge {
     // answered with that photo's result, not taken; false for a new photo.
     bool merged_photo(const Requester& from, const CommandLong& command);
     void begin_photo(const Requester& from, std::uint16_t command);
-    void take_photo(const std::optional<Requester>& from, std::uint16_t command, bool with_meta);
+    void take_photo(const std::optional<Requester>& from, std::uint16_t command);
     void photo_done(const std::optional<Requester>& from, std::uint16_t command,
                     const std::optional<client::Error>& error, const client::PhotoReport& report);
-    void camera_record(const Requester& from, std::uint16_t command, bool on, bool force,
-                       bool with_meta);
+    void camera_record(const Requester& from, std::uint16_t command, bool on, bool force);
     void image_tick();
     void stop_images();
-    bool meta_refused(const client::Error& error, const client::CaptureOptions& sent);
-    client::CaptureOptions capture_options(bool with_meta) const;
+    client::CaptureOptions capture_options() const;
     std::optional<GlobalPositionInt> fresh_position() const;
     CameraCaptureStatus capture_status() const;
     void send_camera_heartbeat(const Origin& to = std::nullopt);
@@ -179,7 +177,6 @@ class Bridge {
     std::vector<std::pair<Requester, std::uint16_t>> merged_;  // answered when it completes
     StreamRequests streams_;
     bool position_warned_ = false;  // a photo without a position: said once
-    bool meta_supported_ = true;    // false once this gportd refused `meta` as unknown
     std::uint8_t seq_ = 0;          // the gimbal's frames
     std::uint8_t camera_seq_ = 0;   // the camera's: a sequence per component
 

@@ -68,7 +68,7 @@ void Bridge::on_camera_command(const Requester& from, const CommandLong& command
         case mav_cmd::kVideoStopCapture:
             if (!camera_busy(from, command, kCameraCompid)) {
                 camera_record(from, command.command, command.command == mav_cmd::kVideoStartCapture,
-                              false, true);
+                              false);
             }
             break;
         case mav_cmd::kDoDigicamControl:
@@ -180,7 +180,7 @@ void Bridge::image_tick() {
         return;
     }
     if (connected_ && !camera_in_flight_) {
-        take_photo(std::nullopt, mav_cmd::kImageStartCapture, true);
+        take_photo(std::nullopt, mav_cmd::kImageStartCapture);
         ++images_taken_;
         if (images_->count != 0 && images_taken_ >= images_->count) {
             spdlog::info("camera: interval capture done ({} images)", images_taken_);
@@ -216,22 +216,15 @@ void Bridge::stop_images() {
 
 // record on/off with the position as meta; forced once when gportd does not
 // know the recording state (as record() for the gimbal's component).
-void Bridge::camera_record(const Requester& from, std::uint16_t command, bool on, bool force,
-                           bool with_meta) {
+void Bridge::camera_record(const Requester& from, std::uint16_t command, bool on, bool force) {
     camera_in_flight_ = true;
-    const auto options = capture_options(with_meta);
     gportd_.async_record(
-        on, force, options,
-        [this, from, command, on, force, options, with_meta](std::optional<client::Error> e,
-                                                             client::RecordResult) {
-            if (e && meta_refused(*e, options)) {
-                camera_record(from, command, on, force, false);
-                return;
-            }
+        on, force, capture_options(),
+        [this, from, command, on, force](std::optional<client::Error> e, client::RecordResult) {
             if (e && !force && e->is(client::ErrorCode::kInvalidParams)) {
                 spdlog::info("record {}: the recording state is unknown; forcing it",
                              on ? "on" : "off");
-                camera_record(from, command, on, true, with_meta);
+                camera_record(from, command, on, true);
                 return;
             }
             camera_in_flight_ = false;

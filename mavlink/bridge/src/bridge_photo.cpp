@@ -33,26 +33,12 @@ std::optional<GlobalPositionInt> Bridge::fresh_position() const {
     return position_->first;
 }
 
-client::CaptureOptions Bridge::capture_options(bool with_meta) const {
+// The vehicle's position as the capture's meta. gportd and gport-mavlink
+// ship in one package, so the gportd at the other end knows `meta`.
+client::CaptureOptions Bridge::capture_options() const {
     client::CaptureOptions options;
-    if (with_meta && meta_supported_) {
-        options.meta = position_meta(fresh_position());
-    }
+    options.meta = position_meta(fresh_position());
     return options;
-}
-
-// True when gportd refused the call for its `meta` (an older gportd without
-// the capture log: "unknown parameter"): the call is repeated without it.
-bool Bridge::meta_refused(const client::Error& error, const client::CaptureOptions& sent) {
-    if (sent.meta.empty() || !error.is(client::ErrorCode::kInvalidParams) ||
-        std::string_view(error.message()).find("meta") == std::string_view::npos) {
-        return false;
-    }
-    if (std::string_view(error.message()).find("unknown parameter") != std::string_view::npos) {
-        meta_supported_ = false;
-    }
-    spdlog::info("gportd refused the capture's meta ({}); repeating without it", error.message());
-    return true;
 }
 
 bool Bridge::merged_photo(const Requester& from, const CommandLong& command) {
@@ -78,21 +64,15 @@ bool Bridge::merged_photo(const Requester& from, const CommandLong& command) {
 
 void Bridge::begin_photo(const Requester& from, std::uint16_t command) {
     photo_merge_.begun({from.header.sysid, from.header.compid}, Clock::now());
-    take_photo(from, command, true);
+    take_photo(from, command);
 }
 
-void Bridge::take_photo(const std::optional<Requester>& from, std::uint16_t command,
-                        bool with_meta) {
+void Bridge::take_photo(const std::optional<Requester>& from, std::uint16_t command) {
     camera_in_flight_ = true;  // cleared by the call's completion
     photo_in_flight_ = true;
-    const auto options = capture_options(with_meta);
     gportd_.async_photo_report(
-        options,
-        [this, from, command, options](std::optional<client::Error> e, client::PhotoReport report) {
-            if (e && meta_refused(*e, options)) {
-                take_photo(from, command, false);
-                return;
-            }
+        capture_options(),
+        [this, from, command](std::optional<client::Error> e, client::PhotoReport report) {
             photo_done(from, command, e, report);
         });
 }

@@ -124,6 +124,14 @@ struct Axes {
 // Converts degrees (or °/s) to Axes, refusing values that do not fit.
 Result<Axes> to_axes(double roll, double pitch, double yaw);
 
+// The other way: roll, pitch and yaw in degrees (or °/s). With from_centi,
+// the one conversion from the wire's 0.01 units that every attitude shape
+// (the notification, the shared-memory ring, the capture log, the replies,
+// the journal's lines) is made with.
+constexpr std::array<double, 3> degrees_of(const Axes& axes) {
+    return {from_centi(axes.roll), from_centi(axes.pitch), from_centi(axes.yaw)};
+}
+
 struct Control {  // 0x85
     ControlMode mode = ControlMode::kSpeed;
     Axes angle;
