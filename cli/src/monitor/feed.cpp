@@ -99,7 +99,7 @@ void Feed::command(const char* what, Call&& call) {
     }
 }
 
-void Feed::centre() {
+void Feed::center() {
     command("centre", [this](client::Client& c) {
         c.center();
         state_.note("centre sent", Severity::kInfo, current_time());

@@ -32,7 +32,7 @@ class Feed {
     // Reads notifications for up to `wait`, polls status when due and
     // reconnects when the connection is gone. Does not throw client::Error.
     void pump(std::chrono::milliseconds wait);
-    void centre();
+    void center();
     void nudge(const client::Axes& speed);
     // Releases control (when held) and disconnects.
     void close();

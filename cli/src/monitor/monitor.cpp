@@ -50,7 +50,7 @@ bool handle_key(monitor::Key key, Feed& feed, bool control) {
         case monitor::Key::kQuit:
             return false;
         case monitor::Key::kCentre:
-            feed.centre();
+            feed.center();
             return true;
         case monitor::Key::kLeft:
         case monitor::Key::kRight:
