@@ -54,10 +54,9 @@ Bridge::Bridge(asio::io_context& io, Options options, std::unique_ptr<SigningSes
       reconnect_timer_(io),
       heartbeat_timer_(io),
       attitude_timer_(io),
-      image_timer_(io),
       rate_lease_(std::chrono::milliseconds(options_.lease_ms)),
-      image_count_(options_.state_dir),
-      streams_(wanted_streams(options_.camera)) {}
+      streams_(wanted_streams(options_.camera)),
+      camera_(io, options_, log_, *this) {}
 
 void Bridge::start() {
     transport_ = open_transport(io_, options_.mavlink);
@@ -74,8 +73,8 @@ void Bridge::start() {
         options_.sysid ? std::to_string(*options_.sysid)
                        : "auto (adopted from the first autopilot heartbeat: spoofable)",
         to_string(options_.gcs_sysids), signing_ ? "on" : "off");
-    if (options_.camera) {
-        load_image_count();
+    if (camera_.enabled()) {
+        camera_.load_image_count();
     }
     connect();
     heartbeat_tick();
@@ -309,9 +308,7 @@ void Bridge::send_heartbeat(const Origin& to) {
 
 void Bridge::heartbeat_tick() {
     send_heartbeat();
-    if (options_.camera) {
-        send_camera_heartbeat();
-    }
+    camera_.send_heartbeat();  // when announced
     request_streams();
     log_.tick();
     heartbeat_timer_.expires_after(1s);

@@ -21,13 +21,11 @@
 #include <utility>
 #include <vector>
 
+#include "camera_component.hpp"
 #include "gport/client/async_client.hpp"
-#include "gport/mavlink/bridge/camera.hpp"
-#include "gport/mavlink/bridge/image_count.hpp"
 #include "gport/mavlink/bridge/log_limit.hpp"
 #include "gport/mavlink/bridge/mapping.hpp"
 #include "gport/mavlink/bridge/options.hpp"
-#include "gport/mavlink/bridge/photo_merge.hpp"
 #include "gport/mavlink/bridge/rate_lease.hpp"
 #include "gport/mavlink/bridge/stream_requests.hpp"
 #include "gport/mavlink/bridge/trust.hpp"
@@ -40,7 +38,9 @@
 
 namespace gport::mavlink::bridge {
 
-class Bridge {
+// Transport, trust and routing; the gimbal component (154) itself; the
+// camera component (camera_component.hpp) as a part it routes to.
+class Bridge : private CameraHost {
   public:
     // Reply-peer changes named a minute; the rest are counted (Logbook),
     // with no lifetime cap. (Untrusted senders: one named a minute, the
@@ -76,53 +76,35 @@ class Bridge {
     bool admitted(const FrameView& frame, const Message& message);
     void refuse(const FrameView& frame, TrustVerdict verdict);
     void log_peer(const FrameView& frame, const std::string& peer);
-    // Who sent a command: its header (for the ACK's target) and its origin
-    // (where the reply goes: the request's sender, not whoever is the peer
-    // by the time gportd answers).
-    struct Requester {
-        Header header;
-        Origin origin;
-    };
     void handle(const Header& from, const Message& message);
     void on_heartbeat(const Header& header, const Heartbeat& heartbeat);
     void on_command(const Requester& from, const CommandLong& command);
     void on_set_attitude(const GimbalDeviceSetAttitude& message);
     void on_autopilot_state(const AutopilotStateForGimbalDevice& message);
     void request_message(const Requester& from, const CommandLong& command);
-    void camera(const Requester& from, const CommandLong& command);
-    void record(const Requester& from, std::uint16_t command, bool on, bool force);
     void on_attitude(const Header& from, const Attitude& message);
-    std::optional<double> vehicle_yaw_deg();  // fresh, or none; logs a change of source
+    std::optional<double> vehicle_yaw_deg() override;  // fresh, or none; logs a change of source
     void on_position(const Header& from, const GlobalPositionInt& message);
     // The autopilot's streams we need, asked for when they do not come
     // (stream_requests.hpp; bridge_streams.cpp), and its answers.
     void request_streams();
     void on_ack(const Header& from, const CommandAck& message);
-    void warn_no_position(std::int32_t image_index);
 
-    // The camera component, compid 100 (bridge_camera.cpp; photos: bridge_photo.cpp)
-    bool for_camera(const CommandLong& command) const;
-    void on_camera_command(const Requester& from, const CommandLong& command);
-    void camera_request(const Requester& from, const CommandLong& command);
-    void start_images(const Requester& from, const CommandLong& command);
-    // gportd unreachable, or a camera call still with it: answers
-    // TEMPORARILY_REJECTED from `compid` (the camera's, or the gimbal's: 0).
-    bool camera_busy(const Requester& from, const CommandLong& command, std::uint8_t compid);
-    // A single-photo command that is the photo begun last again (photo_merge.hpp):
-    // answered with that photo's result, not taken; false for a new photo.
-    bool merged_photo(const Requester& from, const CommandLong& command);
-    void begin_photo(const Requester& from, std::uint16_t command);
-    void take_photo(const std::optional<Requester>& from, std::uint16_t command);
-    void photo_done(const std::optional<Requester>& from, std::uint16_t command,
-                    const std::optional<client::Error>& error, const client::PhotoReport& report);
-    void camera_record(const Requester& from, std::uint16_t command, bool on, bool force);
-    void image_tick();
-    void stop_images();
-    client::CaptureOptions capture_options() const;
-    std::optional<GlobalPositionInt> fresh_position() const;
-    CameraCaptureStatus capture_status() const;
-    void send_camera_heartbeat(const Origin& to = std::nullopt);
-    void load_image_count();
+    // CameraHost: what the camera component asks of the bridge.
+    void send_from(std::uint8_t compid, const Message& message, const Origin& to) override {
+        send(message, to, compid);
+    }
+    void ack_from(std::uint8_t compid, const Requester& to, std::uint16_t command,
+                  std::uint8_t result) override {
+        ack(to, command, result, compid);
+    }
+    client::AsyncClient& gportd() override { return gportd_; }
+    bool gportd_connected() const override { return connected_; }
+    std::uint8_t vehicle_sysid() const override { return trust_.vehicle().value_or(0); }
+    const std::optional<client::AttitudeSample>& newest_sample() const override { return sample_; }
+    std::uint32_t position_requests() const override {
+        return streams_.attempts(GlobalPositionInt::kId);
+    }
 
     // MAVLink out: to the peer, or (replies) to a requester's origin; from
     // the gimbal's component (compid 0) or the given one.
@@ -134,8 +116,8 @@ class Bridge {
     void send_heartbeat(const Origin& to = std::nullopt);
     void heartbeat_tick();
     void attitude_tick();
-    Health health() const;
-    std::uint32_t time_boot_ms() const;
+    Health health() const override;
+    std::uint32_t time_boot_ms() const override;
 
     boost::asio::io_context& io_;
     Options options_;
@@ -149,7 +131,6 @@ class Bridge {
     boost::asio::steady_timer reconnect_timer_;
     boost::asio::steady_timer heartbeat_timer_;
     boost::asio::steady_timer attitude_timer_;
-    boost::asio::steady_timer image_timer_;
     std::chrono::milliseconds backoff_{100};
     Clock::time_point started_ = Clock::now();
 
@@ -164,31 +145,15 @@ class Bridge {
     std::uint16_t mode_flags_ = gimbal_flags_default();
     bool idle_logged_ = false;  // the all-NaN stream said once, until a target comes
 
-    // The camera component: the vehicle's newest position (its autopilot's,
-    // within bounds: position.hpp), the interval
-    // capture, the assumed recording, what gportd accepts.
-    std::optional<std::pair<GlobalPositionInt, Clock::time_point>> position_;
-    std::optional<ImagePlan> images_;
-    std::uint32_t images_taken_ = 0;  // of the running interval capture
-    ImageCount image_count_;          // photos taken, kept in the state directory
-    std::optional<Clock::time_point> recording_since_;
-    bool photo_in_flight_ = false;
-    PhotoMerge photo_merge_;  // the photo begun last, for a second command of it
-    std::vector<std::pair<Requester, std::uint16_t>> merged_;  // answered when it completes
     StreamRequests streams_;
-    bool position_warned_ = false;  // a photo without a position: said once
-    std::uint8_t seq_ = 0;          // the gimbal's frames
-    std::uint8_t camera_seq_ = 0;   // the camera's: a sequence per component
+    CameraComponent camera_;
+    std::uint8_t seq_ = 0;         // the gimbal's frames
+    std::uint8_t camera_seq_ = 0;  // the camera's: a sequence per component
 
     // One motion request to gportd at a time; the newest waiting one replaces
     // an older one (a 50 Hz stream never queues up).
     bool motion_in_flight_ = false;
     std::optional<Command> motion_pending_;
-    // One camera call (photo, record) to gportd at a time; a camera command
-    // arriving meanwhile is answered TEMPORARILY_REJECTED: a flood of them
-    // cannot use up gportd's request budget (the autopilot's angles) or
-    // grow the pending calls.
-    bool camera_in_flight_ = false;
 
     // What was refused, for the log at exit.
     struct Counters {

@@ -127,8 +127,8 @@ void Bridge::handle(const Header& from, const Message& message) {
     if (const auto* hb = std::get_if<Heartbeat>(&message)) {
         on_heartbeat(from, *hb);
     } else if (const auto* cmd = std::get_if<CommandLong>(&message)) {
-        if (for_camera(*cmd)) {
-            on_camera_command({from, transport_->origin()}, *cmd);
+        if (camera_.addressed(*cmd)) {
+            camera_.on_command({from, transport_->origin()}, *cmd);
         } else if (addressed_to(cmd->target_system, cmd->target_component, us, options_.compid)) {
             on_command({from, transport_->origin()}, *cmd);
         }
@@ -168,9 +168,10 @@ void Bridge::on_command(const Requester& from, const CommandLong& command) {
             request_message(from, command);
             break;
         case mav_cmd::kImageStartCapture:
+        case mav_cmd::kImageStopCapture:
         case mav_cmd::kVideoStartCapture:
         case mav_cmd::kVideoStopCapture:
-            camera(from, command);
+            camera_.on_gimbal_command(from, command, 0);  // one photo and record path
             break;
         default:
             ack(from, command.command, mav_result::kUnsupported);
@@ -192,48 +193,6 @@ void Bridge::request_message(const Requester& from, const CommandLong& command) 
     } else {
         ack(from, command.command, mav_result::kDenied);
     }
-}
-
-void Bridge::camera(const Requester& from, const CommandLong& command) {
-    if (camera_busy(from, command, 0)) {
-        return;
-    }
-    camera_in_flight_ = true;  // cleared by the call's completion (gportd
-                               // completes every pending call, on disconnect too)
-    const std::uint16_t cmd = command.command;
-    if (cmd == mav_cmd::kImageStartCapture) {
-        gportd_.async_photo([this, from, cmd](std::optional<client::Error> e, client::Done) {
-            camera_in_flight_ = false;
-            if (e) {
-                log_.warn("gportd refused photo", "gportd refused photo: " + e->message());
-            }
-            ack(from, cmd, e ? mav_result::kDenied : mav_result::kAccepted);
-        });
-        return;
-    }
-    record(from, cmd, cmd == mav_cmd::kVideoStartCapture, false);
-}
-
-// record on/off; while gportd's assumed state is unknown it refuses `on`
-// without force (-32602), so the request is repeated once with force: the
-// MAVLink command says which state the user wants.
-void Bridge::record(const Requester& from, std::uint16_t cmd, bool on, bool force) {
-    gportd_.async_record(
-        on, force,
-        [this, from, cmd, on, force](std::optional<client::Error> e, client::RecordResult) {
-            if (e && !force && e->is(client::ErrorCode::kInvalidParams)) {
-                spdlog::info("record {}: the recording state is unknown; forcing it",
-                             on ? "on" : "off");
-                record(from, cmd, on, true);
-                return;
-            }
-            camera_in_flight_ = false;
-            if (e) {
-                log_.warn("gportd refused record", fmt::format("gportd refused record {}: {}",
-                                                               on ? "on" : "off", e->message()));
-            }
-            ack(from, cmd, e ? mav_result::kDenied : mav_result::kAccepted);
-        });
 }
 
 void Bridge::on_set_attitude(const GimbalDeviceSetAttitude& message) {
@@ -295,8 +254,9 @@ void Bridge::on_position(const Header& from, const GlobalPositionInt& message) {
         });
         return;
     }
-    position_.emplace(message, Clock::now());
-    streams_.on_message(GlobalPositionInt::kId, position_->second);
+    const auto now = Clock::now();
+    camera_.on_position(message, now);
+    streams_.on_message(GlobalPositionInt::kId, now);
 }
 
 void Bridge::ack(const Requester& to, std::uint16_t command, std::uint8_t result,

@@ -51,13 +51,4 @@ void Bridge::on_ack(const Header& from, const CommandAck& message) {
         message.result == mav_result::kAccepted ? " (ACCEPTED)" : "");
 }
 
-void Bridge::warn_no_position(std::int32_t image_index) {
-    if (position_warned_) {
-        return;
-    }
-    position_warned_ = true;
-    spdlog::warn(no_position_warning(image_index, trust_.vehicle().value_or(0), kPositionMaxAge,
-                                     streams_.attempts(GlobalPositionInt::kId)));
-}
-
 }  // namespace gport::mavlink::bridge

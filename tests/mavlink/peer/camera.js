@@ -201,6 +201,9 @@ async function main() {
   t0 = Date.now();
   gcs.sendBytes(Buffer.concat([gcs.frame(cam(IMAGE_START, [0, 0, 1])), gcs.frame(cam(IMAGE_START, [0, 0, 1]))]));
   await until(() => fromCamera(gcs, t0, 'COMMAND_ACK').length >= 2, 5000, 'two ACKs').catch(() => null);
+  // The trace is read from gport-sim's output: the photo's line may come
+  // after the ACKs on a loaded machine.
+  await until(() => photos(t0).length >= 1, 5000, 'the photo frame').catch(() => null);
   const results = fromCamera(gcs, t0, 'COMMAND_ACK').map((a) => a.data.result).sort();
   check(results.join() === '0,1' && photos(t0).length === 1,
     `one ground station's two photos at once: ACKs ${results.join()} (ACCEPTED, TEMPORARILY_REJECTED), ${photos(t0).length} photo`);
@@ -303,6 +306,39 @@ async function main() {
     photos(t0).length === 1, `broadcast DIGICAM_CONTROL shot: ${digicam.length} ACK from component ` +
     `${digicam[0] && digicam[0].header.compid}, ${photos(t0).length} photo frame`);
 
+  // 8b. The gimbal component's image commands take the camera's one path
+  //     (issue 33): a bare IMAGE_START_CAPTURE to 1/154 (as gimbal
+  //     managers send it: one photo whatever its count) is answered from
+  //     154, logged with the position as meta, and reported by the camera
+  //     (CAMERA_IMAGE_CAPTURED from 1/100 with the next image_index);
+  //     IMAGE_STOP_CAPTURE there is accepted too.
+  const GIMBAL = 154;
+  const taken = (await requestStatus(gcs).catch(() => ({ imageCount: NaN }))).imageCount;
+  vehicle.send(position()); // fresh (under 1 s old) for the meta
+  await sleep(100);
+  t0 = Date.now();
+  gcs.send(commandLong(IMAGE_START, { targetComponent: GIMBAL }));
+  const gimbalAck = await until(() => gcs.since(t0, 'COMMAND_ACK').find((a) => a.data.command === IMAGE_START),
+    5000, 'the ACK of IMAGE_START_CAPTURE to 154').catch(() => null);
+  const viaGimbal = await until(() => fromCamera(gcs, t0, 'CAMERA_IMAGE_CAPTURED')[0], 5000,
+    'CAMERA_IMAGE_CAPTURED after a photo at 154').catch(() => null);
+  check(gimbalAck && gimbalAck.header.compid === GIMBAL && gimbalAck.data.result === 0 && photos(t0).length === 1,
+    `IMAGE_START_CAPTURE to 154: ACK ${gimbalAck && gimbalAck.data.result} from component ` +
+    `${gimbalAck && gimbalAck.header.compid}, ${photos(t0).length} photo frame`);
+  check(viaGimbal && viaGimbal.data.imageIndex === taken,
+    `the camera reports it: image_index ${viaGimbal && viaGimbal.data.imageIndex} after ${taken} images`);
+  const logged = await h.rpc(sock, 'captures', { limit: 1000 }).catch(() => null);
+  const lastPhoto = logged && logged.result && Array.isArray(logged.result.captures)
+    ? logged.result.captures.filter((c) => c.kind === 'photo').pop() : null;
+  check(lastPhoto && lastPhoto.meta && Math.abs(lastPhoto.meta.lat - POSITION.lat / 1e7) < 1e-6,
+    `its capture has the position as meta (${lastPhoto && JSON.stringify(lastPhoto.meta)})`);
+  t0 = Date.now();
+  gcs.send(commandLong(IMAGE_STOP, { targetComponent: GIMBAL }));
+  const stopAt154 = await until(() => gcs.since(t0, 'COMMAND_ACK').find((a) => a.data.command === IMAGE_STOP),
+    5000, 'the ACK of IMAGE_STOP_CAPTURE to 154').catch(() => null);
+  check(stopAt154 && stopAt154.header.compid === GIMBAL && stopAt154.data.result === 0,
+    `IMAGE_STOP_CAPTURE to 154: ACK ${stopAt154 && stopAt154.data.result}`);
+
   // 9. --no-camera: a second bridge without the component.
   const port2 = await h.freeUdpPort();
   const quiet = h.start(workRoot, 'gport-mavlink-no-camera', bridgePath,
@@ -317,6 +353,17 @@ async function main() {
   check(vehicle2.since(t0, 'HEARTBEAT').some((r) => r.header.compid === 154) &&
     fromCamera(vehicle2, t0).length === 0 && photos(t0).length === 0,
   `--no-camera: gimbal heartbeats, nothing from component 100, no photo (${fromCamera(vehicle2, t0).length} frames)`);
+  // Its gimbal component still takes photos: answered from 154, and no
+  // CAMERA_IMAGE_CAPTURED from a component that is not announced.
+  t0 = Date.now();
+  vehicle2.send(commandLong(IMAGE_START, { targetComponent: GIMBAL }));
+  const quietAck = await until(() => vehicle2.since(t0, 'COMMAND_ACK').find((a) => a.data.command === IMAGE_START),
+    5000, 'the ACK of IMAGE_START_CAPTURE to 154 (--no-camera)').catch(() => null);
+  await sleep(500);
+  check(quietAck && quietAck.header.compid === GIMBAL && quietAck.data.result === 0 && photos(t0).length === 1 &&
+    fromCamera(vehicle2, t0).length === 0,
+  `--no-camera: IMAGE_START_CAPTURE to 154 is a photo (${photos(t0).length}), ACK from ` +
+    `${quietAck && quietAck.header.compid}, nothing from 100 (${fromCamera(vehicle2, t0).length})`);
   quiet.kill('SIGTERM');
 
   clearInterval(beats);
