@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <optional>
+#include <utility>
 
 #include "gport/cli/printable.hpp"
 #include "gport/contract/names.hpp"
@@ -11,7 +13,6 @@
 namespace gport::cli {
 namespace {
 
-using client::Connection;
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
@@ -27,34 +28,42 @@ std::string describe(const json& link) {
 
 class LinkWait {
   public:
-    LinkWait(const Invocation& inv, Connection& conn, std::ostream& out, std::ostream& err)
-        : inv_(inv), conn_(conn), out_(out), err_(err) {
+    LinkWait(const Invocation& inv, client::Client& gportd, std::ostream& out, std::ostream& err)
+        : inv_(inv), gportd_(gportd), out_(out), err_(err) {
         if (inv.timeout) {
             deadline_ = Clock::now() + *inv.timeout;
         }
+        // Every link notification, from the subscription on (also those
+        // that come with the status reply: they are older than it).
+        gportd_.on_notification_json([this](const std::string& text) {
+            const auto message = json::parse(text, nullptr, false);
+            // The first "up" of a batch is kept: a link that came up and
+            // went again between two looks still ends the wait, as it
+            // would have read one by one.
+            if (message.is_object() && message.value("method", "") == "link" &&
+                !(pending_ && link_up(*pending_))) {
+                pending_ = message.value("params", json::object());
+            }
+        });
     }
 
     // After the subscription and status: reads link notifications until
     // one says up, or the deadline.
     int until_up(const json& status_link) {
         link_ = status_link;
-        json message;
+        pending_.reset();
         while (!link_up(link_)) {
-            const auto status = deadline_ ? conn_.read(message, left()) : conn_.read(message);
-            if (status == Connection::ReadStatus::kMessage) {
-                if (message.value("method", "") == "link") {
-                    link_ = message.value("params", json::object());
-                }
-            } else if (status == Connection::ReadStatus::kTimeout) {
-                return timed_out();
-            } else if (status == Connection::ReadStatus::kInterrupted) {
-                return kExitInterrupted;
-            } else if (status == Connection::ReadStatus::kClosed) {
-                err_ << "gportctl: wait link: "
-                     << (conn_.failure().empty() ? "the daemon closed the connection"
-                                                 : printable(conn_.failure()))
-                     << "\n";
+            try {
+                gportd_.dispatch(deadline_ ? std::min(left(), kSlice) : kSlice);
+            } catch (const client::Error& e) {
+                err_ << "gportctl: wait link: " << printable(e.message()) << "\n";
                 return kExitUnavailable;
+            }
+            if (pending_) {
+                link_ = *std::exchange(pending_, std::nullopt);
+            }
+            if (interrupted_()) {
+                return kExitInterrupted;
             }
             if (deadline_ && Clock::now() >= *deadline_ && !link_up(link_)) {
                 return timed_out();
@@ -65,7 +74,11 @@ class LinkWait {
         return kExitOk;
     }
 
+    void on_interrupt(std::function<bool()> interrupted) { interrupted_ = std::move(interrupted); }
+
   private:
+    static constexpr std::chrono::milliseconds kSlice{100};
+
     std::chrono::milliseconds left() const {
         return std::max(
             std::chrono::milliseconds(0),
@@ -82,11 +95,13 @@ class LinkWait {
     }
 
     const Invocation& inv_;
-    Connection& conn_;
+    client::Client& gportd_;
     std::ostream& out_;
     std::ostream& err_;
     std::optional<Clock::time_point> deadline_;
     json link_;
+    std::optional<json> pending_;  // the newest link notification not yet looked at
+    std::function<bool()> interrupted_ = [] { return false; };
 };
 
 }  // namespace
@@ -95,9 +110,10 @@ bool link_up(const json& link) {
     return link.is_object() && link.value("state", json()) == "up";
 }
 
-int wait_link(const Invocation& inv, Connection& conn, const CallFn& call, std::ostream& out,
-              std::ostream& err) {
-    LinkWait wait(inv, conn, out, err);  // the timeout counts from here
+int wait_link(const Invocation& inv, client::Client& gportd, const CallFn& call,
+              const std::function<bool()>& interrupted, std::ostream& out, std::ostream& err) {
+    LinkWait wait(inv, gportd, out, err);  // the timeout counts from here
+    wait.on_interrupt(interrupted);
     json result;
     if (const int s = call(contract::method::kSubscribe, {{"topics", {"link"}}}, result);
         s != kExitOk) {

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "gport/cli/options.hpp"
-#include "gport/client/connection.hpp"
+#include "gport/client/client.hpp"
 
 namespace gport::cli {
 
@@ -22,8 +22,8 @@ using CallFn = std::function<int(const std::string& method, const nlohmann::json
 // 0 once the link is up (printing its state, or with --json the link
 // object); kExitLinkNotUp when inv.timeout passes first (naming what was
 // waited for on `err`); 130 on Ctrl-C; 69 when gportd goes away.
-int wait_link(const Invocation& inv, client::Connection& conn, const CallFn& call,
-              std::ostream& out, std::ostream& err);
+int wait_link(const Invocation& inv, client::Client& gportd, const CallFn& call,
+              const std::function<bool()>& interrupted, std::ostream& out, std::ostream& err);
 
 // Whether a status result, or a link notification's params, says "up".
 bool link_up(const nlohmann::json& link);

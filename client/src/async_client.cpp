@@ -20,13 +20,13 @@
 #include <map>
 #include <utility>
 
+#include "attitude_feed.hpp"
+#include "channel_claims.hpp"
 #include "codec.hpp"
 #include "connect_error.hpp"
 #include "gport/base/descriptors.hpp"
-#include "gport/client/attitude_feed.hpp"
-#include "gport/client/channel_claims.hpp"
-#include "gport/client/lines.hpp"
 #include "gport/contract/names.hpp"
+#include "lines.hpp"
 
 namespace gport::client {
 
@@ -178,6 +178,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     void take_lines(std::uint64_t generation) {
         while (generation == current) {
             json message;
+            std::string_view text;  // valid until the next read
             try {
                 const auto line = input.next();
                 if (!line) {
@@ -186,12 +187,13 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
                 if (detail::blank(*line)) {
                     continue;
                 }
-                message = detail::parse_line(*line);
+                text = *line;
+                message = detail::parse_line(text);
             } catch (const Error& e) {
                 lost(e.message());
                 return;
             }
-            handle(message);
+            handle(message, text);
         }
     }
 
@@ -261,9 +263,15 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
         ring.reset();
     }
 
-    void handle(const json& message) {
+    void handle(const json& message, std::string_view text) {
         const auto id = message.find("id");
         if (id == message.end()) {
+            if (on_notification_json) {
+                if (!text.empty() && text.back() == '\r') {
+                    text.remove_suffix(1);
+                }
+                on_notification_json(std::string(text));
+            }
             notify(message);
             return;
         }
@@ -352,6 +360,7 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     std::uint64_t current = 0;  // the connection's generation: stale completions are ignored
     bool open = false;
     std::function<void(const Notification&)> on_notification;
+    std::function<void(const std::string&)> on_notification_json;  // each line as read
     std::function<void(const CaptureEntry&)> on_capture;
     std::function<void(const Error&)> on_disconnect;
     ChannelClaims claims;  // received descriptors, attitude_channel requests, the channel
@@ -398,12 +407,34 @@ Done done(const json&) {
     return {};
 }
 
+// async_call_json's checks: a method of the contract (attitude_channel
+// excepted: its reply carries descriptors) and params that are the text of
+// a JSON object (empty text: none); the Error (kInvalidParams) otherwise.
+std::optional<Error> json_params(const std::string& method, const std::string& text, json& params) {
+    const auto& names = contract::kMethods;
+    if (std::find(names.begin(), names.end(), method) == names.end()) {
+        return Error(ErrorCode::kInvalidParams, "unknown method '" + method + "'");
+    }
+    if (method == contract::method::kAttitudeChannel) {
+        return Error(ErrorCode::kInvalidParams,
+                     "attitude_channel carries descriptors: use async_attitude_channel");
+    }
+    params =
+        json::parse(text.empty() ? std::string_view("{}") : std::string_view(text), nullptr, false);
+    if (!params.is_object()) {
+        return Error(ErrorCode::kInvalidParams,
+                     "params of " + method + " must be the text of a JSON object");
+    }
+    return std::nullopt;
+}
+
 }  // namespace
 
 AsyncClient::AsyncClient(asio::io_context& io) : impl_(std::make_shared<Impl>(io)) {}
 
 AsyncClient::~AsyncClient() {
     impl_->on_notification = nullptr;
+    impl_->on_notification_json = nullptr;
     impl_->on_capture = nullptr;
     impl_->on_disconnect = nullptr;
     impl_->shut("the client was destroyed");
@@ -562,6 +593,18 @@ void AsyncClient::async_subscribe(const std::vector<std::string>& topics,
     });
 }
 
+void AsyncClient::async_call_json(const std::string& method, const std::string& params_json,
+                                  Handler<std::string> handler) {
+    json params;
+    if (auto error = json_params(method, params_json, params)) {
+        asio::post(impl_->io, [handler = std::move(handler), e = *error] { handler(e, {}); });
+        return;
+    }
+    impl_->call(method, params, typed(std::move(handler), [](const json& result) {
+                    return result.dump(-1, ' ', false, json::error_handler_t::replace);
+                }));
+}
+
 void AsyncClient::async_attitude_channel(Handler<AttitudeChannel> handler) {
     impl_->open_channel(std::move(handler));
 }
@@ -577,6 +620,10 @@ void AsyncClient::async_unsubscribe(const std::vector<std::string>& topics,
 
 void AsyncClient::on_notification(std::function<void(const Notification&)> callback) {
     impl_->on_notification = std::move(callback);
+}
+
+void AsyncClient::on_notification_json(std::function<void(const std::string& line)> callback) {
+    impl_->on_notification_json = std::move(callback);
 }
 
 void AsyncClient::on_capture(std::function<void(const CaptureEntry&)> callback) {

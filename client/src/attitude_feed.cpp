@@ -1,5 +1,5 @@
 // AttitudeFeed: a channel and the waiter thread that makes its wakes pollable.
-#include "gport/client/attitude_feed.hpp"
+#include "attitude_feed.hpp"
 
 #include <utility>
 

@@ -1,6 +1,6 @@
 // ChannelClaims: the one place both transports decide which received
 // descriptors may be kept and which reply they belong to.
-#include "gport/client/channel_claims.hpp"
+#include "channel_claims.hpp"
 
 #include <unistd.h>
 

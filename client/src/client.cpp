@@ -6,15 +6,49 @@
 #include <iterator>
 #include <utility>
 
+#include "attitude_feed.hpp"
 #include "codec.hpp"
-#include "gport/client/attitude_feed.hpp"
-#include "gport/client/connection.hpp"
+#include "connection.hpp"
+#include "gport/base/json_depth.hpp"
 #include "gport/contract/names.hpp"
 #include "notification_queue.hpp"
 
 namespace gport::client {
 
 using nlohmann::json;
+
+namespace {
+
+// call_json's checks: the API's method syntax, params that are a JSON object
+// or array within the nesting limit (empty: none).
+json json_request_params(const std::string& method, const std::string& text) {
+    const bool name_ok = !method.empty() && method.size() <= 64 &&
+                         std::all_of(method.begin(), method.end(), [](char c) {
+                             return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                                    (c >= '0' && c <= '9') || c == '_' || c == '.';
+                         });
+    if (!name_ok) {
+        throw Error(ErrorCode::kInvalidParams,
+                    "a method name is 1 to 64 letters, digits, '_' and '.'; nothing was sent");
+    }
+    if (text.empty()) {
+        return json();
+    }
+    if (base::nested_deeper_than(text, kNestingLimit)) {
+        throw Error(ErrorCode::kInvalidParams, "params of " + method + " nested deeper than " +
+                                                   std::to_string(kNestingLimit) +
+                                                   " levels; nothing was sent");
+    }
+    json params = json::parse(text, nullptr, false);
+    if (!params.is_object() && !params.is_array()) {
+        throw Error(ErrorCode::kInvalidParams, "params of " + method +
+                                                   " must be a JSON object or array; nothing "
+                                                   "was sent");
+    }
+    return params;
+}
+
+}  // namespace
 
 struct Client::Impl {
     explicit Impl(Connection c) : connection(std::move(c)) {}
@@ -30,6 +64,10 @@ struct Client::Impl {
             throw Error(ErrorCode::kTransport, "not connected to gportd (connect again)");
         }
         auto reply = connection.call(method, params, [this](const json& m) { take(m); });
+        if (!reply && !connection.closed() && connection.interrupted()) {
+            throw Error(ErrorCode::kInterrupted, "interrupted while waiting for the reply to " +
+                                                     method + " (a late reply is dropped)");
+        }
         if (!reply) {
             connection.close();
             throw lost("the connection to gportd was lost during " + method);
@@ -40,10 +78,25 @@ struct Client::Impl {
         return *reply;
     }
 
+    // call_json_response: any method with params as text; the whole reply.
+    json json_response(const std::string& method, const std::string& params_json) {
+        json reply = call_raw(method, json_request_params(method, params_json));
+        if (method == contract::method::kAttitudeChannel && reply.contains("result")) {
+            try {
+                connection.channel_from(reply);  // its descriptors: claimed and closed
+            } catch (const Error&) {             // a block that fails its checks: none kept
+            }
+        }
+        return reply;
+    }
+
     // Hands a notification to the callback, or queues it (always, when
     // `queue_only`: next_notification() returns it). One this version cannot
     // read is skipped rather than failing the call that received it.
     void take(const json& message, bool queue_only = false) {
+        if (json_callback) {
+            json_callback(message.dump(-1, ' ', false, json::error_handler_t::replace));
+        }
         if (message.value("method", json()) == "capture") {
             take_capture(message);
             return;
@@ -103,6 +156,9 @@ struct Client::Impl {
         if (status == Connection::ReadStatus::kWoken) {
             return drain_ring(queue_only);
         }
+        if (status == Connection::ReadStatus::kInterrupted) {
+            throw Error(ErrorCode::kInterrupted, "interrupted while waiting for notifications");
+        }
         if (status != Connection::ReadStatus::kMessage) {
             return 0;
         }
@@ -147,6 +203,9 @@ struct Client::Impl {
                 break;
             }
             ++count;
+            if (json_callback) {
+                json_callback(attitude_notification(*sample).dump());
+            }
             if (callback && !queue_only) {
                 callback(Notification(std::move(*sample)));
             } else {
@@ -160,6 +219,7 @@ struct Client::Impl {
     detail::NotificationQueue queue;
     std::function<void(const Notification&)> callback;
     std::function<void(const CaptureEntry&)> capture_callback;  // the capture topic
+    std::function<void(const std::string&)> json_callback;      // every notification as text
     // Transparent shared-memory attitude (subscribe with shared_memory).
     std::unique_ptr<AttitudeFeed> ring;
 };
@@ -353,8 +413,35 @@ std::size_t Client::dispatch(Milliseconds duration) {
         if (left.count() <= 0) {
             return count;
         }
-        count += impl.read_one(left, false);
+        try {
+            count += impl.read_one(left, false);
+        } catch (const Error& e) {
+            if (e.is(ErrorCode::kInterrupted)) {
+                return count;
+            }
+            throw;
+        }
     }
+}
+
+std::string Client::call_json_response(const std::string& method, const std::string& params_json) {
+    return impl()
+        .json_response(method, params_json)
+        .dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+std::string Client::call_json(const std::string& method, const std::string& params_json) {
+    return codec::result_of(impl().json_response(method, params_json))
+        .dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+void Client::on_notification_json(std::function<void(const std::string& json)> callback) {
+    impl().json_callback = std::move(callback);
+}
+
+void Client::set_interrupt(std::function<bool()> interrupted) {
+    impl().connection.interrupted =
+        interrupted ? std::move(interrupted) : std::function<bool()>([] { return false; });
 }
 
 void Client::close() {

@@ -3,8 +3,8 @@
 // (attitude_feed.hpp).
 #include <utility>
 
+#include "attitude_feed.hpp"
 #include "codec.hpp"
-#include "gport/client/attitude_feed.hpp"
 #include "gport/contract/attitude_text.hpp"
 
 namespace gport::client::codec {

@@ -1,4 +1,4 @@
-#include "gport/client/connection.hpp"
+#include "connection.hpp"
 
 #include <poll.h>
 #include <sys/socket.h>

@@ -1,7 +1,7 @@
 // Connection's attitude channel: the descriptors of a connection's first
 // attitude_channel reply, mapped once and shared by every later request
 // (ChannelClaims).
-#include "gport/client/connection.hpp"
+#include "connection.hpp"
 #include "gport/client/error.hpp"
 #include "gport/contract/names.hpp"
 

@@ -7,6 +7,7 @@ std::string describe(int code, const std::string& message) {
     switch (code) {
         case static_cast<int>(ErrorCode::kTransport):
         case static_cast<int>(ErrorCode::kTimeout):
+        case static_cast<int>(ErrorCode::kInterrupted):
             return message;
         case static_cast<int>(ErrorCode::kBadReply):
             return "unexpected reply from gportd: " + message;

@@ -1,4 +1,4 @@
-#include "gport/client/lines.hpp"
+#include "lines.hpp"
 
 #include <algorithm>
 #include <cstring>

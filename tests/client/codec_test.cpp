@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "connect_error.hpp"
-#include "gport/client/attitude_feed.hpp"
+#include "attitude_feed.hpp"
 
 namespace gport::client::codec {
 namespace {

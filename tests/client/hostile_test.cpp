@@ -13,7 +13,7 @@
 #include <variant>
 
 #include "gport/client/client.hpp"
-#include "gport/client/connection.hpp"
+#include "connection.hpp"
 #include "hostile_server.hpp"
 
 namespace gport::testing {

@@ -95,9 +95,24 @@ class GPORT_CLIENT_API AsyncClient {
     void async_unsubscribe(const std::vector<std::string>& topics, Handler<Subscription> handler);
     // Opens gportd's shared-memory attitude channel (Client::attitude_channel).
     void async_attitude_channel(Handler<AttitudeChannel> handler);
+    // Any method of contract::kMethods (gport/contract/names.hpp) with its
+    // params as the text of a JSON object (empty text: no params); the
+    // handler gets gportd's `result` as JSON text (1.6.0). An unknown
+    // method, attitude_channel (use async_attitude_channel) or params that
+    // are not a JSON object complete with kInvalidParams naming what was
+    // wrong, nothing sent. Replies and timeouts as for the typed calls.
+    void async_call_json(const std::string& method, const std::string& params_json,
+                         Handler<std::string> handler);
 
     // Every notification, in arrival order.
     void on_notification(std::function<void(const Notification&)> callback);
+    // Every notification line read from gportd's socket, as gportd wrote it
+    // (the whole {"jsonrpc":..,"method":..,"params":..} object, without its
+    // newline), in arrival order, before on_notification and on_capture get
+    // it; in addition to them, not instead (1.6.0). Attitude samples from
+    // the shared-memory channel are not lines: they come to on_notification
+    // only.
+    void on_notification_json(std::function<void(const std::string& line)> callback);
     // Each capture after subscribing to "capture" (1.5.0): the topic's
     // notifications come here, not to on_notification (whose Notification
     // keeps its three kinds); without a callback they are skipped.

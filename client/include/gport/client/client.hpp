@@ -103,6 +103,31 @@ class GPORT_CLIENT_API Client {
     // No topics: all (also ends the shared-memory attitude delivery).
     Subscription unsubscribe(const std::vector<std::string>& topics = {});
 
+    // Any method with its params as JSON text, for tools that pass JSON
+    // through (gportctl call and --json) (1.6.0). `method`: 1 to 64 of
+    // [A-Za-z0-9_.] (gportd answers one it does not know with -32601);
+    // `params_json`: the text of a JSON object or array, nested at most
+    // kNestingLimit (empty: none). Anything else: kInvalidParams naming what
+    // was wrong, nothing sent. call_json returns gportd's `result` as JSON
+    // text and throws gportd's error like the typed calls;
+    // call_json_response returns the whole response (`id` and `result` or
+    // `error`) and throws only kTransport, kTimeout and kInterrupted.
+    std::string call_json(const std::string& method, const std::string& params_json = {});
+    std::string call_json_response(const std::string& method, const std::string& params_json = {});
+    // Every notification as JSON text, in arrival order, whenever a call,
+    // dispatch() or next_notification() reads (1.6.0): a line from gportd
+    // as it came (the whole object), a shared-memory attitude sample as the
+    // socket would have carried it. In addition to on_notification and
+    // on_capture, not instead; an empty function turns it off.
+    void on_notification_json(std::function<void(const std::string& json)> callback);
+    // A check looked at while a call, dispatch() or next_notification()
+    // waits: at least every 100 ms, and at once when a signal handled
+    // without SA_RESTART interrupts the wait (1.6.0). Once it returns true
+    // the waiting call throws Error kInterrupted (its reply, if it comes, is
+    // dropped) and dispatch() returns; the connection stays usable, unless
+    // the check cut a request in half (then kTransport).
+    void set_interrupt(std::function<bool()> interrupted);
+
     // Opens gportd's shared-memory attitude channel (docs/api.md); throws
     // Error: the daemon's (e.g. -32603 when it cannot make the block), or
     // kBadReply when the block fails its checks (the message names why).

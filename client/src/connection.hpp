@@ -14,8 +14,9 @@
 // no channel and an attitude_channel request sent with send() or call()
 // awaits its reply); any others are closed at once.
 //
-// Internal to the project (not installed): its symbols are exported from
-// libgport-client for gportctl, but its interface may change in any release.
+// Internal to the library (not installed): the blocking Client's transport.
+// Its symbols stay exported for the library's own tests (tests/client); its
+// interface may change in any release.
 #pragma once
 
 #include <chrono>
@@ -28,11 +29,11 @@
 #include <string>
 #include <string_view>
 
+#include "channel_claims.hpp"
 #include "gport/client/attitude_channel.hpp"
-#include "gport/client/channel_claims.hpp"
 #include "gport/client/export.hpp"
 #include "gport/client/limits.hpp"
-#include "gport/client/lines.hpp"
+#include "lines.hpp"
 
 namespace gport::client {
 

@@ -15,8 +15,7 @@
 //     ... read() == kWoken: feed.reset(); while (auto s = feed.take()) { ... }
 //     connection.watch(-1);  // before the feed goes
 //
-// Internal to the project (not installed): exported from libgport-client
-// for gportctl.
+// Internal to the library (not installed): exported for its own tests.
 #pragma once
 
 #include <cstdint>
