@@ -66,16 +66,24 @@ std::string socket_access_hint() {
                       "such as su -)");
 }
 
-// What a reload reads, for its log lines.
-std::string config_source(const config::CommandLine& command_line) {
+// The file a load reads, or none (the built-in defaults): status's config_file.
+std::optional<std::string> config_file(const config::CommandLine& command_line) {
     if (command_line.config_path) {
         return *command_line.config_path;
     }
     std::string path = config::default_config_path();
     if (::access(path.c_str(), F_OK) != 0) {
-        return "the built-in defaults (" + path + " does not exist)";
+        return std::nullopt;
     }
     return path;
+}
+
+// What a reload reads, for its log lines.
+std::string config_source(const config::CommandLine& command_line) {
+    if (auto file = config_file(command_line)) {
+        return *file;
+    }
+    return "the built-in defaults (" + config::default_config_path() + " does not exist)";
 }
 
 std::string status_text(const std::string& device, const LinkEvent& event) {
@@ -139,6 +147,7 @@ class Daemon {
         try {
             activated = systemd::activated_socket_fd();
             server_.emplace(io_, *core_, config_.socket, log_, activated);
+            server_->set_config_file(config_file(command_line_));
             server_->start();
         } catch (const systemd::ActivationError& e) {
             log_->critical("socket activation: {}", e.what());

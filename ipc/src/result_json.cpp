@@ -73,6 +73,7 @@ json shared_status_json(const daemon::Status& status, const ServerStats& stats) 
             {"camera",
              {{"max_commands_per_s", status.camera.max_commands_per_s},
               {"refused", status.camera.refused}}},
+            {"config_file", stats.config_file ? json(*stats.config_file) : json(nullptr)},
             {"loop",
              {{"worst_request_us", stats.worst_request_us},
               {"worst_method",

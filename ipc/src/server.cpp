@@ -79,7 +79,9 @@ Server::Server(asio::io_context& io, daemon::Api& api, config::SocketConfig conf
       dispatcher_(std::make_unique<Dispatcher>(
           api,
           [this] {
-              return ServerStats{clients(), dropped_total_, channel_->readers(), channel_failures_};
+              ServerStats stats{clients(), dropped_total_, channel_->readers(), channel_failures_};
+              stats.config_file = config_file_;
+              return stats;
           })),
       channel_(std::make_unique<detail::AttitudeChannel>()),
       max_clients_(config_.max_clients),

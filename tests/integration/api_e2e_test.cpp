@@ -53,6 +53,8 @@ TEST_F(ApiEndToEnd, EveryMethodAnswersAsDocumented) {
     EXPECT_TRUE(status["device_open"].get<bool>());
     EXPECT_GT(status["counters"]["attitude_frames"].get<int>(), 0);
     EXPECT_EQ(status["client"]["pid"], static_cast<int>(::getpid()));
+    // The file it loaded (the harness's), for set-up tools (gport-web).
+    EXPECT_EQ(status["config_file"], dir_.file("gportd.json"));
 
     auto attitude = c.call("attitude")["result"];
     EXPECT_GT(attitude["seq"].get<int>(), 0);

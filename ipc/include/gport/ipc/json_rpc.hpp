@@ -103,6 +103,8 @@ struct ServerStats {
     // members each count alone), and its method.
     std::uint64_t worst_request_us = 0;
     std::string worst_method{};
+    // The configuration file gportd loaded, or none (the built-in defaults).
+    std::optional<std::string> config_file{};
 };
 
 // The shared-memory attitude channel as the attitude_channel method reports it.

@@ -81,6 +81,8 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     void close();
 
     std::size_t clients() const;
+    // The configuration file gportd loaded (status's `config_file`), or none.
+    void set_config_file(std::optional<std::string> path) { config_file_ = std::move(path); }
     // The capture log (app/ restores it and gives it its writer before start()).
     CaptureLog& captures();
     std::uint64_t dropped_notifications() const { return dropped_total_; }
@@ -170,6 +172,7 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     std::uint64_t accept_failures_ = 0;
     std::chrono::steady_clock::time_point accept_logged_{};
     std::uint64_t dropped_total_ = 0;
+    std::optional<std::string> config_file_;
     bool created_file_ = false;
     bool started_ = false;
     bool closed_ = false;
