@@ -63,19 +63,28 @@ GPORT_TEST_PACKAGES=(
   liburing-dev
 )
 
+# gport-web's browser test: Debian's chromium, driven headless by
+# playwright-core (npm, pinned by tests/web/browser/package-lock.json): the
+# system browser, no browser download. A set of its own (`gport_install_deps
+# browser`): scripts/test.sh installs it beside the Release build, off the
+# critical path (about 300 MB unpacked); apt leaves out recommended
+# packages, so a font for the page's text (and the screenshots) is named.
+GPORT_BROWSER_PACKAGES=(chromium fonts-dejavu-core)
+
 # Packages that count as present when their command is, whoever installed it
 # (e.g. a NodeSource nodejs, which bundles npm and conflicts with Debian's).
 declare -gA GPORT_PACKAGE_COMMANDS=([nodejs]=node [npm]=npm)
 
-# gport_install_deps [build|all] [PACKAGE...]: installs what is missing of
-# that set (default all) and of the packages named after it, in one apt run
+# gport_install_deps [build|all|browser] [PACKAGE...]: installs what is
+# missing of that set (default all) and of the packages named after it, in one apt run
 # (scripts/test.sh adds the ARM stages' cross compilers: gport_cross_packages).
 gport_install_deps() {
   local set=${1:-all} missing=() wanted=() p
   case "$set" in
     build) wanted=("${GPORT_BUILD_PACKAGES[@]}") ;;
     all) wanted=("${GPORT_BUILD_PACKAGES[@]}" "${GPORT_TEST_PACKAGES[@]}") ;;
-    *) echo "error: gport_install_deps: no package set '$set' (build or all)" >&2; return 1 ;;
+    browser) wanted=("${GPORT_BROWSER_PACKAGES[@]}") ;;
+    *) echo "error: gport_install_deps: no package set '$set' (build, all or browser)" >&2; return 1 ;;
   esac
   [ $# -gt 0 ] && shift
   wanted+=("$@")

@@ -40,10 +40,11 @@ unit_parts='base;protocol;sim;config;daemon;ipc;systemd;app;client;cli'
 # What arm64 leaves to the Release stage: the checks of the sources
 # (layering, man pages) and the interoperability suites, where another
 # implementation talks to our programs (node-mavlink: node; the Python
-# client: python). What they check is the protocol between programs, not
-# how the code runs on ARM: the same parsing and codecs run here in the unit
-# suites (mavlink, client) and gportd end to end in integration and systemd.
-interop_labels='^(layering|man|node|python)$'
+# client: python; chromium: browser). What they check is the protocol between
+# programs, not how the code runs on ARM: the same parsing and codecs run
+# here in the unit suites (mavlink, client, web) and gportd and gport-web end
+# to end in integration, web and systemd.
+interop_labels='^(layering|man|node|python|browser)$'
 
 stage "ARM: cross compilers and qemu-user for ${arches[*]}"
 gport_install_cross_deps "${arches[@]}"

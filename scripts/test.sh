@@ -16,7 +16,8 @@
 #      at a time.
 # What waits on the network rather than the CPU runs beside the Release
 # build, each with its log in build/ci-logs: the ARM sysroots, the e2e stage's
-# Debian root and the node-mavlink install of the tests (npm ci). The
+# Debian root, chromium for gport-web's browser test (apt) and the npm
+# installs of the tests (npm ci: node-mavlink, playwright-core). The
 # ArduCopter and PX4 SITL tests run in the Release stage only (GPORT_SITL_TESTS).
 # Used word for word by .ci/run. The builds are unity builds (each target's
 # sources compiled as one unit), which halves the compile time on a 2-core
@@ -87,18 +88,25 @@ await() {
 # The node-mavlink install of the peer tests in BUILD (the folder
 # tests/mavlink/peer/CMakeLists.txt names; a test would otherwise run it).
 npm_install() { tests/mavlink/peer/run.sh "$1/tests/mavlink/peer/mavlink-peer" --install-only; }
+# playwright-core for gport-web's browser test (tests/web/browser; the
+# Release stage only runs it).
+npm_install_browser() { tests/web/browser/run.sh "$1/tests/web/browser/web-browser" --install-only; }
 
 stage "Release build"
 for arch in "${arm_arches[@]}"; do
   beside "sysroot-$arch" scripts/cross-sysroot.sh "$arch" "${GPORT_SYSROOTS:-/var/cache/gport}/sysroot-$arch"
 done
 beside e2e-root scripts/systemd-e2e.sh --root-only
+beside browser gport_install_deps browser
 beside npm-release npm_install build/release
+beside npm-browser npm_install_browser build/release
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DGPORT_WERROR=ON \
   -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16
 cmake --build build/release -j "$jobs"
 stage "Release tests"
 await npm-release
+await npm-browser
+await browser
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 
 stage "systemd end-to-end (the Release build's .deb on a real systemd, in a container)"
@@ -135,9 +143,12 @@ cmake --build build/asan -j "$jobs"
 stage "ASan+UBSan tests"
 await npm-asan
 # The checks of the sources themselves (layering, man pages) ran in the
-# Release stage: they do not depend on how the code was built.
+# Release stage: they do not depend on how the code was built. So did the
+# browser test: a chromium beside an instrumented gport-web on two cores
+# measures the machine, not the page; gport-web's own suites (every request
+# and WebSocket path, the attacks) run here under the sanitizers.
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE '^(layering|man)$'
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE '^(layering|man|browser)$'
 
 # One fuzzer per corpus folder: fuzz/corpus/<name>/ seeds <name>_fuzz.
 fuzzers=()

@@ -32,11 +32,12 @@ gport_confdir(GPORT_CONFDIR "${CMAKE_INSTALL_PREFIX}" "${GPORT_SYSCONFDIR_REL}" 
 # Units: substitute the installed paths and the shared sandbox.
 file(READ "${GPORT_SRC_DIR}/units/sandbox.conf" GPORT_UNIT_SANDBOX)
 file(READ "${GPORT_SRC_DIR}/units/mavlink-sandbox.conf" GPORT_MAVLINK_SANDBOX)
+file(READ "${GPORT_SRC_DIR}/units/web-sandbox.conf" GPORT_WEB_SANDBOX)
 set(GPORT_BINDIR "${CMAKE_INSTALL_PREFIX}/${GPORT_BINDIR_REL}")
 set(GPORT_DOC_DIR "${CMAKE_INSTALL_PREFIX}/${GPORT_DOCDIR_REL}")
 set(units "")
 foreach(unit gportd.service gportd.socket gportd@.service gportd@.socket gport-mavlink.service
-             gport-mavlink@.service)
+             gport-mavlink@.service gport-web.service)
   configure_file("${GPORT_SRC_DIR}/units/${unit}.in" "${GPORT_STAGE_DIR}/${unit}" @ONLY)
   list(APPEND units "${GPORT_STAGE_DIR}/${unit}")
 endforeach()
@@ -45,6 +46,7 @@ endforeach()
 # like install() does.
 file(INSTALL DESTINATION "${unitdir}" TYPE FILE FILES ${units})
 file(INSTALL DESTINATION "${sysusersdir}" TYPE FILE
-     FILES "${GPORT_SRC_DIR}/sysusers/gportd.conf" "${GPORT_SRC_DIR}/sysusers/gport-mavlink.conf")
+     FILES "${GPORT_SRC_DIR}/sysusers/gportd.conf" "${GPORT_SRC_DIR}/sysusers/gport-mavlink.conf"
+           "${GPORT_SRC_DIR}/sysusers/gport-web.conf")
 file(INSTALL DESTINATION "${rulesdir}" TYPE FILE
      FILES "${GPORT_SRC_DIR}/udev/60-gportd.rules")

@@ -3,7 +3,7 @@
 # program's --help names no long option that its man page lacks (drift).
 #
 #   check_man_pages.sh render  MAN_DIR
-#   check_man_pages.sh options MAN_DIR GPORTD GPORTCTL GPORT_SIM GPORT_MAVLINK
+#   check_man_pages.sh options MAN_DIR GPORTD GPORTCTL GPORT_SIM GPORT_MAVLINK GPORT_WEB
 set -euo pipefail
 
 fail() {
@@ -26,7 +26,7 @@ render() {
 
 check_render() {
     local page text heading count=0
-    for page in gportd.8 gportctl.1 gport-sim.1 gport-mavlink.1 gportd.json.5; do
+    for page in gportd.8 gportctl.1 gport-sim.1 gport-mavlink.1 gport-web.1 gportd.json.5; do
         [ -f "$man_dir/$page.gz" ] || fail "$man_dir/$page.gz was not built"
         text=$(render "$page")
         [ -n "$text" ] || fail "$page renders empty"
@@ -61,10 +61,11 @@ check_page_has() {
 }
 
 check_options() {
-    local gportd=$1 gportctl=$2 gport_sim=$3 gport_mavlink=$4 help command commands page
+    local gportd=$1 gportctl=$2 gport_sim=$3 gport_mavlink=$4 gport_web=$5 help command commands page
     check_page_has gportd.8 "$("$gportd" --help)"
     check_page_has gport-sim.1 "$("$gport_sim" --help)"
     check_page_has gport-mavlink.1 "$("$gport_mavlink" --help)"
+    check_page_has gport-web.1 "$("$gport_web" --help)"
     # gportctl: the overview and each command's help (commands are the
     # words indented by two spaces in the overview).
     help=$("$gportctl" --help)
@@ -77,11 +78,11 @@ check_options() {
             || fail "gportctl.1 does not describe the command $command"
     done
     check_page_has gportctl.1 "$help"
-    echo "4 passed, 0 failed"
+    echo "5 passed, 0 failed"
 }
 
 case $mode in
     render) check_render ;;
-    options) check_options "$3" "$4" "$5" "$6" ;;
+    options) check_options "$3" "$4" "$5" "$6" "$7" ;;
     *) fail "unknown mode $mode; use render or options" ;;
 esac

@@ -37,6 +37,10 @@ for pattern in '^\./usr/bin/gportd$' '^\./usr/bin/gportctl$' '^\./usr/bin/gport-
                '/sysusers\.d/gportd\.conf$' '/udev/rules\.d/60-gportd\.rules$' \
                '^\./usr/bin/gport-mavlink$' '/systemd/system/gport-mavlink\.service$' \
                '/systemd/system/gport-mavlink@\.service$' '/sysusers\.d/gport-mavlink\.conf$' \
+               '^\./usr/bin/gport-web$' '/systemd/system/gport-web\.service$' \
+               '/sysusers\.d/gport-web\.conf$' '^\./usr/share/doc/gportd/web\.md$' \
+               '^\./usr/share/bash-completion/completions/gport-web$' \
+               '^\./usr/share/zsh/vendor-completions/_gport-web$' \
                '^\./etc/gportd/gportd\.json$' '^\./usr/share/doc/gportd/operations\.md$' \
                '^\./usr/share/doc/gportd/examples/mavlink\.json$' \
                '^\./usr/share/bash-completion/completions/gportctl$' \
@@ -60,7 +64,8 @@ done
 if grep -q '^GPORT_BUILD_MAN:BOOL=ON' "$build/CMakeCache.txt"; then
     root=$work/root
     dpkg-deb -x "$deb" "$root"
-    for page in man8/gportd.8 man1/gportctl.1 man1/gport-sim.1 man1/gport-mavlink.1 man5/gportd.json.5; do
+    for page in man8/gportd.8 man1/gportctl.1 man1/gport-sim.1 man1/gport-mavlink.1 man1/gport-web.1 \
+                man5/gportd.json.5; do
         [ -f "$root/usr/share/man/$page.gz" ] || fail "the package lacks /usr/share/man/$page.gz"
         name=$(basename "$page")
         text=$(MANPATH="$root/usr/share/man" MANWIDTH=80 man "${name##*.}" "${name%.*}" 2>&1 | col -b)

@@ -40,7 +40,7 @@ unit=$(installed systemd/system/gportd.service)
 for file in systemd/system/gportd.service systemd/system/gportd.socket systemd/system/gportd@.service \
             systemd/system/gportd@.socket sysusers.d/gportd.conf udev/rules.d/60-gportd.rules \
             systemd/system/gport-mavlink.service systemd/system/gport-mavlink@.service \
-            sysusers.d/gport-mavlink.conf; do
+            sysusers.d/gport-mavlink.conf systemd/system/gport-web.service sysusers.d/gport-web.conf; do
     echo "installed: $(installed "$file")"
 done
 grep -qx "ExecStart=/usr/bin/gportd" "$root$unit" || fail "$unit does not start /usr/bin/gportd"
@@ -58,7 +58,7 @@ done
 [ -e "$root/bin/kill" ] || cp /bin/kill "$root/bin/kill"   # ExecReload=
 
 units="gportd.service gportd.socket gportd@gimbal0.service gportd@gimbal0.socket
-       gport-mavlink.service gport-mavlink@gimbal0.service"
+       gport-mavlink.service gport-mavlink@gimbal0.service gport-web.service"
 echo "\$ systemd-analyze verify --root=ROOT $units"
 # shellcheck disable=SC2086  # $units is a list
 output=$(systemd-analyze verify --root="$root" $units 2>&1) || status=$?
@@ -68,10 +68,11 @@ $output"
 fi
 echo "(no output)"
 
-# gport-mavlink needs IP (its MAVLink side): its bound is 2.0, not 1.0.
+# gport-mavlink and gport-web need IP (MAVLink, the browsers): their bound is
+# 2.0, not 1.0.
 for service in gportd.service gportd@gimbal0.service gport-mavlink.service \
-               gport-mavlink@gimbal0.service; do
-    case $service in gport-mavlink*) bound=2.0 ;; *) bound=1.0 ;; esac
+               gport-mavlink@gimbal0.service gport-web.service; do
+    case $service in gport-mavlink* | gport-web*) bound=2.0 ;; *) bound=1.0 ;; esac
     report=$(systemd-analyze security --offline=yes --root="$root" "$service" 2>&1) || true
     line=$(printf '%s\n' "$report" | grep "Overall exposure level for $service:") \
         || fail "no exposure level for $service:

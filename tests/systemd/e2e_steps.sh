@@ -429,6 +429,50 @@ check "gport-mavlink's entries are native (SYSLOG_IDENTIFIER=gport-mavlink, info
 systemctl stop gportd.service
 check "stopping gportd stops gport-mavlink with it" \
     eventually 10 sh -c "! systemctl is-active -q gport-mavlink.service"
+# ---- 10 ----------------------------------------------------------------------
+step "10. gport-web: its own user, a token made on first start, a login on every path"
+check "postinst made the gport-web user, in group gport and not dialout" \
+    sh -c "getent passwd gport-web >/dev/null && id -nG gport-web | grep -qw gport \
+           && ! id -nG gport-web | grep -qw dialout"
+check "gport-web.service is installed but not enabled" \
+    sh -c "[ \"\$(systemctl is-enabled gport-web.service)\" = disabled ]"
+systemctl start gport-web.service
+check "starting gport-web starts gportd (BindsTo) and runs as gport-web" \
+    eventually 10 sh -c "systemctl is-active -q gportd.service && systemctl is-active -q gport-web.service \
+           && [ \"\$(ps -o user= -p \$(systemctl show -p MainPID --value gport-web.service))\" = gport-web ]"
+check "its token file was made on the first start: /var/lib/gport-web/token, gport-web's, mode 600" \
+    eventually 10 sh -c "[ \"\$(stat -c '%U %a' /var/lib/gport-web/token)\" = 'gport-web 600' ]"
+web_token=$(sed -n 's/^control://p; /^[A-Za-z0-9_-]\{16,\}$/p' /var/lib/gport-web/token 2>/dev/null | head -n 1)
+check "the journal names the token file, never the token" \
+    sh -c "[ -n '$web_token' ] && journalctl -q -u gport-web.service -o cat | grep -q /var/lib/gport-web/token \
+           && ! journalctl -q -u gport-web.service -o cat | grep -qF '$web_token'"
+check "it listens on loopback only (127.0.0.1:8790)" \
+    eventually 10 sh -c "grep -q ' 0100007F:2256 ' /proc/net/tcp && ! grep -q ' 00000000:2256 ' /proc/net/tcp"
+# http_get PATH [HEADER]: gport-web's answer to a GET (bash's /dev/tcp: the
+# root has no curl).
+http_get() {
+    local answer
+    exec 3<>/dev/tcp/127.0.0.1/8790 || return 1
+    printf 'GET %s HTTP/1.1\r\nHost: 127.0.0.1:8790\r\n%sConnection: close\r\n\r\n' \
+        "$1" "${2:+$2$'\r\n'}" >&3
+    answer=$(timeout 10 cat <&3 | tr -d '\r')
+    exec 3<&-
+    printf '%s\n' "$answer"
+}
+answers() {  # STATUS TEXT PATH [HEADER]: the answer has that status and text
+    local answer
+    answer=$(http_get "$3" "${4:-}")
+    printf '%s\n' "$answer" | head -n 1 | grep -q " $1 " && printf '%s\n' "$answer" | grep -qF -- "$2" \
+        || { printf '%s\n' "$answer" | head -n 20; return 1; }
+}
+no_status() { ! http_get /api/status | grep -q daemon_version; }
+check "without a login /api/status answers 401" answers 401 error /api/status
+check "without a login no status is given" no_status
+check "with the token from the file /api/status is gportd's status" \
+    answers 200 daemon_version /api/status "Authorization: Bearer $web_token"
+systemctl stop gportd.service
+check "stopping gportd stops gport-web with it" \
+    eventually 10 sh -c "! systemctl is-active -q gport-web.service"
 if out=$(apt-get purge -y -q gportd 2>&1); then
     pass "apt-get purge gportd (again)"
 else

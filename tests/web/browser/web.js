@@ -1,0 +1,389 @@
+'use strict';
+// gport-web's page in a real browser (docs/web.md, "data-testid"):
+// Debian's chromium, headless, driven by playwright-core, against the real
+// gport-web, gportd and gport-sim (with --trace, which shows what reaches
+// the gimbal's UART).
+//
+//   node web.js GPORTD GPORT_SIM GPORT_WEB WORKDIR
+//
+// The machine is small and shared: timings are asserted on gport-sim's
+// trace timestamps (when a frame reached the wire) against the browser's
+// own clock at the event, never on how long this script waited.
+const crypto = require('crypto');
+const fs = require('fs');
+const path = require('path');
+const { chromium } = require('playwright-core');
+const h = require('./harness');
+
+const { check, figure, sleep, until } = h;
+const [gportdPath, simPath, webPath, workRoot] = process.argv.slice(2);
+const CHROMIUM = process.env.GPORT_CHROMIUM || '/usr/bin/chromium';
+const RELEASE_BUDGET_MS = 300;
+const id = (testid) => `[data-testid="${testid}"]`;
+
+// The strictest policy the page is written for (docs/web.md, "data-testid"):
+// scripts and styles from gport-web only, the login page's one inline
+// style allowed by its hash. The test adds it to every document it loads
+// (gport-web's own policy stays in force too), so a page that needs more
+// fails here (a violation is a console error).
+function strictPolicy() {
+  const login = fs.readFileSync(path.join(__dirname, '../../../web/www/login.html'), 'utf8');
+  const style = /<style>([\s\S]*?)<\/style>/.exec(login)[1];
+  const hash = crypto.createHash('sha256').update(style).digest('base64');
+  return `default-src 'self'; style-src 'self' 'sha256-${hash}'; connect-src 'self'; ` +
+    "base-uri 'none'; form-action 'self'; frame-ancestors 'none'";
+}
+
+// GPORT_WEB_WWW=DIR serves the page's files from DIR instead of gport-web's
+// built-in copy (with gport-web's own answer's status and headers), to
+// work on the page without rebuilding gport-web. The ctest does not set it.
+const WWW = process.env.GPORT_WEB_WWW;
+
+function withoutLength(headers) {
+  const copy = { ...headers };
+  delete copy['content-length'];
+  return copy;
+}
+
+// A browser context whose documents get the strict policy (and, with
+// GPORT_WEB_WWW, the page's files from that folder).
+async function newContext(browser, url, options) {
+  const context = await browser.newContext(options);
+  const policy = strictPolicy();
+  // The login's POST and /?token= too: their 303 is then followed by the
+  // browser as a new request, which comes here again (a redirect followed
+  // inside route.fetch would not).
+  const documents = (u) => u.origin === url && (u.pathname === '/' || u.pathname === '/login');
+  await context.route(documents, async (route) => {
+    const response = await route.fetch({ maxRedirects: 0 });
+    // Both gport-web's policy (if it sends one) and the strict one: the
+    // browser enforces every policy it is given.
+    const own = response.headers()['content-security-policy'];
+    const headers = { ...response.headers(), 'content-security-policy': own ? `${own}, ${policy}` : policy };
+    if (!WWW || response.status() !== 200) return route.fulfill({ response, headers });
+    const login = (await response.text()).includes('data-testid="login-form"');
+    const body = fs.readFileSync(path.join(WWW, login ? 'login.html' : 'index.html'));
+    return route.fulfill({ response, body, headers: withoutLength(headers) });
+  });
+  if (WWW) {
+    await context.route((u) => u.origin === url && /^\/[a-z]+\.(js|css|svg)$/.test(u.pathname), async (route) => {
+      const response = await route.fetch();
+      if (response.status() !== 200) return route.fulfill({ response });
+      const file = path.join(WWW, new URL(route.request().url()).pathname.slice(1));
+      return route.fulfill({ response, body: fs.readFileSync(file), headers: withoutLength(response.headers()) });
+    });
+  }
+  return context;
+}
+
+// --no-sandbox: CI runs the tests as root, where chromium's sandbox refuses
+// to start. LocalNetworkAccessChecks off: a document that newContext's
+// route answers has no IP address space of its own, so chromium would refuse
+// its WebSocket to 127.0.0.1 (ERR_BLOCKED_BY_LOCAL_NETWORK_ACCESS_CHECKS); a
+// page gport-web serves itself talks to its own address, which those checks
+// allow.
+const LAUNCH = {
+  executablePath: CHROMIUM,
+  args: ['--no-sandbox', '--disable-features=LocalNetworkAccessChecks'],
+};
+
+// A page logged in (cookie from the login form, or from /?token=).
+async function openPage(context, url) {
+  const page = await context.newPage();
+  page.problems = [];
+  // When the page got each event that ends a jog, on the browser's clock
+  // (which is this machine's): registered before the page's own listeners.
+  await page.addInitScript(() => {
+    window.eventAt = {};
+    for (const type of ['pointerup', 'pointerleave', 'blur', 'visibilitychange']) {
+      const target = type === 'visibilitychange' ? document : window;
+      target.addEventListener(type, () => { window.eventAt[type] = Date.now(); }, { capture: true });
+    }
+  });
+  page.on('pageerror', (e) => page.problems.push(`pageerror at ${page.url()}: ${e.message}`));
+  page.on('console', (m) => { if (m.type() === 'error') page.problems.push(`console at ${page.url()}: ${m.text()}`); });
+  // What the page sends on /api/live: {t, type} of each jog and stop.
+  page.sent = [];
+  page.on('websocket', (ws) => ws.on('framesent', ({ payload }) => {
+    try { page.sent.push({ t: Date.now(), type: JSON.parse(payload).type }); } catch (e) { /* not JSON */ }
+  }));
+  await page.goto(url);
+  return page;
+}
+
+const number = async (page, testid) => Number(await page.textContent(id(testid)));
+
+async function waitLive(page) {
+  try {
+    await page.waitForSelector(`${id('conn')}[data-state="open"]`, { timeout: 15000 });
+    await page.waitForSelector(`${id('link')}[data-state="up"]`, { timeout: 15000 });
+    await until(async () => Number.isFinite(await number(page, 'imu-pitch')), 10000, 'imu-pitch');
+  } catch (e) {
+    throw new Error(`the page at ${page.url()} did not go live: ${e.message}\n${page.problems.join('\n')}`);
+  }
+}
+
+// ---- 1. login
+async function login(browser, url, token) {
+  const context = await newContext(browser, url, { viewport: { width: 1280, height: 800 } });
+  figure(`Content-Security-Policy enforced on the page: ${strictPolicy()}`);
+  const page = await openPage(context, url + '/');
+  check(await page.isVisible(id('login-form')), 'the page at / without login shows the login form');
+  check(!(await page.isVisible(id('imu-pitch'))), 'and no live value');
+  const denied = await context.request.get(url + '/api/status', { failOnStatusCode: false });
+  check(denied.status() === 401, `GET /api/status without login: ${denied.status()} (401)`);
+  await page.fill(id('login-token'), token);
+  await Promise.all([page.waitForNavigation(), page.click(id('login-submit'))]);
+  await waitLive(page);
+  check(true, 'logged in through the form: live values shown');
+  // The browser followed the login's 303 itself, past newContext's route:
+  // load the page again under both policies.
+  await page.goto(url + '/');
+  await waitLive(page);
+  await policyInForce(context, url);
+  return { context, page };
+}
+
+// The policy really applies (else the page's clean run under it proves
+// nothing): in a second tab, an inline script is refused.
+async function policyInForce(context, url) {
+  const probe = await context.newPage();
+  await probe.goto(url + '/');
+  const ran = await probe.evaluate(() => {
+    const script = document.createElement('script');
+    script.textContent = 'window.inlineRan = true;';
+    document.body.append(script);
+    return window.inlineRan === true;
+  });
+  check(!ran, 'the policy is in force: an inline script does not run');
+  await probe.close();
+}
+
+// ---- 2. live values follow gport-sim
+async function liveFollows(page, sock) {
+  await h.rpc(sock, 'angle', { pitch: -25, yaw: 40, wait: true });
+  await until(async () => Math.abs((await number(page, 'hall-pitch')) + 25) < 1 &&
+    Math.abs((await number(page, 'hall-yaw')) - 40) < 1, 10000, 'hall angles -25 / 40 on the page');
+  check(Math.abs((await number(page, 'imu-pitch')) + 25) < 1, 'imu-pitch follows the gimbal to -25');
+  await h.rpc(sock, 'angle', { pitch: 0, yaw: 0, wait: true });
+  await until(async () => Math.abs(await number(page, 'hall-yaw')) < 1, 10000, 'hall-yaw back to 0');
+  check(true, 'the live values change as gport-sim moves (hall and IMU, pitch and yaw)');
+}
+
+// Holds a jog button with the mouse until the gimbal moves; returns when a
+// non-zero speed with the expected sign reached the wire.
+async function holdJog(page, testid, axisIndex, sign) {
+  const since = Date.now();
+  await page.hover(id(testid));
+  await page.mouse.down();
+  const moving = await until(() => h.speedFrames(since)
+    .find((e) => Math.sign(e.j.speed[axisIndex]) === sign), 5000, `a ${testid} speed on the wire`);
+  return moving;
+}
+
+// ---- 3. release: zero speed on the wire within 300 ms of the release
+// Each way a hold ends, as the page gets it; `blur` and `hidden` are the
+// window's and the document's events (a headless window neither loses focus
+// nor hides on its own).
+const RELEASES = {
+  pointerup: (page) => page.mouse.up(),
+  pointerleave: (page) => page.mouse.move(5, 5),
+  blur: (page) => page.evaluate(() => window.dispatchEvent(new FocusEvent('blur'))),
+  visibilitychange: (page) => page.evaluate(() => {
+    Object.defineProperty(document, 'visibilityState', { value: 'hidden', configurable: true });
+    document.dispatchEvent(new Event('visibilitychange'));
+    delete document.visibilityState; // the real one again
+  }),
+};
+
+async function releaseOnce(page, round, how) {
+  const up = round % 2 === 0;
+  await holdJog(page, up ? 'jog-pitch-up' : 'jog-pitch-down', 1, up ? 1 : -1);
+  await sleep(600);
+  await page.evaluate((type) => { window.eventAt[type] = 0; }, how);
+  await RELEASES[how](page);
+  const released = await until(() => page.evaluate((type) => window.eventAt[type], how), 5000, how);
+  if (how !== 'pointerup') await page.mouse.up();
+  const stop = await until(() => h.speedFrames(released - 50).find(h.isZero), 3000, `zero speed after ${how}`);
+  await sleep(500);
+  // The page said stop (not the lease running out, which takes 300-400
+  // ms), once, and nothing after it. (A jog sent just before the release
+  // may be reported after it.)
+  const said = page.sent.filter((m) => m.t >= released - 50).map((m) => m.type);
+  check(said.filter((type) => type === 'stop').length === 1 && said[said.length - 1] === 'stop',
+    `${how} (round ${round + 1}): the page sent one {"type":"stop"}, then nothing (${said.join(', ')})`);
+  const after = h.speedFrames(h.wireTime(stop) + 1).filter((e) => !h.isZero(e));
+  check(after.length === 0, `${how} (round ${round + 1}): no speed after the zero (${after.length})`);
+  return h.wireTime(stop) - released;
+}
+
+async function jogRelease(page, rounds) {
+  const before = await number(page, 'hall-pitch');
+  await holdJog(page, 'jog-pitch-up', 1, 1);
+  await sleep(700);
+  const moved = await number(page, 'hall-pitch');
+  await page.mouse.up();
+  check(moved - before > 2, `holding jog-pitch-up moves the gimbal: hall pitch ${before} -> ${moved}`);
+  await sleep(300);
+  const latencies = { pointerup: [] };
+  for (let i = 0; i < rounds; i += 1) latencies.pointerup.push(await releaseOnce(page, i, 'pointerup'));
+  for (const how of ['pointerleave', 'blur', 'visibilitychange']) latencies[how] = [await releaseOnce(page, 0, how)];
+  for (const [how, list] of Object.entries(latencies)) {
+    const worst = Math.max(...list);
+    figure(`jog ${how} -> zero speed on the wire (trace time - event), ms: ${list.map((l) => l.toFixed(1)).join(', ')}`);
+    check(worst <= RELEASE_BUDGET_MS, `${how}: zero speed on the wire within ${RELEASE_BUDGET_MS} ms (worst ${worst.toFixed(1)} ms)`);
+  }
+}
+
+// ---- 4. a setting written in the page reads back from the gimbal
+async function settingReadsBack(page, sock) {
+  await page.waitForFunction(() => document.querySelector('[data-testid="settings-dead-zone"]').value !== '');
+  const before = Number(await page.inputValue(id('settings-dead-zone')));
+  const wanted = before === 17 ? 18 : 17;
+  const since = Date.now();
+  let dialog = '';
+  page.once('dialog', (d) => { dialog = d.message(); d.accept(); });
+  await page.fill(id('settings-dead-zone'), String(wanted));
+  await page.click(id('settings-save'));
+  await page.waitForFunction((w) => /read back: dead zone (\d+)/.exec(
+    document.querySelector('[data-testid="settings-readback"]').textContent)?.[1] === String(w), wanted, { timeout: 10000 });
+  check(/dead_zone: \d+ → \d+/.test(dialog), `the page asked to confirm ("${dialog.replace(/\n/g, ' / ')}")`);
+  const written = h.trace.find((e) => e.j.cmd === '0x15' && h.wireTime(e) >= since - 50);
+  check(written && written.j.dead_zone === wanted, `0x15 on the wire with dead_zone ${wanted}`);
+  const gimbal = (await h.rpc(sock, 'get_settings')).result;
+  check(gimbal.dead_zone === wanted, `the gimbal holds dead_zone ${gimbal.dead_zone}; the page shows it read back`);
+}
+
+// ---- 5. a photo taken in the page appears in the captures table
+async function photoInTable(page) {
+  const since = Date.now();
+  const rowsBefore = await page.locator(id('capture-row')).count();
+  await page.click(id('photo'));
+  await page.waitForSelector(`${id('capture-row')}[data-kind="photo"]`, { timeout: 10000 });
+  const rows = await page.locator(id('capture-row')).count();
+  check(rows === rowsBefore + 1, `the photo appears in the captures table (${rowsBefore} -> ${rows} rows)`);
+  check(h.cameraFrames(since - 50).some((e) => e.j.action === 'photo'), '0x86 photo on the wire');
+}
+
+// ---- 6. captures with a position on the scatter plot, and a pose for the pictures
+async function positionsAndPose(page, sock) {
+  const rows = await page.locator(id('capture-row')).count();
+  const around = [[0, 0], [40, 25], [85, 10], [120, -30], [60, -70]]; // metres east, north
+  for (const [east, north] of around) {
+    const lat = 47.397742 + north / 111195;
+    const lon = 8.545594 + east / (111195 * Math.cos((47.397742 * Math.PI) / 180));
+    await h.rpc(sock, 'photo', { meta: { lat, lon, alt_m: 488.5 } });
+  }
+  await until(async () => (await page.locator(id('capture-row')).count()) === rows + around.length, 10000,
+    'the positioned captures in the table');
+  await page.waitForFunction(() => /^5 capture/.test(document.querySelector('[data-testid="captures-map-note"]').textContent),
+    null, { timeout: 10000 });
+  check(true, 'captures with a position appear on the scatter plot (5, from /api/captures.geojson)');
+  await h.rpc(sock, 'angle', { roll: 8, pitch: -20, yaw: 35, wait: true });
+}
+
+// ---- 7. screenshots
+async function screenshots(page) {
+  const shots = [];
+  // The pictures without the last message (it hides itself after 4 s).
+  await page.waitForSelector(id('message'), { state: 'hidden', timeout: 8000 }).catch(() => {});
+  for (const [w, hgt] of [[1280, 800], [390, 844]]) {
+    await page.setViewportSize({ width: w, height: hgt });
+    await page.evaluate(() => window.scrollTo(0, 0));
+    await sleep(1500); // a second of the plot and one status
+    const file = path.join(workRoot, `web-${w}x${hgt}.png`);
+    await page.screenshot({ path: file });
+    await page.screenshot({ path: path.join(workRoot, `web-${w}x${hgt}-full.png`), fullPage: true });
+    const overflow = await page.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+    check(overflow <= 0, `${w}x${hgt}: no horizontal scrolling (${overflow} px too wide)`);
+    shots.push(file);
+  }
+  figure(`screenshots: ${shots.join(', ')}`);
+  await page.setViewportSize({ width: 1280, height: 800 });
+}
+
+// ---- 8. a read-only login: controls disabled
+async function viewOnly(browser, url, token) {
+  const context = await newContext(browser, url);
+  const page = await openPage(context, `${url}/?token=${token}`);
+  await waitLive(page);
+  check(!page.url().includes('token='), `/?token= leaves the address bar without the token (${page.url()})`);
+  await page.waitForSelector(`${id('role')}[data-state="view"]`);
+  const enabled = [];
+  for (const t of ['jog-pitch-up', 'jog-yaw-right', 'center', 'photo', 'record', 'settings-save', 'angle-go']) {
+    if (await page.isEnabled(id(t))) enabled.push(t);
+  }
+  check(enabled.length === 0, `a view login has every control disabled (enabled: ${enabled.join(', ') || 'none'})`);
+  await context.close();
+}
+
+// ---- 9. the deadman: closing the page or killing the browser while held
+async function deadman(browser, url, token, label, end) {
+  const context = await newContext(browser, url);
+  const page = await openPage(context, `${url}/?token=${token}`);
+  await waitLive(page);
+  await holdJog(page, 'jog-yaw-right', 2, 1);
+  await sleep(300);
+  const t0 = Date.now();
+  await end(page);
+  const stop = await until(() => h.speedFrames(t0 - 50).find(h.isZero), 5000, `zero speed after ${label}`);
+  const ms = h.wireTime(stop) - t0;
+  figure(`${label}: zero speed on the wire ${ms.toFixed(1)} ms later`);
+  // The lease (400 ms) bounds it even if nobody says stop; allow for a slow machine.
+  check(ms < 1500, `${label} stops the gimbal (${ms.toFixed(1)} ms)`);
+  await sleep(700);
+  const after = h.speedFrames(h.wireTime(stop) + 1).filter((e) => !h.isZero(e));
+  check(after.length === 0, `${label}: no speed after the zero (${after.length})`);
+  await context.close().catch(() => {});
+}
+
+async function killedBrowser(url, token) {
+  // launchServer: the browser's own process, to kill with SIGKILL.
+  const server = await chromium.launchServer(LAUNCH);
+  const browser = await chromium.connect(server.wsEndpoint());
+  const proc = server.process();
+  await deadman(browser, url, token, 'killing the browser while held', async () => {
+    // The whole process group: the network service holds the socket.
+    try { process.kill(-proc.pid, 'SIGKILL'); } catch (e) { proc.kill('SIGKILL'); }
+  });
+  await server.close().catch(() => {});
+}
+
+async function main() {
+  // The test's own folder in the build tree: last run's logs and sockets go.
+  fs.rmSync(workRoot, { recursive: true, force: true });
+  fs.mkdirSync(workRoot, { recursive: true });
+  const { sock } = await h.startGimbal(workRoot, gportdPath, simPath);
+  const { url, tokens } = await h.startWeb(workRoot, webPath, sock);
+  console.log(`gport-web at ${url}; logs in ${workRoot}`);
+  const browser = await chromium.launch(LAUNCH);
+  try {
+    const { page } = await login(browser, url, tokens.control);
+    await liveFollows(page, sock);
+    await jogRelease(page, 6);
+    await settingReadsBack(page, sock);
+    await photoInTable(page);
+    await positionsAndPose(page, sock);
+    await screenshots(page);
+    check(page.problems.length === 0, `no script errors in the page (${page.problems.join('; ') || 'none'})`);
+    await viewOnly(browser, url, tokens.view);
+    await deadman(browser, url, tokens.control, 'closing the page while held', (page) => page.close());
+  } finally {
+    await browser.close().catch(() => {});
+  }
+  await killedBrowser(url, tokens.control);
+}
+
+main().then(async () => {
+  await h.stopAll();
+  console.log('figures:\n  ' + h.figures.join('\n  '));
+  if (h.failures.length) {
+    console.error(`${h.failures.length} check(s) failed; logs in ${workRoot}`);
+    process.exit(1);
+  }
+  console.log('all checks passed');
+  process.exit(0);
+}, (e) => {
+  console.error(`error: ${e.stack || e}\nlogs in ${workRoot}`);
+  process.exit(1);
+});

@@ -1,0 +1,133 @@
+// The live WebSocket: hello, attitude and status; a jog that moves gportd
+// and a stop or a close that stops it; gportd going away and coming back;
+// a browser that never reads leaving gport-web's memory bounded.
+#include <boost/beast/websocket.hpp>
+#include <csignal>
+#include <fstream>
+
+#include "web_fixture.hpp"
+
+namespace gport::testing {
+namespace {
+
+using nlohmann::json;
+
+class WebLive : public WebTest {
+  protected:
+    void SetUp() override {
+        WebTest::SetUp();
+        ASSERT_TRUE(start_web());
+        ASSERT_TRUE(connected());
+    }
+
+    bool moving() {
+        const auto motion = gportd_status().at("motion");
+        return motion.is_object() && motion.value("mode", "") == "speed";
+    }
+
+    long rss_kib() const {
+        std::ifstream status("/proc/" + std::to_string(web_->pid()) + "/status");
+        std::string line;
+        while (std::getline(status, line)) {
+            if (line.starts_with("VmRSS:")) {
+                return std::stol(line.substr(6));
+            }
+        }
+        return -1;
+    }
+};
+
+void send(WebSocket& ws, const std::string& text) {
+    ws.write(boost::asio::buffer(text));
+}
+
+TEST_F(WebLive, HelloThenAttitudeAndStatus) {
+    auto ws = live_as();
+    const auto hello = next(*ws);
+    ASSERT_TRUE(hello);
+    EXPECT_EQ(hello->at("method"), "hello");
+    EXPECT_EQ(hello->at("params").at("role"), "control");
+    const auto attitude = next_method(*ws, "attitude");
+    ASSERT_TRUE(attitude);
+    EXPECT_EQ(attitude->at("jsonrpc"), "2.0");
+    EXPECT_TRUE(attitude->at("params").contains("imu"));
+    const auto status = next_method(*ws, "status");
+    ASSERT_TRUE(status);
+    EXPECT_EQ(status->at("params").at("link").at("state"), "up");
+}
+
+TEST_F(WebLive, AJogMovesTheGimbalAndAStopStopsIt) {
+    auto ws = live_as();
+    ASSERT_TRUE(next_method(*ws, "hello"));
+    send(*ws, R"({"type":"jog","pitch":0,"yaw":20,"roll":0})");
+    EXPECT_TRUE(eventually([&] { return moving(); }, 5s));
+    const auto motion = gportd_status().at("motion");
+    EXPECT_EQ(motion.at("speed").at("yaw"), 20.0);
+    send(*ws, R"({"type":"stop"})");
+    EXPECT_TRUE(eventually([&] { return !gportd_status().at("motion").is_object(); }, 5s));
+}
+
+TEST_F(WebLive, ClosingAJoggingSocketStopsTheGimbal) {
+    ASSERT_EQ(gportd_->call("subscribe", {{"topics", {"motion"}}}).count("result"), 1U);
+    auto ws = live_as();
+    ASSERT_TRUE(next_method(*ws, "hello"));
+    send(*ws, R"({"type":"jog","yaw":-15})");
+    ASSERT_TRUE(eventually([&] { return moving(); }, 5s));
+    ws->close(boost::beast::websocket::close_code::normal);
+    // Ended by gport-web's stop, not by the lease running out.
+    std::optional<json> ended;
+    while (auto event = gportd_->notification("motion", 5s)) {
+        if (event->at("params").value("change", "") == "ended") {
+            ended = event;
+            break;
+        }
+    }
+    ASSERT_TRUE(ended);
+    EXPECT_EQ(ended->at("params").at("reason"), "stop") << ended->dump();
+}
+
+TEST_F(WebLive, GportdGoingAwayAndComingBackIsToldToTheBrowsers) {
+    auto ws = live_as();
+    ASSERT_TRUE(next_method(*ws, "attitude"));
+    daemon_.reset();  // gportd stopped
+    const auto gone = next_method(*ws, "gportd");
+    ASSERT_TRUE(gone);
+    EXPECT_EQ(gone->at("params").at("connected"), false);
+    EXPECT_EQ(gone->at("params").at("reason").get<std::string>().find('/'), std::string::npos);
+    EXPECT_EQ(get("/api/status").result(), http::status::bad_gateway);
+    daemon_ = std::make_unique<DaemonProcess>(dir_, std::vector<std::string>{"--simulate"});
+    const auto back = next_method(*ws, "gportd");
+    ASSERT_TRUE(back);
+    EXPECT_EQ(back->at("params").at("connected"), true);
+    EXPECT_TRUE(next_method(*ws, "attitude"));
+}
+
+TEST_F(WebLive, SigtermClosesTheSocketsAndExitsWithZero) {
+    auto ws = live_as();
+    ASSERT_TRUE(next_method(*ws, "attitude"));
+    auto idle = live_as(kViewToken, 4096);
+    web_->signal(SIGTERM);
+    EXPECT_EQ(web_->wait(), 0);
+    while (next(*ws)) {
+    }
+}
+
+TEST_F(WebLive, ABrowserThatNeverReadsLeavesTheMemoryBounded) {
+    auto reader = live_as();
+    ASSERT_TRUE(next_method(*reader, "attitude"));
+    const long before = rss_kib();
+    ASSERT_GT(before, 0);
+    std::vector<std::unique_ptr<WebSocket>> stalled;
+    for (int i = 0; i < 8; ++i) {
+        stalled.push_back(live_as(kViewToken, 4096));  // never read again
+    }
+    std::this_thread::sleep_for(10s);
+    const long after = rss_kib();
+    EXPECT_LT(after - before, 16 * 1024) << before << " KiB before, " << after << " KiB after";
+    // The reading socket still gets fresh samples.
+    EXPECT_TRUE(next_method(*reader, "attitude"));
+    EXPECT_TRUE(next_method(*reader, "status"));
+}
+
+}  // namespace
+}  // namespace gport::testing

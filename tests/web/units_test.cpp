@@ -1,0 +1,107 @@
+// gport-web's pure parts: the token file's rules, sessions and login
+// limits, the outbound queue's bounds, the options.
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "gport/web/limits.hpp"
+#include "gport/web/options.hpp"
+#include "gport/web/outbox.hpp"
+#include "gport/web/sessions.hpp"
+#include "gport/web/tokens.hpp"
+
+namespace gport::web {
+namespace {
+
+TEST(Tokens, LinesGiveRolesAndBadLinesAreNamed) {
+    const auto tokens = parse_tokens(
+        "# comment\ncontrol:aaaaaaaaaaaaaaaa\nview:bbbbbbbbbbbbbbbb\n"
+        "cccccccccccccccc\n");
+    ASSERT_EQ(tokens.size(), 3U);
+    EXPECT_EQ(role_of(tokens, "aaaaaaaaaaaaaaaa"), Role::kControl);
+    EXPECT_EQ(role_of(tokens, "bbbbbbbbbbbbbbbb"), Role::kView);
+    EXPECT_EQ(role_of(tokens, "cccccccccccccccc"), Role::kControl);
+    EXPECT_FALSE(role_of(tokens, "aaaaaaaaaaaaaaa"));
+    EXPECT_FALSE(role_of(tokens, ""));
+    try {
+        parse_tokens("view:aaaaaaaaaaaaaaaa\nshort\n");
+        FAIL();
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("line 2"), std::string::npos);
+    }
+    EXPECT_THROW(parse_tokens("# nothing\n"), std::runtime_error);
+    EXPECT_THROW(parse_tokens("aaaaaaaaaaaaaaaa<b>\n"), std::runtime_error);
+    EXPECT_EQ(random_hex(32).size(), 64U);
+    EXPECT_NE(random_hex(8), random_hex(8));
+}
+
+TEST(Sessions, AreBoundedAndExpire) {
+    Sessions sessions;
+    const auto t0 = Sessions::Clock::now();
+    const auto first = sessions.open(Role::kView, t0);
+    EXPECT_EQ(first.size(), 64U);
+    EXPECT_EQ(sessions.find(first, t0), Role::kView);
+    for (std::size_t i = 0; i < kMaxSessions; ++i) {
+        sessions.open(Role::kControl, t0 + std::chrono::seconds(1));
+    }
+    EXPECT_EQ(sessions.size(), kMaxSessions);
+    EXPECT_FALSE(sessions.find(first, t0 + std::chrono::seconds(2)));  // the oldest went
+    const auto late = sessions.open(Role::kControl, t0);
+    EXPECT_FALSE(sessions.find(late, t0 + kSessionIdle + std::chrono::seconds(1)));
+}
+
+TEST(LoginGuard, BlocksAfterTheFailuresUntilTheWindowEnds) {
+    LoginGuard guard;
+    const auto t0 = LoginGuard::Clock::now();
+    for (int i = 0; i < kMaxLoginFailures; ++i) {
+        EXPECT_FALSE(guard.blocked(t0));
+        guard.failed(t0);
+    }
+    const auto wait = guard.blocked(t0 + std::chrono::seconds(10));
+    ASSERT_TRUE(wait);
+    EXPECT_EQ(*wait, 50);
+    EXPECT_FALSE(guard.blocked(t0 + kLoginWindow));
+}
+
+TEST(Outbox, KeepsTheNewestAttitudeAndBoundsTheRest) {
+    Outbox outbox;
+    for (int i = 0; i < 1000; ++i) {
+        outbox.push(std::make_shared<const std::string>("a" + std::to_string(i)), true);
+        outbox.push(std::make_shared<const std::string>("m" + std::to_string(i)), false);
+    }
+    EXPECT_EQ(outbox.size(), kMaxQueuedMessages + 1);
+    EXPECT_EQ(outbox.dropped(), 999U + 1000U - kMaxQueuedMessages);
+    EXPECT_EQ(*outbox.pop(), "m" + std::to_string(1000 - kMaxQueuedMessages));
+    while (outbox.size() > 1) {
+        outbox.pop();
+    }
+    EXPECT_EQ(*outbox.pop(), "a999");
+    EXPECT_FALSE(outbox.pop());
+}
+
+std::string no_env(const char*) {
+    return "";
+}
+
+TEST(Options, DefaultsAndListenAddresses) {
+    const std::vector<std::string> none;
+    const auto parsed = parse_options(none, no_env);
+    ASSERT_TRUE(parsed.options);
+    EXPECT_EQ(parsed.options->address, "127.0.0.1");
+    EXPECT_EQ(parsed.options->port, kDefaultPort);
+    EXPECT_EQ(parsed.options->socket, "/run/gportd.sock");
+    const std::vector<std::string> v6 = {"--listen", "[::1]:0", "--allow-host", "gimbal.local"};
+    const auto other = parse_options(v6, no_env);
+    EXPECT_EQ(other.options->address, "::1");
+    EXPECT_EQ(other.options->port, 0);
+    EXPECT_EQ(other.options->allow_hosts, std::vector<std::string>{"gimbal.local"});
+    for (const auto& bad : {std::vector<std::string>{"--listen", "localhost:80"},
+                            {"--listen", "1.2.3.4:70000"},
+                            {"--bogus"},
+                            {"--allow-host", "http://x/"}}) {
+        EXPECT_THROW(parse_options(bad, no_env), std::invalid_argument) << bad[0];
+    }
+}
+
+}  // namespace
+}  // namespace gport::web

@@ -1,0 +1,48 @@
+// gport-web's bounds, one place (docs/web.md, "Limits"): what a browser may
+// send, hold open or make the server keep.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+
+namespace gport::web {
+
+using namespace std::chrono_literals;
+
+inline constexpr unsigned short kDefaultPort = 8790;
+
+// HTTP: one request's header and body, the connections served at once, and
+// how long a connection may sit between requests or within one.
+inline constexpr std::size_t kMaxHeaderBytes = 8 * 1024;  // beyond: 431
+inline constexpr std::size_t kMaxBodyBytes = 16 * 1024;   // beyond: 413
+inline constexpr std::size_t kMaxConnections = 64;        // beyond: 503
+inline constexpr auto kHttpIdleTimeout = 30s;
+
+// The live WebSocket: one message from a browser, the messages a browser may
+// send a second (beyond: closed with 1008), and the outbound queue of each
+// socket: the newest attitude only, plus this many other messages (the
+// oldest dropped, counted).
+inline constexpr std::size_t kMaxWsMessageBytes = 4 * 1024;
+inline constexpr double kMaxWsMessagesPerSecond = 30;
+inline constexpr std::size_t kMaxQueuedMessages = 64;
+
+// Sessions and logins: the sessions kept (the oldest ends beyond), how long
+// an unused session lives, and the failed logins allowed per window before
+// 429 (Retry-After: the rest of the window).
+inline constexpr std::size_t kMaxSessions = 256;
+inline constexpr auto kSessionIdle = std::chrono::hours(12);
+inline constexpr int kMaxLoginFailures = 5;
+inline constexpr auto kLoginWindow = 60s;
+
+// gportd: the reconnect period, the status poll for the live sockets, and
+// the jog's speed lease and longest motion.
+inline constexpr auto kReconnectPeriod = 1s;
+inline constexpr auto kStatusPeriod = 1s;
+inline constexpr int kJogLeaseMs = 400;
+inline constexpr int kJogDurationMs = 10000;
+inline constexpr double kAttitudeMaxRateHz = 50;
+
+// The capture log's downloads: entries asked for per page.
+inline constexpr unsigned kCapturesPageSize = 200;
+
+}  // namespace gport::web

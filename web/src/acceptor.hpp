@@ -1,0 +1,31 @@
+// Accepts connections: each becomes an HttpSession, or, beyond
+// kMaxConnections, gets 503 and is closed.
+#pragma once
+
+#include <boost/asio/ip/tcp.hpp>
+#include <memory>
+
+#include "context.hpp"
+
+namespace gport::web {
+
+class Acceptor : public std::enable_shared_from_this<Acceptor> {
+  public:
+    // Binds; throws boost::system::system_error when it cannot.
+    Acceptor(Context& context, const boost::asio::ip::tcp::endpoint& endpoint);
+    boost::asio::ip::tcp::endpoint local() const { return acceptor_.local_endpoint(); }
+    void start() { accept(); }
+    void stop() {
+        boost::system::error_code ignored;
+        acceptor_.close(ignored);
+    }
+
+  private:
+    void accept();
+    void turn_away(boost::asio::ip::tcp::socket socket);
+
+    Context& context_;
+    boost::asio::ip::tcp::acceptor acceptor_;
+};
+
+}  // namespace gport::web

@@ -1,0 +1,138 @@
+#include "gateway.hpp"
+
+#include <boost/asio/post.hpp>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "gport/contract/names.hpp"
+#include "gport/web/limits.hpp"
+
+namespace gport::web {
+namespace {
+
+using nlohmann::json;
+
+// True for an attitude notification line ({"jsonrpc":..,"method":"attitude",..}).
+bool is_attitude(const std::string& line) {
+    static const std::string kMethod = "\"method\":\"attitude\"";
+    return line.find(kMethod) != std::string::npos && line.find(kMethod) < line.find("\"params\"");
+}
+
+}  // namespace
+
+Message gportd_message(bool connected, const std::string& reason) {
+    const json message = {{"method", "gportd"},
+                          {"params", {{"connected", connected}, {"reason", reason}}}};
+    return std::make_shared<const std::string>(
+        message.dump(-1, ' ', false, json::error_handler_t::replace));
+}
+
+Gateway::Gateway(boost::asio::io_context& io, std::string socket, Hub& hub)
+    : io_(io), socket_(std::move(socket)), hub_(hub), client_(io), reconnect_(io), status_(io) {
+    state_ = gportd_message(false, "connecting to gportd");
+    client_.on_notification_json([this](const std::string& line) {
+        hub_.broadcast(std::make_shared<const std::string>(line), is_attitude(line));
+    });
+    client_.on_disconnect(
+        [this](const client::Error& error) { lost("lost gportd", error.message()); });
+}
+
+void Gateway::start() {
+    connect();
+    poll_status();
+}
+
+void Gateway::connect() {
+    client_.async_connect(socket_, [this](std::optional<client::Error> error) {
+        if (error) {
+            lost("cannot reach gportd", error->message());
+            return;
+        }
+        subscribe();
+    });
+}
+
+void Gateway::subscribe() {
+    const json params = {{"topics",
+                          {contract::kTopicAttitude, contract::kTopicLink, contract::kTopicMotion,
+                           contract::kTopicCapture}},
+                         {"max_rate_hz", kAttitudeMaxRateHz}};
+    client_.async_call_json(contract::method::kSubscribe, params.dump(),
+                            [this](std::optional<client::Error> error, const std::string&) {
+                                if (error) {
+                                    client_.close();
+                                    lost("gportd refused the subscription", error->message());
+                                    return;
+                                }
+                                connected_ = true;
+                                announced_down_ = false;
+                                hub_.broadcast(gportd_message(true, "connected"), false);
+                            });
+}
+
+void Gateway::lost(const std::string& reason, const std::string& detail) {
+    const bool was = connected_;
+    connected_ = false;
+    state_ = gportd_message(false, reason);
+    if (was || !announced_down_) {
+        announced_down_ = true;
+        std::fprintf(stderr, "gport-web: %s: %s (retrying every second)\n", reason.c_str(),
+                     detail.c_str());
+        hub_.broadcast(state_, false);
+    }
+    retry();
+}
+
+void Gateway::stop() {
+    stopped_ = true;
+    connected_ = false;
+    reconnect_.cancel();
+    status_.cancel();
+    client_.close();
+}
+
+void Gateway::retry() {
+    if (stopped_) {
+        return;
+    }
+    reconnect_.expires_after(kReconnectPeriod);
+    reconnect_.async_wait([this](boost::system::error_code ec) {
+        if (!ec) {
+            connect();
+        }
+    });
+}
+
+void Gateway::poll_status() {
+    status_.expires_after(kStatusPeriod);
+    status_.async_wait([this](boost::system::error_code ec) {
+        if (ec || stopped_) {
+            return;
+        }
+        if (connected_ && hub_.size() > 0) {
+            client_.async_call_json(
+                contract::method::kStatus, "",
+                [this](std::optional<client::Error> error, const std::string& result) {
+                    if (!error) {
+                        hub_.broadcast(std::make_shared<const std::string>(
+                                           R"({"method":"status","params":)" + result + "}"),
+                                       false);
+                    }
+                });
+        }
+        poll_status();
+    });
+}
+
+void Gateway::call(const std::string& method, const std::string& params,
+                   client::Handler<std::string> handler) {
+    if (!connected_) {
+        boost::asio::post(io_, [handler = std::move(handler)] {
+            handler(client::Error(client::ErrorCode::kTransport, "gportd is not connected"), "");
+        });
+        return;
+    }
+    client_.async_call_json(method, params, std::move(handler));
+}
+
+}  // namespace gport::web

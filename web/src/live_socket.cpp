@@ -1,0 +1,177 @@
+#include "live_socket.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include "gport/contract/names.hpp"
+#include "gport/version.hpp"
+#include "gport/web/limits.hpp"
+#include "json_text.hpp"
+
+namespace gport::web {
+
+namespace beast = boost::beast;
+namespace websocket = beast::websocket;
+using nlohmann::json;
+
+void LiveSocket::start(Context& context, beast::tcp_stream stream, Request request, Role role) {
+    auto socket = std::make_shared<LiveSocket>(context, std::move(stream), role);
+    socket->accept(std::move(request));
+}
+
+LiveSocket::LiveSocket(Context& context, beast::tcp_stream stream, Role role)
+    : context_(context),
+      slot_(context),
+      ws_(std::move(stream)),
+      rate_(kMaxWsMessagesPerSecond, kMaxWsMessagesPerSecond),
+      role_(role) {
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.read_message_max(kMaxWsMessageBytes);
+    context_.closers[this] = [this] {
+        beast::error_code ignored;
+        beast::get_lowest_layer(ws_).socket().close(ignored);
+    };
+}
+
+LiveSocket::~LiveSocket() {
+    context_.closers.erase(this);
+    context_.hub.remove(this);
+    if (jogging_) {
+        context_.gateway.call(contract::method::kStop, "",
+                              [](std::optional<client::Error>, const std::string&) {});
+    }
+}
+
+void LiveSocket::accept(Request request) {
+    ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
+        if (ec) {
+            return;
+        }
+        self->open_ = true;
+        self->context_.hub.add(self);
+        const json hello = {
+            {"method", "hello"},
+            {"params",
+             {{"role", std::string(role_name(self->role_))}, {"version", std::string(kVersion)}}}};
+        self->send(std::make_shared<const std::string>(json_text(hello)), false);
+        if (auto state = self->context_.gateway.state()) {
+            self->send(state, false);
+        }
+        self->read();
+    });
+}
+
+void LiveSocket::send(const Message& message, bool attitude) {
+    if (!open_) {
+        return;
+    }
+    outbox_.push(message, attitude);
+    if (!writing_) {
+        write();
+    }
+}
+
+// One write at a time; a close waits for the write in flight.
+void LiveSocket::write() {
+    if (close_code_) {
+        const auto code = *close_code_;
+        close_code_.reset();
+        writing_ = nullptr;
+        ws_.async_close(code, [self = shared_from_this()](beast::error_code) {});
+        return;
+    }
+    writing_ = open_ ? outbox_.pop() : nullptr;
+    if (!writing_) {
+        return;
+    }
+    ws_.text(true);
+    ws_.async_write(boost::asio::buffer(*writing_),
+                    [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                        if (ec) {
+                            self->open_ = false;
+                            self->writing_ = nullptr;
+                            self->close_code_.reset();
+                            return;
+                        }
+                        self->write();
+                    });
+}
+
+void LiveSocket::read() {
+    ws_.async_read(input_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+        if (ec) {
+            self->open_ = false;  // closed, too big (Beast closes with 1009) or timed out
+            self->context_.hub.remove(self.get());
+            return;
+        }
+        self->on_message();
+    });
+}
+
+void LiveSocket::on_message() {
+    const auto text = beast::buffers_to_string(input_.data());
+    input_.consume(input_.size());
+    if (!rate_.take(base::TokenBucket::Clock::now())) {
+        close(websocket::close_code::policy_error);
+        return;
+    }
+    const auto message = json::parse(text, nullptr, false);
+    const auto type = message.is_object() ? message.value("type", json()) : json();
+    if (role_ != Role::kControl && (type == "jog" || type == "stop")) {
+        reply_error("a view login cannot move the gimbal");
+    } else if (type == "jog") {
+        jog(text);
+    } else if (type == "stop") {
+        stop();
+    } else {
+        reply_error(R"(expected {"type":"jog","pitch":P,"yaw":Y,"roll":R} or {"type":"stop"})");
+    }
+    read();
+}
+
+void LiveSocket::jog(const std::string& text) {
+    const auto message = json::parse(text, nullptr, false);
+    json params = {{"lease_ms", kJogLeaseMs}, {"duration_ms", kJogDurationMs}};
+    for (const char* axis : {"pitch", "yaw", "roll"}) {
+        const auto value = message.value(axis, json(0));
+        if (!value.is_number()) {
+            reply_error(std::string("jog: ") + axis + " must be a number (degrees per second)");
+            return;
+        }
+        params[axis] = value;
+    }
+    jogging_ = true;
+    std::weak_ptr<LiveSocket> weak = shared_from_this();
+    context_.gateway.call(contract::method::kSpeed, json_text(params),
+                          [weak](std::optional<client::Error> error, const std::string&) {
+                              if (const auto self = weak.lock(); self && error) {
+                                  self->reply_error("jog refused: " + error->message());
+                              }
+                          });
+}
+
+void LiveSocket::stop() {
+    jogging_ = false;
+    std::weak_ptr<LiveSocket> weak = shared_from_this();
+    context_.gateway.call(contract::method::kStop, "",
+                          [weak](std::optional<client::Error> error, const std::string&) {
+                              if (const auto self = weak.lock(); self && error) {
+                                  self->reply_error("stop refused: " + error->message());
+                              }
+                          });
+}
+
+void LiveSocket::reply_error(const std::string& message) {
+    const json error = {{"method", "error"}, {"params", {{"message", message}}}};
+    send(std::make_shared<const std::string>(json_text(error)), false);
+}
+
+void LiveSocket::close(websocket::close_code code) {
+    open_ = false;
+    context_.hub.remove(this);
+    close_code_ = code;
+    if (!writing_) {
+        write();
+    }
+}
+
+}  // namespace gport::web

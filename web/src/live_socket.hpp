@@ -1,0 +1,51 @@
+// One browser's live WebSocket (/api/live): hello, then the hub's messages
+// through a bounded Outbox; jog and stop from a control login; at most
+// kMaxWsMessagesPerSecond messages a second from the browser (beyond:
+// closed with 1008) of at most kMaxWsMessageBytes (beyond: closed by Beast
+// with 1009). A socket that was jogging and closes sends gportd `stop`.
+#pragma once
+
+#include <boost/beast/core.hpp>
+#include <boost/beast/websocket.hpp>
+#include <memory>
+#include <optional>
+
+#include "context.hpp"
+#include "gport/base/token_bucket.hpp"
+#include "http_rules.hpp"
+
+namespace gport::web {
+
+class LiveSocket : public Listener, public std::enable_shared_from_this<LiveSocket> {
+  public:
+    static void start(Context& context, boost::beast::tcp_stream stream, Request request,
+                      Role role);
+    LiveSocket(Context& context, boost::beast::tcp_stream stream, Role role);
+    ~LiveSocket() override;
+
+    void send(const Message& message, bool attitude) override;
+
+  private:
+    void accept(Request request);
+    void read();
+    void on_message();
+    void jog(const std::string& text);
+    void stop();
+    void write();
+    void reply_error(const std::string& message);
+    void close(boost::beast::websocket::close_code code);
+
+    Context& context_;
+    ConnectionSlot slot_;
+    boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
+    boost::beast::flat_buffer input_;
+    Outbox outbox_;
+    Message writing_;  // the message being written (kept alive until written)
+    base::TokenBucket rate_;
+    Role role_;
+    bool open_ = false;
+    bool jogging_ = false;
+    std::optional<boost::beast::websocket::close_code> close_code_;  // a close to send
+};
+
+}  // namespace gport::web

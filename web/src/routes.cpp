@@ -1,0 +1,173 @@
+// Every request's first checks (Host, Origin), the login and logout, the
+// page's files and the hand-over to the API and the live WebSocket.
+#include <algorithm>
+#include <boost/beast/websocket/rfc6455.hpp>
+#include <cstdint>
+
+#include "gport/web/assets.hpp"
+#include "gport/web/limits.hpp"
+#include "http_session.hpp"
+
+namespace gport::web {
+namespace {
+
+constexpr char kLoginFile[] = "login.html";
+constexpr char kIndexFile[] = "index.html";
+
+std::string_view header(const Request& request, http::field field) {
+    const auto value = request[field];
+    return {value.data(), value.size()};
+}
+
+// Hex digits as base64 (a CSP hash source is the base64 of the digest).
+std::string base64_of_hex(std::string_view hex) {
+    static constexpr char kDigits[] =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string bytes;
+    for (std::size_t i = 0; i + 1 < hex.size(); i += 2) {
+        bytes += static_cast<char>(std::stoi(std::string(hex.substr(i, 2)), nullptr, 16));
+    }
+    std::string out;
+    for (std::size_t i = 0; i < bytes.size(); i += 3) {
+        const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
+        std::uint32_t group = 0;
+        for (std::size_t k = 0; k < 3; ++k) {
+            group = group << 8 | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0U);
+        }
+        for (std::size_t k = 0; k < 4; ++k) {
+            out += k <= n ? kDigits[(group >> (18 - 6 * k)) & 63] : '=';
+        }
+    }
+    return out;
+}
+
+Response asset_response(const Request& request, const Asset& asset, http::status status) {
+    auto response = text_response(request, status, asset.content_type, std::string(asset.bytes));
+    if (!asset.style_sha256.empty()) {  // its inline <style>, by its hash
+        response.set("Content-Security-Policy", std::string(kContentSecurityPolicy) +
+                                                    "; style-src 'self' 'sha256-" +
+                                                    base64_of_hex(asset.style_sha256) + "'");
+    }
+    if (request.method() == http::verb::head) {
+        response.body().clear();
+    }
+    return response;
+}
+
+// The login page (or a plain one when web/www has none), with `status`.
+Response login_page(const Request& request, http::status status) {
+    if (const auto* asset = find_asset(kLoginFile)) {
+        return asset_response(request, *asset, status);
+    }
+    return text_response(request, status, "text/html; charset=utf-8",
+                         "<!doctype html><title>gport-web</title>"
+                         "<form method=post action=/login><input name=token type=password>"
+                         "<button>Log in</button></form>\n");
+}
+
+// While the failed logins of the window are used up: 429 with Retry-After.
+Response too_many_logins(const Request& request, int wait) {
+    auto response = error_response(request, http::status::too_many_requests,
+                                   "too many failed logins: try again later");
+    response.set(http::field::retry_after, std::to_string(wait));
+    return response;
+}
+
+// A login with `secret`: the cookie and 303 to /, or 401/429.
+Response log_in(Context& context, const Request& request,
+                const std::optional<std::string>& secret) {
+    if (const auto wait = context.logins.blocked()) {
+        return too_many_logins(request, *wait);
+    }
+    const auto role = secret ? role_of(context.tokens, *secret) : std::nullopt;
+    if (!role) {
+        context.logins.failed();
+        return error_response(request, http::status::unauthorized, "wrong or missing token");
+    }
+    auto response = redirect(request, "/");
+    response.set(http::field::set_cookie, session_cookie(context.sessions.open(*role)));
+    return response;
+}
+
+void page(const std::shared_ptr<HttpSession>& session, const Request& request,
+          std::optional<Role> role) {
+    auto& context = session->context();
+    if (request.method() != http::verb::get && request.method() != http::verb::head) {
+        session->send(error_response(request, http::status::method_not_allowed,
+                                     "only GET and HEAD serve the page"));
+        return;
+    }
+    const auto path = path_of(target_of(request));
+    if (path == "/") {
+        if (const auto token = form_value(target_of(request), "token")) {
+            session->send(log_in(context, request, token));
+        } else if (!role || !find_asset(kIndexFile)) {
+            session->send(login_page(request, http::status::ok));
+        } else {
+            session->send(asset_response(request, *find_asset(kIndexFile), http::status::ok));
+        }
+        return;
+    }
+    const auto* asset = find_asset(std::string_view(path).substr(1));
+    if (asset && asset->path == kLoginFile) {
+        session->send(asset_response(request, *asset, http::status::ok));
+    } else if (!role) {
+        session->send(error_response(request, http::status::unauthorized, "log in first"));
+    } else if (!asset) {
+        session->send(error_response(request, http::status::not_found, "no such page"));
+    } else {
+        session->send(asset_response(request, *asset, http::status::ok));
+    }
+}
+
+void log_out(const std::shared_ptr<HttpSession>& session, const Request& request) {
+    if (const auto id = session_of(request); !id.empty()) {
+        session->context().sessions.close(id);
+    }
+    auto response = redirect(request, "/");
+    response.set(http::field::set_cookie, session_cookie(""));
+    session->send(std::move(response));
+}
+
+}  // namespace
+
+void route(const std::shared_ptr<HttpSession>& session, Request request) {
+    auto& context = session->context();
+    if (!host_allowed(context, header(request, http::field::host))) {
+        session->send(error_response(request, http::status::forbidden,
+                                     "foreign Host: use --allow-host to serve another name"));
+        return;
+    }
+    if (!origin_allowed(context, header(request, http::field::origin))) {
+        session->send(error_response(request, http::status::forbidden, "foreign Origin"));
+        return;
+    }
+    if (const auto wait = context.logins.blocked(); wait && bearer_of(request)) {
+        session->send(too_many_logins(request, *wait));
+        return;
+    }
+    const auto path = path_of(target_of(request));
+    const auto role = authenticate(context, request);
+    const bool post = request.method() == http::verb::post;
+    if (boost::beast::websocket::is_upgrade(request) && path == "/api/live") {
+        if (!role) {
+            session->send(error_response(request, http::status::unauthorized, "log in first"));
+        } else {
+            session->upgrade(std::move(request), *role);
+        }
+    } else if (path == "/login" && post) {
+        session->send(log_in(context, request, form_value(request.body(), "token")));
+    } else if (path == "/logout" && post) {
+        log_out(session, request);
+    } else if (path.starts_with("/api/")) {
+        if (!role) {
+            session->send(error_response(request, http::status::unauthorized, "log in first"));
+        } else {
+            api(session, std::move(request), *role);
+        }
+    } else {
+        page(session, request, role);
+    }
+}
+
+}  // namespace gport::web

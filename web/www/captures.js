@@ -1,0 +1,177 @@
+// The capture log: a paged table (GET /api/captures), and a scatter plot of
+// where the photos were taken, in metres east and north of the first
+// capture with a position (from /api/captures.geojson; no map tiles).
+import { $, api, attempt, fixed } from './api.js';
+import { fit, css, niceStep } from './canvas.js';
+
+const PAGE = 20;
+const EARTH_M = 6371008.8;
+
+let since = null; // the page shown: its `since`, or null for the newest page
+let page = null; // gportd's answer for it
+let nextIndex = 1; // status.captures.next_index, as last seen
+
+export function setupCaptures() {
+  $('captures-older').addEventListener('click', () => {
+    const first = page && page.captures.length ? page.captures[0].index : nextIndex;
+    showPage(Math.max(0, first - PAGE));
+  });
+  $('captures-newer').addEventListener('click', () => {
+    if (page && page.more) showPage(page.next);
+  });
+  $('captures-latest').addEventListener('click', () => showPage(null));
+  new ResizeObserver(() => drawMap()).observe($('captures-map'));
+}
+
+export function noteStatus(status) {
+  if (status && status.captures && typeof status.captures.next_index === 'number') {
+    nextIndex = status.captures.next_index;
+  }
+}
+
+// A new capture (the `capture` notification): the newest page follows it.
+export function onCapture(capture) {
+  if (capture && typeof capture.index === 'number') nextIndex = Math.max(nextIndex, capture.index + 1);
+  if (since === null) showPage(null);
+  loadMap();
+}
+
+export async function loadCaptures() {
+  await Promise.all([showPage(null), loadMap()]);
+}
+
+const fetchPage = (start) => attempt('captures', () => api('GET', `/api/captures?since=${start}&limit=${PAGE}`));
+
+async function showPage(from) {
+  since = from;
+  let start = from === null ? Math.max(0, nextIndex - PAGE) : from;
+  let result = await fetchPage(start);
+  // The newest page: when more were added than status said, move on to them
+  // (a bounded number of times: the log keeps at most 4096).
+  for (let hops = 0; result && from === null && result.more && hops < 256; hops += 1) {
+    nextIndex = Math.max(nextIndex + PAGE, result.next + 1);
+    start = Math.max(0, nextIndex - PAGE);
+    result = await fetchPage(start);
+  }
+  if (!result) return;
+  page = result;
+  render(result.captures);
+  const first = result.captures.length ? result.captures[0].index : start;
+  $('captures-older').disabled = first <= 1;
+  $('captures-newer').disabled = !result.more;
+  $('captures-page').textContent = result.captures.length
+    ? `#${first}–#${result.captures[result.captures.length - 1].index}` : 'no captures yet';
+}
+
+function render(captures) {
+  const body = $('captures-table').tBodies[0];
+  body.replaceChildren();
+  for (const c of captures.slice().reverse()) {
+    const row = body.insertRow();
+    row.dataset.testid = 'capture-row';
+    row.dataset.index = c.index;
+    row.dataset.kind = c.kind;
+    const hall = c.attitude && c.attitude.hall ? c.attitude.hall : {};
+    const meta = c.meta || {};
+    const cells = [
+      c.index,
+      typeof c.utc_us === 'number' ? new Date(c.utc_us / 1000).toISOString().slice(11, 23) : '–',
+      c.kind,
+      fixed(hall.pitch),
+      fixed(hall.yaw),
+      typeof meta.lat === 'number' ? `${meta.lat.toFixed(6)}, ${meta.lon.toFixed(6)}` : '–',
+      c.client ? `${c.client.name || ''} (pid ${c.client.pid})` : '–',
+    ];
+    for (const text of cells) row.insertCell().textContent = String(text);
+    if (typeof c.utc_us === 'number') row.cells[1].title = new Date(c.utc_us / 1000).toISOString();
+  }
+}
+
+// ---- the scatter plot
+let points = []; // {east, north, index}
+
+async function loadMap() {
+  const geo = await attempt('captures.geojson', () => api('GET', '/api/captures.geojson'));
+  if (!geo) return;
+  points = localMetres((geo.features || []).filter((f) => f.geometry && f.geometry.type === 'Point'));
+  $('captures-map-note').textContent = points.length
+    ? `${points.length} capture(s) with a position; metres east and north of the first`
+    : 'no capture has a position yet (photos sent with lat/lon, e.g. by gport-mavlink)';
+  drawMap();
+}
+
+// Equirectangular projection around the first point: exact enough over the
+// few kilometres a flight covers.
+function localMetres(features) {
+  if (features.length === 0) return [];
+  const [lon0, lat0] = features[0].geometry.coordinates;
+  const k = (Math.PI / 180) * EARTH_M;
+  return features.map((f) => {
+    const [lon, lat] = f.geometry.coordinates;
+    return {
+      east: (lon - lon0) * k * Math.cos((lat0 * Math.PI) / 180),
+      north: (lat - lat0) * k,
+      index: f.properties ? f.properties.index : undefined,
+    };
+  });
+}
+
+function drawMap() {
+  const canvas = $('captures-map');
+  const { ctx, w, h } = fit(canvas);
+  ctx.clearRect(0, 0, w, h);
+  axes(ctx, w, h);
+  if (points.length === 0) {
+    ctx.textAlign = 'center';
+    ctx.fillText('no positions yet', w / 2, h / 2 - 8);
+    ctx.textAlign = 'start';
+    return;
+  }
+  const span = Math.max(10, ...points.map((p) => Math.max(Math.abs(p.east), Math.abs(p.north))));
+  const scale = (Math.min(w, h) / 2 - 20) / span; // px per metre, same both ways
+  const x = (e) => w / 2 + e * scale;
+  const y = (n) => h / 2 - n * scale;
+  ctx.fillStyle = css('--accent');
+  for (const p of points) {
+    ctx.beginPath();
+    ctx.arc(x(p.east), y(p.north), 3.5, 0, 2 * Math.PI);
+    ctx.fill();
+  }
+  ctx.strokeStyle = css('--bad');
+  ctx.lineWidth = 2;
+  ctx.strokeRect(x(0) - 5, y(0) - 5, 10, 10); // the first capture
+  scaleBar(ctx, w, h, scale);
+}
+
+function axes(ctx, w, h) {
+  ctx.strokeStyle = css('--line');
+  ctx.lineWidth = 1;
+  ctx.beginPath();
+  ctx.moveTo(w / 2, 0);
+  ctx.lineTo(w / 2, h);
+  ctx.moveTo(0, h / 2);
+  ctx.lineTo(w, h / 2);
+  ctx.stroke();
+  ctx.fillStyle = css('--muted');
+  ctx.font = '12px system-ui, sans-serif';
+  ctx.fillText('N', w / 2 + 4, 14);
+  ctx.fillText('E', w - 14, h / 2 - 4);
+}
+
+function scaleBar(ctx, w, h, scale) {
+  const metres = niceStep(w / 4 / scale, 1);
+  const px = metres * scale;
+  const x0 = 12;
+  const y0 = h - 14;
+  ctx.strokeStyle = css('--fg');
+  ctx.fillStyle = css('--fg');
+  ctx.lineWidth = 2;
+  ctx.beginPath();
+  ctx.moveTo(x0, y0 - 5);
+  ctx.lineTo(x0, y0);
+  ctx.lineTo(x0 + px, y0);
+  ctx.lineTo(x0 + px, y0 - 5);
+  ctx.stroke();
+  ctx.font = '12px system-ui, sans-serif';
+  ctx.fillText(metres >= 1000 ? `${metres / 1000} km` : `${metres} m`, x0 + px + 6, y0);
+}
