@@ -80,8 +80,9 @@ std::variant<json, std::string> params_of(const std::string& body,
         return std::string("the body must be a JSON object");
     }
     for (const auto& [key, value] : params.items()) {
+        const std::string& name = key;  // clang 14 cannot capture a structured binding
         const auto it = std::find_if(fields.begin(), fields.end(),
-                                     [&](const Field& f) { return key == f.name; });
+                                     [&](const Field& f) { return name == f.name; });
         if (it == fields.end()) {
             std::string allowed;
             for (const auto& f : fields) {
