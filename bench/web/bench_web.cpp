@@ -116,7 +116,7 @@ class Browser : public std::enable_shared_from_this<Browser> {
         });
     }
 
-    websocket::stream<tcp::socket> ws_;
+    websocket::stream<tcp::socket, false> ws_;  // as gport-web: no deflate
     beast::flat_buffer buffer_;
     bool reads_;
     std::uint64_t messages_ = 0;

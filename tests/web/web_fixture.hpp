@@ -22,7 +22,7 @@ namespace gport::testing {
 namespace http = boost::beast::http;
 using Headers = std::map<std::string, std::string>;
 using HttpResponse = http::response<http::string_body>;
-using WebSocket = boost::beast::websocket::stream<boost::asio::ip::tcp::socket>;
+using WebSocket = boost::beast::websocket::stream<boost::asio::ip::tcp::socket, false>;
 
 inline const std::string kControlToken = "control-token-0123456789abcdef";
 inline const std::string kViewToken = "view-token-0123456789abcdef";

@@ -37,7 +37,9 @@ class LiveSocket : public Listener, public std::enable_shared_from_this<LiveSock
 
     Context& context_;
     ConnectionSlot slot_;
-    boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
+    // Without permessage-deflate (the template's false): no compression
+    // to attack (a small message inflating to a large one) or to pay for.
+    boost::beast::websocket::stream<boost::beast::tcp_stream, false> ws_;
     boost::beast::flat_buffer input_;
     Outbox outbox_;
     Message writing_;  // the message being written (kept alive until written)
