@@ -7,8 +7,8 @@
 
 #include <limits>
 
-#include "connect_error.hpp"
 #include "attitude_feed.hpp"
+#include "connect_error.hpp"
 
 namespace gport::client::codec {
 namespace {

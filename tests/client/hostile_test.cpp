@@ -12,8 +12,8 @@
 #include <utility>
 #include <variant>
 
-#include "gport/client/client.hpp"
 #include "connection.hpp"
+#include "gport/client/client.hpp"
 #include "hostile_server.hpp"
 
 namespace gport::testing {
