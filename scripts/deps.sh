@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages gportd needs, when any is missing, in two
-# sets: `gport_install_deps build` what building and running the programs
-# need (scripts/demo.sh), `gport_install_deps` (or `all`) that and what the
-# tests, benchmarks, fuzzers and packaging need (scripts/test.sh). Sourced;
-# needs root for apt.
+# Installs the Debian 12 packages gportd needs, when any is missing:
+# `gport_install_deps build` what building and running the programs need
+# (scripts/demo.sh), `release-build` that and what compiling the tests and
+# benchmarks needs, `gport_install_deps` (or `all`) that and what running the
+# tests, fuzzers and packaging needs (scripts/test.sh). Sourced; needs root
+# for apt.
 set -euo pipefail
 
 # Building and running gportd, gportctl, gport-sim, gport-mavlink and the
@@ -18,17 +19,28 @@ GPORT_BUILD_PACKAGES=(
   libssl-dev
 )
 
-# The tests, benchmarks, fuzzers, man pages and packages, on top of the above.
-GPORT_TEST_PACKAGES=(
+# What a Release build with its tests, benchmarks and man pages needs to
+# compile, on top of the above: scripts/test.sh installs this set first,
+# starts the build and installs the rest beside it. python3 and systemd are
+# looked up when CMake configures (the Python package's directory, the
+# units'); the man pages are built with scdoc.
+GPORT_RELEASE_BUILD_PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
+  python3 systemd dpkg-dev scdoc
+  # liburing for bench/fanout_bench (io_uring against sendmsg for one
+  # frame's fan-out, docs/performance.md); gportd itself does not use it.
+  liburing-dev
+)
+
+# What the tests, fuzzers and packages run with, on top of the above.
+GPORT_TEST_PACKAGES=(
   clang-14 libclang-rt-14-dev
-  systemd dpkg-dev
   # Tools the tests call that a minimal Debian 12 (debootstrap --variant=minbase)
   # lacks: `file` (CPackDeb, in the systemd_deb_package test) and procps
   # (/bin/kill, the units' ExecReload, which systemd_units verifies).
   file procps
   # The Python client's tests: pytest and mypy --strict (client/python).
-  python3 python3-pytest mypy
+  python3-pytest mypy
   # pip install ./client/python into a fresh venv, offline (tests/python/
   # check_venv.sh): python3-venv (venv, with pip and setuptools), and
   # python3-wheel, which Debian's setuptools needs to build a wheel.
@@ -39,10 +51,9 @@ GPORT_TEST_PACKAGES=(
   # The systemd end-to-end stage (scripts/systemd-e2e.sh): a Debian root made
   # with debootstrap, booted with systemd-nspawn (package systemd-container).
   debootstrap systemd-container
-  # gportctl monitor's test runs it in tmux; the man pages are built with
-  # scdoc and their tests render them with man -l (man-db) and col
-  # (bsdextrautils).
-  tmux scdoc man-db bsdextrautils
+  # gportctl monitor's test runs it in tmux; the man pages' tests render them
+  # with man -l (man-db) and col (bsdextrautils).
+  tmux man-db bsdextrautils
   # zsh: the test of gportctl's zsh completion loads it in `zsh -f`
   # (tests/cli/zsh_completion_test.sh; skipped without it).
   zsh
@@ -58,9 +69,6 @@ GPORT_TEST_PACKAGES=(
   # exiftool: gportctl geotag's tests write and read tags in JPEGs they make
   # (tests/integration/geotag_test.cpp); users install it to use the command.
   libimage-exiftool-perl
-  # liburing for bench/fanout_bench (io_uring against sendmsg for one
-  # frame's fan-out, docs/performance.md); gportd itself does not use it.
-  liburing-dev
 )
 
 # gport-web's browser test: Debian's chromium, driven headless by
@@ -75,16 +83,17 @@ GPORT_BROWSER_PACKAGES=(chromium fonts-dejavu-core)
 # (e.g. a NodeSource nodejs, which bundles npm and conflicts with Debian's).
 declare -gA GPORT_PACKAGE_COMMANDS=([nodejs]=node [npm]=npm)
 
-# gport_install_deps [build|all|browser] [PACKAGE...]: installs what is
+# gport_install_deps [build|release-build|all|browser] [PACKAGE...]: installs what is
 # missing of that set (default all) and of the packages named after it, in one apt run
 # (scripts/test.sh adds the ARM stages' cross compilers: gport_cross_packages).
 gport_install_deps() {
   local set=${1:-all} missing=() wanted=() p
   case "$set" in
     build) wanted=("${GPORT_BUILD_PACKAGES[@]}") ;;
-    all) wanted=("${GPORT_BUILD_PACKAGES[@]}" "${GPORT_TEST_PACKAGES[@]}") ;;
+    release-build) wanted=("${GPORT_BUILD_PACKAGES[@]}" "${GPORT_RELEASE_BUILD_PACKAGES[@]}") ;;
+    all) wanted=("${GPORT_BUILD_PACKAGES[@]}" "${GPORT_RELEASE_BUILD_PACKAGES[@]}" "${GPORT_TEST_PACKAGES[@]}") ;;
     browser) wanted=("${GPORT_BROWSER_PACKAGES[@]}") ;;
-    *) echo "error: gport_install_deps: no package set '$set' (build, all or browser)" >&2; return 1 ;;
+    *) echo "error: gport_install_deps: no package set '$set' (build, release-build, all or browser)" >&2; return 1 ;;
   esac
   [ $# -gt 0 ] && shift
   wanted+=("$@")

@@ -7,18 +7,21 @@
 #      a container (scripts/systemd-e2e.sh; about a minute, two the first
 #      time; GPORT_SYSTEMD_E2E=skip leaves it out, =require fails if this
 #      machine cannot run it);
-#   2. ARM (scripts/test-arm.sh): arm64 cross build and every test under
-#      qemu-user; armhf cross build and the unit suites (GPORT_ARM=skip
-#      leaves them out);
+#   2. ARM (scripts/test-arm.sh): arm64 cross build, its base and protocol
+#      suites under qemu-user and its .deb; armhf cross build, the unit
+#      suites and its .deb (GPORT_ARM=skip leaves them out);
 #   3. ASan+UBSan build with clang-14, the libFuzzer targets in it; all tests
 #      (but the source checks of stage 1);
 #   4. each fuzzer for $GPORT_FUZZ_SECONDS (40) on its corpus, one per core
 #      at a time.
-# What waits on the network rather than the CPU runs beside the Release
-# build, each with its log in build/ci-logs: the ARM sysroots, the e2e stage's
-# Debian root, chromium for gport-web's browser test (apt) and the npm
-# installs of the tests (npm ci: node-mavlink, playwright-core). The
-# ArduCopter and PX4 SITL tests run in the Release stage only (GPORT_SITL_TESTS).
+# What the Release build compiles with is installed first; what waits on the
+# network rather than the CPU then runs beside the Release build, each with
+# its log in build/ci-logs: the rest of the packages (apt; then chromium for
+# gport-web's browser test), the ARM sysroots, the e2e stage's Debian root
+# and the npm installs of the tests (npm ci: node-mavlink, playwright-core).
+# The ArduCopter and PX4 SITL tests run in the Release stage only
+# (GPORT_SITL_TESTS). docs/operations.md, "How CI spends its time", has the
+# figures behind these choices.
 # Used word for word by .ci/run. The builds are unity builds (each target's
 # sources compiled as one unit), which halves the compile time on a 2-core
 # machine; every file also compiles on its own in a normal build.
@@ -56,9 +59,10 @@ scripts/check-layering.sh
 source scripts/deps.sh
 arm_arches=()
 [ "${GPORT_ARM:-}" = skip ] || arm_arches=(arm64 armhf)
-# One apt run for the tests' packages and the ARM stages' cross compilers.
+# What the Release build compiles with, first; the rest (the tests' and ARM
+# stages' packages, in one apt run) beside the build: prepare_rest below.
 mapfile -t cross_packages < <(gport_cross_packages "${arm_arches[@]}")
-gport_install_deps all "${cross_packages[@]}"
+gport_install_deps release-build
 
 jobs=$(nproc)
 fuzz_seconds=${GPORT_FUZZ_SECONDS:-40}
@@ -91,27 +95,36 @@ npm_install() { tests/mavlink/peer/run.sh "$1/tests/mavlink/peer/mavlink-peer" -
 # playwright-core for gport-web's browser test (tests/web/browser; the
 # Release stage only runs it).
 npm_install_browser() { tests/web/browser/run.sh "$1/tests/web/browser/web-browser" --install-only; }
+# What waits on the network, beside the Release build: the rest of the
+# packages (apt), then at once chromium (apt), the ARM sysroots, the e2e
+# stage's Debian root (debootstrap) and the npm installs.
+prepare_rest() {
+  gport_install_deps all "${cross_packages[@]}"
+  beside browser gport_install_deps browser
+  for arch in "${arm_arches[@]}"; do
+    beside "sysroot-$arch" scripts/cross-sysroot.sh "$arch" "${GPORT_SYSROOTS:-/var/cache/gport}/sysroot-$arch"
+  done
+  beside e2e-root scripts/systemd-e2e.sh --root-only
+  beside npm-release npm_install build/release
+  beside npm-browser npm_install_browser build/release
+  local name
+  for name in "${!beside_pids[@]}"; do
+    # a skip (77) of the e2e root is reported by the e2e stage itself
+    await "$name" 77 || true
+  done
+}
 
 stage "Release build"
-for arch in "${arm_arches[@]}"; do
-  beside "sysroot-$arch" scripts/cross-sysroot.sh "$arch" "${GPORT_SYSROOTS:-/var/cache/gport}/sysroot-$arch"
-done
-beside e2e-root scripts/systemd-e2e.sh --root-only
-beside browser gport_install_deps browser
-beside npm-release npm_install build/release
-beside npm-browser npm_install_browser build/release
+beside prepare prepare_rest
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DGPORT_WERROR=ON \
   -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16
 cmake --build build/release -j "$jobs"
 stage "Release tests"
-await npm-release
-await npm-browser
-await browser
+await prepare
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 
 stage "systemd end-to-end (the Release build's .deb on a real systemd, in a container)"
 e2e_status=0
-await e2e-root 77 || true  # a skip (77) is reported by the stage itself
 scripts/systemd-e2e.sh build/release || e2e_status=$?
 if [ "$e2e_status" -eq 77 ]; then
   echo "systemd end-to-end: SKIPPED (the reason is above)"
@@ -124,9 +137,6 @@ if [ "${GPORT_ARM:-}" = skip ]; then
   stage "ARM stages: SKIPPED (GPORT_ARM=skip)"
 else
   stage "ARM stages (scripts/test-arm.sh)"
-  for arch in "${arm_arches[@]}"; do
-    await "sysroot-$arch"
-  done
   scripts/test-arm.sh
 fi
 
