@@ -6,7 +6,9 @@
 #         base and protocol suites under qemu-aarch64, and its .deb checked;
 #   armhf (32-bit Raspberry Pi OS): Release build, warnings are errors, the
 #         unit suites under qemu-arm, and its .deb checked.
-#   scripts/test-arm.sh [arm64] [armhf]        # both by default
+#   scripts/test-arm.sh [--build|--test] [arm64] [armhf]   # both, build and test
+# (--build only builds, --test only runs the tests of a finished build:
+# scripts/test.sh builds in the background while other stages test.)
 # The target's libraries come from a sysroot (scripts/cross-sysroot.sh, in
 # $GPORT_SYSROOTS, default /var/cache/gport: readable by every user, as the
 # tests that run gportd as another uid need its loader), never from this
@@ -30,8 +32,14 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/deps.sh
 
+steps=(build test)
+case "${1:-}" in
+  --build) steps=(build); shift ;;
+  --test) steps=(test); shift ;;
+esac
 arches=("$@")
 [ ${#arches[@]} -gt 0 ] || arches=(arm64 armhf)
+wants() { [[ " ${steps[*]} " == *" $1 "* ]]; }
 jobs=$(nproc)
 sysroots=${GPORT_SYSROOTS:-/var/cache/gport}
 mkdir -p "$sysroots"
@@ -53,42 +61,48 @@ declare -A parts=(
 stage "ARM: cross compilers and qemu-user for ${arches[*]}"
 gport_install_cross_deps "${arches[@]}"
 declare -A by_path=()
-for arch in "${arches[@]}"; do
-  by_path[$arch]=yes
-  gport_register_binfmt "$(gport_qemu_arch "$arch")" || by_path[$arch]=no
-  if [ "${by_path[$arch]}" = no ] && [ "${GPORT_ARM:-}" = require ]; then
-    echo "error: binfmt_misc is needed for the $arch .deb check (GPORT_ARM=require)" >&2
-    exit 1
-  fi
-done
+if wants test; then
+  for arch in "${arches[@]}"; do
+    by_path[$arch]=yes
+    gport_register_binfmt "$(gport_qemu_arch "$arch")" || by_path[$arch]=no
+    if [ "${by_path[$arch]}" = no ] && [ "${GPORT_ARM:-}" = require ]; then
+      echo "error: binfmt_misc is needed for the $arch .deb check (GPORT_ARM=require)" >&2
+      exit 1
+    fi
+  done
+fi
 
 for arch in "${arches[@]}"; do
   triple=$(gport_cross_triple "$arch")
   sysroot=$sysroots/sysroot-$arch
   build=build/$arch
 
-  stage "$arch: sysroot"
-  scripts/cross-sysroot.sh "$arch" "$sysroot"
+  if wants build; then
+    stage "$arch: sysroot"
+    scripts/cross-sysroot.sh "$arch" "$sysroot"
 
-  stage "$arch: Release build ($triple)"
-  cmake -S . -B "$build" -G Ninja -DCMAKE_TOOLCHAIN_FILE="cmake/toolchains/$triple.cmake" \
-    -DGPORT_SYSROOT="$sysroot" -DCMAKE_BUILD_TYPE=Release -DGPORT_WERROR=ON \
-    -DGPORT_BUILD_BENCH=OFF -DGPORT_SITL_TESTS=OFF -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 \
-    -DGPORT_TEST_PARTS="${parts[$arch]}"
-  cmake --build "$build" -j "$jobs"
-
-  # The target's loader and glibc for everything qemu runs, the programs the
-  # .deb's check starts by path (through binfmt_misc) included.
-  export QEMU_LD_PREFIX=$sysroot
-  stage "$arch: the suites ${labels[$arch]} under qemu"
-  ctest --test-dir "$build" --output-on-failure -j "$jobs" -L "${labels[$arch]}"
-  if [ "${by_path[$arch]}" = no ]; then
-    stage "$arch: the .deb's check SKIPPED (no binfmt_misc, above)"
-  else
-    stage "$arch: the .deb"
-    ctest --test-dir "$build" --output-on-failure -R '^systemd_deb_package$'
+    stage "$arch: Release build ($triple)"
+    cmake -S . -B "$build" -G Ninja -DCMAKE_TOOLCHAIN_FILE="cmake/toolchains/$triple.cmake" \
+      -DGPORT_SYSROOT="$sysroot" -DCMAKE_BUILD_TYPE=Release -DGPORT_WERROR=ON \
+      -DGPORT_BUILD_BENCH=OFF -DGPORT_SITL_TESTS=OFF -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 \
+      -DGPORT_TEST_PARTS="${parts[$arch]}"
+    cmake --build "$build" -j "$jobs"
   fi
-  unset QEMU_LD_PREFIX
+
+  if wants test; then
+    # The target's loader and glibc for everything qemu runs, the programs the
+    # .deb's check starts by path (through binfmt_misc) included.
+    export QEMU_LD_PREFIX=$sysroot
+    stage "$arch: the suites ${labels[$arch]} under qemu"
+    ctest --test-dir "$build" --output-on-failure -j "$jobs" -L "${labels[$arch]}"
+    if [ "${by_path[$arch]}" = no ]; then
+      stage "$arch: the .deb's check SKIPPED (no binfmt_misc, above)"
+    else
+      stage "$arch: the .deb"
+      ctest --test-dir "$build" --output-on-failure -R '^systemd_deb_package$'
+    fi
+    unset QEMU_LD_PREFIX
+  fi
 done
 
-stage "ARM stages passed"
+stage "ARM stages passed (${steps[*]})"

@@ -2,26 +2,30 @@
 # Checks the layering, installs what is missing, then builds and runs every test:
 #   0. scripts/check-layering.sh: every include and CMake link is on its folder's
 #      allow-list (docs/architecture.md, "Layout"; seconds);
-#   1. Release build (warnings are errors), all tests;
-#      then the systemd end-to-end test on its .deb: a real systemd booted in
-#      a container (scripts/systemd-e2e.sh; about a minute, two the first
-#      time; GPORT_SYSTEMD_E2E=skip leaves it out, =require fails if this
-#      machine cannot run it);
-#   2. ARM (scripts/test-arm.sh): arm64 cross build, its base and protocol
-#      suites under qemu-user and its .deb; armhf cross build, the unit
-#      suites and its .deb (GPORT_ARM=skip leaves them out);
-#   3. ASan+UBSan build with clang-14, the libFuzzer targets in it; all tests
-#      (but the source checks of stage 1);
-#   4. each fuzzer for $GPORT_FUZZ_SECONDS (40) on its corpus, one per core
-#      at a time.
+#   1. Release build (warnings are errors): first, alone, the
+#      interoperability suites (ArduCopter and PX4 SITL, node-mavlink,
+#      Python, chromium) and the benchmarks; then the end-to-end, packaging
+#      and source-check tests (the in-process suites run in stage 2); then the
+#      systemd end-to-end test on its .deb: a real systemd booted in a
+#      container (scripts/systemd-e2e.sh; GPORT_SYSTEMD_E2E=skip leaves it
+#      out, =require fails if this machine cannot run it);
+#   2. ASan+UBSan build with clang-14, the libFuzzer targets in it; every
+#      test (but the source checks and the browser test of stage 1);
+#   3. each fuzzer for $GPORT_FUZZ_SECONDS (40) on its corpus, one per core
+#      at a time;
+#   4. ARM (scripts/test-arm.sh): armhf cross build, the unit suites under
+#      qemu-user and its .deb; arm64 cross build, its base and protocol suites
+#      and its .deb (GPORT_ARM=skip leaves them out).
+# The builds of stages 2 and 4 run in the background at idle priority from
+# the end of stage 1's interoperability tests, while the tests of the stages
+# before theirs run (see "the later builds" below).
 # What the Release build compiles with is installed first; what waits on the
 # network rather than the CPU then runs beside the Release build, each with
 # its log in build/ci-logs: the rest of the packages (apt; then chromium for
 # gport-web's browser test), the ARM sysroots, the e2e stage's Debian root
 # and the npm installs of the tests (npm ci: node-mavlink, playwright-core).
-# The ArduCopter and PX4 SITL tests run in the Release stage only
-# (GPORT_SITL_TESTS). docs/operations.md, "How CI spends its time", has the
-# figures behind these choices.
+# docs/operations.md, "How CI spends its time", has the figures behind these
+# choices.
 # Used word for word by .ci/run. The builds are unity builds (each target's
 # sources compiled as one unit), which halves the compile time on a 2-core
 # machine; every file also compiles on its own in a normal build.
@@ -114,14 +118,81 @@ prepare_rest() {
   done
 }
 
+# The Release build runs what tests the programs as they ship: the suites
+# that drive gportd, gport-sim, gportctl, gport-web and the client library
+# end to end (integration, client, web; the RSS budgets, which mean nothing
+# under ASan, among them), the interoperability suites (ArduCopter and PX4
+# SITL, node-mavlink, Python, chromium), the benchmarks, the packaging and
+# the source checks. The in-process suites (base, protocol, config, daemon,
+# ipc, cli, mavlink, ...) run in the ASan+UBSan stage, and the unit ones
+# again on armhf: in the Release build they would only repeat the check.
+release_suites='integration_tests;client_tests;client_hostile_tests;web_tests'
+
 stage "Release build"
 beside prepare prepare_rest
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DGPORT_WERROR=ON \
-  -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16
+  -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_GTEST_SUITES="$release_suites"
 cmake --build build/release -j "$jobs"
-stage "Release tests"
+# The tests that talk to another implementation at its own pace (ArduCopter
+# and PX4 SITL, node-mavlink, the Python client, chromium) and the
+# benchmarks run alone: with a build beside them (even a niced one) SITL and
+# the peer tests failed on timing. Everything after them runs with the later
+# builds in the background (below).
+interop_labels='^(sitl|node|python|browser|bench)$'
+stage "Release tests: interoperability and benchmarks, alone"
 await prepare
-ctest --test-dir build/release --output-on-failure -j "$jobs"
+ctest --test-dir build/release --output-on-failure -j "$jobs" -L "$interop_labels"
+
+# ---- the later builds, in the background at idle priority ---------------------
+# The ASan+UBSan build, then armhf's and arm64's, one after another under
+# SCHED_IDLE (chrt --idle) and the idle I/O class: they get only the CPU no
+# test wants, which is most of it while the suites wait on timers and
+# sockets, and each stage below starts when its own build is done
+# (await_built). One clang-14 build serves the sanitizers and the fuzzers:
+# the libraries the fuzzers link are instrumented for both. It is -O0 (a
+# third of -O1's compile time; the suites wait on timers, not on the CPU)
+# but for the code the fuzzers run, which fuzz/CMakeLists.txt keeps at -O1.
+asan_build() {
+  CC=clang-14 CXX=clang++-14 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DGPORT_SANITIZE=ON -DGPORT_BUILD_FUZZ=ON -DGPORT_BUILD_BENCH=OFF -DGPORT_WERROR=ON \
+    -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_SITL_TESTS=OFF \
+    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O0 -g1"
+  npm_install build/asan  # from npm's cache now
+  cmake --build build/asan -j "$jobs"
+}
+later_builds() {
+  chrt --idle --pid 0 "$BASHPID" || echo "warning: the later builds run at normal priority (chrt --idle failed)"
+  ionice -c 3 -p "$BASHPID" || true  # where the I/O scheduler has classes
+  echo "== ASan+UBSan build (clang-14), the fuzzers with it"
+  asan_build
+  touch "$logs/built-asan"
+  local arch
+  for arch in $(printf '%s\n' "${arm_arches[@]}" | sort -r); do  # armhf first: it runs more
+    echo "== $arch build"
+    scripts/test-arm.sh --build "$arch"
+    touch "$logs/built-$arch"
+  done
+}
+# await_built NAME: waits until the background builds have finished NAME's;
+# fails, printing their log, if they stopped without it.
+await_built() {
+  local marker=$logs/built-$1
+  while [ ! -e "$marker" ]; do
+    if ! kill -0 "${beside_pids[later-builds]}" 2>/dev/null; then
+      [ -e "$marker" ] && return 0
+      await later-builds
+      echo "error: the background builds ended without $1's (log $logs/later-builds.log)" >&2
+      exit 1
+    fi
+    sleep 2
+  done
+  echo "($1's build done, in the background: $logs/later-builds.log)"
+}
+rm -f "$logs"/built-*
+beside later-builds later_builds
+
+stage "Release tests: the rest"
+ctest --test-dir build/release --output-on-failure -j "$jobs" -LE "$interop_labels"
 
 stage "systemd end-to-end (the Release build's .deb on a real systemd, in a container)"
 e2e_status=0
@@ -133,25 +204,8 @@ elif [ "$e2e_status" -ne 0 ]; then
   exit "$e2e_status"
 fi
 
-if [ "${GPORT_ARM:-}" = skip ]; then
-  stage "ARM stages: SKIPPED (GPORT_ARM=skip)"
-else
-  stage "ARM stages (scripts/test-arm.sh)"
-  scripts/test-arm.sh
-fi
-
-# One clang-14 build for the sanitizers and the fuzzers: the libraries the
-# fuzzers link are instrumented for both, so the fuzz targets need no build
-# of their own.
-stage "ASan+UBSan build (clang-14), the fuzzers with it"
-CC=clang-14 CXX=clang++-14 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DGPORT_SANITIZE=ON -DGPORT_BUILD_FUZZ=ON -DGPORT_BUILD_BENCH=OFF -DGPORT_WERROR=ON \
-  -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_SITL_TESTS=OFF \
-  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1"
-beside npm-asan npm_install build/asan  # from npm's cache now
-cmake --build build/asan -j "$jobs"
-stage "ASan+UBSan tests"
-await npm-asan
+stage "ASan+UBSan tests (clang-14; built in the background)"
+await_built asan
 # The checks of the sources themselves (layering, man pages) ran in the
 # Release stage: they do not depend on how the code was built. So did the
 # browser test: a chromium beside an instrumented gport-web on two cores
@@ -199,5 +253,16 @@ for pid in "${pids[@]}"; do
   wait "$pid" || failed=1
 done
 [ "$failed" -eq 0 ] || { echo "a fuzzer failed (above)" >&2; exit 1; }
+
+if [ "${GPORT_ARM:-}" = skip ]; then
+  stage "ARM stages: SKIPPED (GPORT_ARM=skip)"
+else
+  for arch in $(printf '%s\n' "${arm_arches[@]}" | sort -r); do
+    stage "$arch tests under qemu (scripts/test-arm.sh; built in the background)"
+    await_built "$arch"
+    scripts/test-arm.sh --test "$arch"
+  done
+fi
+await later-builds
 
 stage "All tests passed"

@@ -12,6 +12,13 @@ using namespace std::chrono_literals;
 
 constexpr auto kLogInterval = 10s;
 
+std::optional<RecordingState> wanted(const RecordRequest& request) {
+    if (!request.on) {
+        return std::nullopt;
+    }
+    return *request.on ? RecordingState::kOn : RecordingState::kOff;
+}
+
 base::TokenBucket bucket(const config::CameraConfig& config) {
     // A burst of one second's worth, and at least one command.
     return base::TokenBucket(config.max_commands_per_s, std::max(1.0, config.max_commands_per_s));
@@ -56,6 +63,32 @@ void CameraGate::reload(const config::CameraConfig& config) {
 
 CameraStatus CameraGate::status() const {
     return CameraStatus{rate_.rate(), refused_};
+}
+
+std::optional<CommandError> CameraGate::check_record(const RecordRequest& request) const {
+    if (!request.on || recording_ != RecordingState::kUnknown || request.force) {
+        return std::nullopt;
+    }
+    return CommandError{
+        ErrorCode::kInvalidParams,
+        fmt::format("the recording state is unknown (gportd cannot read it from the gimbal, "
+                    "and forgets it when the device reopens); send record "
+                    "{{\"on\": {}, \"force\": true}} to toggle anyway and take {} as the "
+                    "new state",
+                    *request.on, *request.on ? "on" : "off")};
+}
+
+bool CameraGate::toggle_needed(const RecordRequest& request) const {
+    return request.force || wanted(request) != recording_;
+}
+
+RecordingState CameraGate::toggled(const RecordRequest& request) {
+    if (auto state = wanted(request)) {
+        recording_ = *state;
+    } else if (recording_ != RecordingState::kUnknown) {
+        recording_ = recording_ == RecordingState::kOn ? RecordingState::kOff : RecordingState::kOn;
+    }
+    return recording_;
 }
 
 }  // namespace gport::daemon

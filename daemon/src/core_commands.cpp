@@ -97,36 +97,23 @@ Outcome<Done> Core::photo(const ClientInfo& client) {
     return camera(client, gp::CameraAction::kPhoto);
 }
 
+// The recording state is CameraGate's (assumed: the protocol cannot read it).
 Outcome<RecordResult> Core::record(const ClientInfo& client, RecordRequest request) {
-    const auto wanted =
-        request.on ? std::optional(*request.on ? RecordingState::kOn : RecordingState::kOff)
-                   : std::nullopt;
-    if (wanted && recording_ == RecordingState::kUnknown && !request.force) {
-        return CommandError{
-            ErrorCode::kInvalidParams,
-            fmt::format("the recording state is unknown (gportd cannot read it from the gimbal, "
-                        "and forgets it when the device reopens); send record "
-                        "{{\"on\": {}, \"force\": true}} to toggle anyway and take {} as the "
-                        "new state",
-                        *request.on, *request.on ? "on" : "off")};
+    if (auto invalid = camera_.check_record(request)) {
+        return std::move(*invalid);
     }
-    if (wanted && recording_ == *wanted && !request.force) {
+    if (!camera_.toggle_needed(request)) {
         if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
             return std::move(*refused);
         }
-        return RecordResult{false, recording_};
+        return RecordResult{false, camera_.recording()};
     }
-    auto sent = camera(client, gp::CameraAction::kToggleRecording);
-    if (!sent) {
+    if (auto sent = camera(client, gp::CameraAction::kToggleRecording); !sent) {
         return sent.error();
     }
-    if (wanted) {
-        recording_ = *wanted;
-    } else if (recording_ != RecordingState::kUnknown) {
-        recording_ = recording_ == RecordingState::kOn ? RecordingState::kOff : RecordingState::kOn;
-    }
-    log_->info("recording assumed {}", to_string(recording_));
-    return RecordResult{true, recording_};
+    const auto recording = camera_.toggled(request);
+    log_->info("recording assumed {}", to_string(recording));
+    return RecordResult{true, recording};
 }
 
 Outcome<Done> Core::camera(const ClientInfo& client, gp::CameraAction action) {

@@ -17,7 +17,7 @@ Status Core::status() const {
     if (latest_) {
         s.attitude_age = std::chrono::duration_cast<Millis>(now - latest_->received);
     }
-    const auto& d = decoder_.stats();
+    const auto& d = reader_.stats();
     const auto& l = port_.stats();
     auto& c = s.counters;
     c.frames_in = d.frames;
@@ -29,7 +29,7 @@ Status Core::status() const {
     c.header_errors = d.header_errors;
     c.garbage_bytes = d.garbage_bytes;
     c.resyncs = d.resyncs;
-    c.bad_messages = bad_messages_;
+    c.bad_messages = reader_.bad_messages();
     c.device_opens = l.opens;
     c.device_failures = l.failures;
     c.keepalive_frames = motion_.keepalive_frames();
@@ -40,7 +40,7 @@ Status Core::status() const {
     c.settings_timeouts = settings_.timeouts();
     s.motion = motion_.status();
     s.controller = arbiter_.holder();
-    s.recording = recording_;
+    s.recording = camera_.recording();
     s.camera = camera_.status();
     return s;
 }

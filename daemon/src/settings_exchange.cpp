@@ -8,6 +8,19 @@ namespace gport::daemon {
 
 namespace gp = gport::protocol;
 
+std::string describe_change(const gp::SettingsBlock& before, const gp::SettingsBlock& after) {
+    std::string out;
+    const auto add = [&](const char* name, const std::string& from, const std::string& to) {
+        if (from != to) {
+            out += fmt::format("{}{} {} -> {}", out.empty() ? "" : ", ", name, from, to);
+        }
+    };
+    add("dead_zone", std::to_string(before.dead_zone), std::to_string(after.dead_zone));
+    add("follow_speed", std::to_string(before.follow_speed), std::to_string(after.follow_speed));
+    add("inverted", before.inverted() ? "yes" : "no", after.inverted() ? "yes" : "no");
+    return out.empty() ? "nothing changed (the values asked for were already set)" : out;
+}
+
 SettingsExchange::SettingsExchange(boost::asio::io_context& io, const config::RequestConfig& config,
                                    Send send)
     : timer_(io), config_(config), send_(std::move(send)) {}

@@ -63,5 +63,36 @@ TEST_F(CoreFixture, APhotoFloodIsRefusedPastTheCameraLimitAndNothingMoreIsSent) 
     EXPECT_EQ(frames_with("0x86"), static_cast<std::size_t>(accepted));
 }
 
+// The recording state is assumed (the protocol has one toggle and no way to
+// read it): unknown until a toggle, forgotten when the device reopens.
+TEST(CameraGate, TheRecordingStateIsWhatTheLastToggleMadeIt) {
+    daemon::CameraGate gate(config::CameraConfig{});
+    using daemon::RecordingState;
+    EXPECT_EQ(gate.recording(), RecordingState::kUnknown);
+
+    const daemon::RecordRequest on{true, false};
+    const auto refused = gate.check_record(on);
+    ASSERT_TRUE(refused.has_value());
+    EXPECT_EQ(refused->code, daemon::ErrorCode::kInvalidParams);
+    EXPECT_THAT(refused->message, HasSubstr("\"force\": true"));
+
+    const daemon::RecordRequest forced_on{true, true};
+    EXPECT_FALSE(gate.check_record(forced_on).has_value());
+    EXPECT_TRUE(gate.toggle_needed(forced_on));
+    EXPECT_EQ(gate.toggled(forced_on), RecordingState::kOn);
+
+    EXPECT_FALSE(gate.check_record(on).has_value());
+    EXPECT_FALSE(gate.toggle_needed(on));  // already on: nothing to send
+    EXPECT_TRUE(gate.toggle_needed(forced_on));
+
+    const daemon::RecordRequest toggle{std::nullopt, false};
+    EXPECT_TRUE(gate.toggle_needed(toggle));
+    EXPECT_EQ(gate.toggled(toggle), RecordingState::kOff);
+
+    gate.device_opened();
+    EXPECT_EQ(gate.recording(), RecordingState::kUnknown);
+    EXPECT_EQ(gate.toggled(toggle), RecordingState::kUnknown);  // a toggle of unknown
+}
+
 }  // namespace
 }  // namespace gport::testing

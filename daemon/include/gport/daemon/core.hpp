@@ -14,7 +14,6 @@
 #include <functional>
 #include <memory>
 #include <optional>
-#include <span>
 #include <string_view>
 #include <vector>
 
@@ -22,11 +21,11 @@
 #include "gport/daemon/api.hpp"
 #include "gport/daemon/core/arbiter.hpp"
 #include "gport/daemon/core/camera_gate.hpp"
+#include "gport/daemon/core/frame_reader.hpp"
 #include "gport/daemon/core/link_monitor.hpp"
 #include "gport/daemon/core/motion.hpp"
 #include "gport/daemon/core/serial_port.hpp"
 #include "gport/daemon/core/settings_exchange.hpp"
-#include "gport/protocol/decoder.hpp"
 
 namespace gport::daemon {
 
@@ -96,13 +95,9 @@ class Core final : public Api {
                   SettingsCallback done);
     bool send(const protocol::Frame& frame);
 
-    // ---- the read path and events (core.cpp) ----
-    void on_bytes(std::span<const std::uint8_t> bytes);
-    void on_frame(const protocol::FrameView& frame, SteadyTime now, WallTime wall);
+    // ---- events (core.cpp) ----
     void on_attitude(const protocol::Attitude& attitude, SteadyTime now, WallTime wall);
     void on_link(const LinkEvent& event);
-    void report_line_quality();
-    void arm_quality_timer();
 
     boost::asio::io_context& io_;
     config::Config config_;  // as started: read only for keys a reload never changes
@@ -112,18 +107,14 @@ class Core final : public Api {
     std::vector<std::function<void(const LinkEvent&)>> link_listeners_;
     std::optional<AttitudeSample> latest_;
     Arbiter arbiter_;
-    protocol::Decoder decoder_;
+    FrameReader reader_;
     SerialPort port_;
     LinkMonitor monitor_;
     Motion motion_;  // after port_: it sends through it
     SettingsExchange settings_;
-    boost::asio::steady_timer quality_timer_;
     boost::asio::steady_timer shutdown_timer_;
-    protocol::DecoderStats reported_{};
     std::uint64_t seq_ = 0;
-    std::uint64_t bad_messages_ = 0;
     bool stopping_ = false;
-    RecordingState recording_ = RecordingState::kUnknown;  // assumed; unknown on each open
     CameraGate camera_;
 };
 

@@ -15,12 +15,18 @@
 #include <deque>
 #include <functional>
 #include <optional>
+#include <string>
 
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
 #include "gport/protocol/messages.hpp"
 
 namespace gport::daemon {
+
+// "dead_zone 10 -> 5, inverted no -> yes": the values a set changed, or that
+// nothing did (for the journal).
+std::string describe_change(const protocol::SettingsBlock& before,
+                            const protocol::SettingsBlock& after);
 
 class SettingsExchange {
   public:
