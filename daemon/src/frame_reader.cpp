@@ -6,19 +6,14 @@
 namespace gport::daemon {
 
 namespace gp = gport::protocol;
-using namespace std::chrono_literals;
-
-namespace {
-
-constexpr auto kQualityInterval = 10s;
-
-}  // namespace
 
 FrameReader::FrameReader(boost::asio::io_context& io, std::string device,
-                         std::shared_ptr<spdlog::logger> log, Handlers handlers)
+                         std::shared_ptr<spdlog::logger> log, Handlers handlers,
+                         std::chrono::milliseconds interval)
     : device_(std::move(device)),
       log_(std::move(log)),
       handlers_(std::move(handlers)),
+      interval_(interval),
       quality_timer_(io) {}
 
 void FrameReader::feed(std::span<const std::uint8_t> bytes) {
@@ -51,7 +46,7 @@ void FrameReader::on_frame(const gp::FrameView& frame, SteadyTime now, WallTime 
 }
 
 void FrameReader::start() {
-    quality_timer_.expires_after(kQualityInterval);
+    quality_timer_.expires_after(interval_);
     quality_timer_.async_wait([this](boost::system::error_code ec) {
         if (!ec) {
             report_quality();
@@ -69,8 +64,7 @@ void FrameReader::report_quality() {
         log_->warn(
             "noisy line on {}: {} CRC errors, {} header errors, {} garbage bytes in the "
             "last {} s",
-            device_, crc, header, garbage,
-            std::chrono::duration_cast<std::chrono::seconds>(kQualityInterval).count());
+            device_, crc, header, garbage, std::chrono::duration<double>(interval_).count());
     }
     reported_ = now;
 }

@@ -4,7 +4,9 @@
 #include "gport/daemon/core/frame_reader.hpp"
 
 #include <gtest/gtest.h>
+#include <spdlog/sinks/ostream_sink.h>
 
+#include <sstream>
 #include <vector>
 
 #include "core_fixture.hpp"
@@ -104,6 +106,34 @@ TEST_F(FrameReaderTest, AResetDropsTheFrameTheDeviceClosedInTheMiddleOf) {
     reader.reset();
     feed(second);
     EXPECT_EQ(heard.attitudes.size(), 1u);  // not across a reopen
+}
+
+// A noisy line is one journal line per interval that had errors, naming the
+// device and the counts of that interval; a quiet interval logs nothing.
+TEST(FrameReaderQuality, ANoisyIntervalIsOneSummaryAndAQuietOneIsNone) {
+    using namespace std::chrono_literals;
+    boost::asio::io_context io;
+    std::ostringstream out;
+    auto log = std::make_shared<spdlog::logger>(
+        "test", std::make_shared<spdlog::sinks::ostream_sink_st>(out));
+    log->set_pattern("%v");
+    daemon::FrameReader reader(io, "/dev/test", log,
+                               daemon::FrameReader::Handlers{
+                                   [](const gp::Attitude&, daemon::SteadyTime, daemon::WallTime) {},
+                                   [](const gp::SettingsBlock&) {}, [] {}},
+                               50ms);
+    reader.start();
+    reader.feed(std::vector<std::uint8_t>(100, 0x00));
+    for (int i = 0; i < 100 && out.str().empty(); ++i) {
+        io.run_one_for(100ms);
+    }
+    EXPECT_EQ(out.str(),
+              "noisy line on /dev/test: 0 CRC errors, 0 header errors, 100 garbage bytes in the "
+              "last 0.05 s\n");
+    out.str("");
+    io.run_for(200ms);  // quiet intervals
+    EXPECT_EQ(out.str(), "");
+    reader.stop();
 }
 
 }  // namespace

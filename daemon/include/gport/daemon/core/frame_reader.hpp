@@ -9,6 +9,7 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -29,9 +30,13 @@ class FrameReader {
         std::function<void()> settings_ack;                                   // 0x16
     };
 
-    // `device` names the line in the journal's summaries.
+    static constexpr std::chrono::milliseconds kQualityInterval{10'000};
+
+    // `device` names the line in the journal's summaries, one at most every
+    // `interval`.
     FrameReader(boost::asio::io_context& io, std::string device,
-                std::shared_ptr<spdlog::logger> log, Handlers handlers);
+                std::shared_ptr<spdlog::logger> log, Handlers handlers,
+                std::chrono::milliseconds interval = kQualityInterval);
 
     void feed(std::span<const std::uint8_t> bytes);
     // The device reopened: a frame cut in half by the close is dropped.
@@ -52,6 +57,7 @@ class FrameReader {
     std::shared_ptr<spdlog::logger> log_;
     Handlers handlers_;
     protocol::Decoder decoder_;
+    std::chrono::milliseconds interval_;
     boost::asio::steady_timer quality_timer_;
     protocol::DecoderStats reported_{};
     std::uint64_t bad_messages_ = 0;
