@@ -176,7 +176,12 @@ async function rateRun(what, sock, start, stop, rates) {
   const first = frames.find((f) => !isStop(f));
   const end = first ? frames.find((f) => f.t > first.t && isStop(f)) : undefined;
   const moving = frames.filter((f) => !isStop(f));
-  const others = frames.filter((f) => f.j.mode !== 'speed' && (!end || f.t <= end.t));
+  // Before the first speed frame PX4 may still send the target it held (an
+  // ROI's angle, already in flight when the rate command left): only a move
+  // to 0/0/0 (q = [1,0,0,0] taken for an angle) or a centre counts there.
+  const toZero = (f) => f.j.mode !== 'angle' || h.sameAxes(f.j.angle, [0, 0, 0]);
+  const others = frames.filter((f) => f.j.mode !== 'speed' && (!end || f.t <= end.t) &&
+    (!first || f.t >= first.t || toZero(f)));
   const speeds = [...new Set(moving.map((f) => JSON.stringify(f.j.speed)))];
   const expected = [0, rates[0], rates[1]];
   const [dp, dy] = [after.pitch - before.pitch, wrap(after.yaw - before.yaw)];
