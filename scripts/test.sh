@@ -62,7 +62,8 @@ scripts/check-layering.sh
 
 source scripts/deps.sh
 arm_arches=()
-[ "${GPORT_ARM:-}" = skip ] || arm_arches=(arm64 armhf)
+# armhf first: it runs more tests, so its build is awaited first.
+[ "${GPORT_ARM:-}" = skip ] || arm_arches=(armhf arm64)
 # What the Release build compiles with, first; the rest (the tests' and ARM
 # stages' packages, in one apt run) beside the build: prepare_rest below.
 mapfile -t cross_packages < <(gport_cross_packages "${arm_arches[@]}")
@@ -167,7 +168,7 @@ later_builds() {
   asan_build
   touch "$logs/built-asan"
   local arch
-  for arch in $(printf '%s\n' "${arm_arches[@]}" | sort -r); do  # armhf first: it runs more
+  for arch in "${arm_arches[@]}"; do
     echo "== $arch build"
     scripts/test-arm.sh --build "$arch"
     touch "$logs/built-$arch"
@@ -257,7 +258,7 @@ done
 if [ "${GPORT_ARM:-}" = skip ]; then
   stage "ARM stages: SKIPPED (GPORT_ARM=skip)"
 else
-  for arch in $(printf '%s\n' "${arm_arches[@]}" | sort -r); do
+  for arch in "${arm_arches[@]}"; do
     stage "$arch tests under qemu (scripts/test-arm.sh; built in the background)"
     await_built "$arch"
     scripts/test-arm.sh --test "$arch"
