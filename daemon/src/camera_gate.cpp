@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <utility>
 
 namespace gport::daemon {
 
@@ -26,8 +27,39 @@ base::TokenBucket bucket(const config::CameraConfig& config) {
 
 }  // namespace
 
-CameraGate::CameraGate(const config::CameraConfig& config)
-    : rate_(bucket(config)), photo_log_(kLogInterval), record_log_(kLogInterval) {}
+CameraGate::CameraGate(const config::CameraConfig& config, std::shared_ptr<spdlog::logger> log,
+                       Send send)
+    : log_(std::move(log)),
+      send_(std::move(send)),
+      rate_(bucket(config)),
+      photo_log_(kLogInterval),
+      record_log_(kLogInterval) {}
+
+Outcome<Done> CameraGate::photo(int pid) {
+    return command(protocol::CameraAction::kPhoto, pid);
+}
+
+Outcome<RecordResult> CameraGate::record(const RecordRequest& request, int pid) {
+    if (!toggle_needed(request)) {
+        return RecordResult{false, recording_};
+    }
+    if (auto done = command(protocol::CameraAction::kToggleRecording, pid); !done) {
+        return done.error();
+    }
+    log_->info("recording assumed {}", to_string(toggled(request)));
+    return RecordResult{true, recording_};
+}
+
+Outcome<Done> CameraGate::command(protocol::CameraAction action, int pid) {
+    if (auto refused = admit()) {
+        return std::move(*refused);
+    }
+    if (auto failed = send_(protocol::encode(protocol::Camera{action}))) {
+        return std::move(*failed);
+    }
+    sent(action == protocol::CameraAction::kPhoto ? "photo" : "record toggle", pid);
+    return Done{};
+}
 
 std::optional<CommandError> CameraGate::admit(Clock::time_point now) {
     if (rate_.take(now)) {
@@ -43,14 +75,15 @@ std::optional<CommandError> CameraGate::admit(Clock::time_point now) {
                     rate_.rate(), wait.count())};
 }
 
-void CameraGate::sent(spdlog::logger& log, std::string_view kind, int pid, Clock::time_point now) {
+void CameraGate::sent(std::string_view kind, int pid, Clock::time_point now) {
     auto& limiter = kind == "photo" ? photo_log_ : record_log_;
     if (auto count = limiter.occur(now)) {
         if (*count == 1) {
-            log.info("camera {} by pid {}", kind, pid);
+            log_->info("camera {} by pid {}", kind, pid);
         } else {
-            log.info("camera {} by pid {} ({} {} commands in the last {} s)", kind, pid, *count,
-                     kind, std::chrono::duration_cast<std::chrono::seconds>(kLogInterval).count());
+            log_->info("camera {} by pid {} ({} {} commands in the last {} s)", kind, pid, *count,
+                       kind,
+                       std::chrono::duration_cast<std::chrono::seconds>(kLogInterval).count());
         }
     }
 }

@@ -2,8 +2,6 @@
 // raise. Commands are in core_commands.cpp, status in core_status.cpp.
 #include "gport/daemon/core.hpp"
 
-#include <boost/asio/post.hpp>
-
 namespace gport::daemon {
 
 namespace asio = boost::asio;
@@ -43,15 +41,8 @@ Core::Core(asio::io_context& io, const config::Config& config, std::shared_ptr<s
           log_),
       monitor_(io, config.link.stale_after, [this](const LinkEvent& e) { on_link(e); }),
       motion_(io, config, port_, log_),
-      settings_(io, config.requests,
-                [this](const gp::Frame& f) -> std::optional<CommandError> {
-                    if (send(f)) {
-                        return std::nullopt;
-                    }
-                    return link_down();
-                }),
-      shutdown_timer_(io),
-      camera_(config.camera) {
+      settings_(io, config.requests, [this](const gp::Frame& f) { return send(f); }),
+      camera_(config.camera, log_, [this](const gp::Frame& f) { return send(f); }) {
     settings_.on_changed([this](std::uint64_t client, const gp::SettingsBlock& before,
                                 const gp::SettingsBlock& after) {
         log_->info("settings changed by client {}: {}", client, describe_change(before, after));
@@ -111,25 +102,11 @@ void Core::shutdown(std::function<void()> done) {
     stopping_ = true;
     settings_.abort_all(link_down());  // after stopping_: "gportd is shutting down"
     reader_.stop();
-    auto finished = std::make_shared<bool>(false);
-    auto finish = [this, finished, done = std::move(done)] {
-        if (std::exchange(*finished, true)) {
-            return;
-        }
-        shutdown_timer_.cancel();
+    port_.drain(kShutdownDrainLimit, [this, done = std::move(done)] {
         monitor_.stop();
         port_.stop();
         done();
-    };
-    shutdown_timer_.expires_after(kShutdownDrainLimit);
-    shutdown_timer_.async_wait([finish](boost::system::error_code ec) {
-        if (!ec) {
-            finish();
-        }
     });
-    // Posted to the loop (never to asio's system executor, another thread),
-    // so that finish() does not run inside SerialPort's own completion.
-    port_.when_drained([this, finish] { asio::post(io_, [finish] { finish(); }); });
 }
 
 }  // namespace gport::daemon

@@ -28,8 +28,11 @@ CommandError Core::link_down(std::string_view consequence) const {
     return link_down_error(port_, stopping_, consequence);
 }
 
-bool Core::send(const gp::Frame& frame) {
-    return !stopping_ && port_.send(frame);
+std::optional<CommandError> Core::send(const gp::Frame& frame) {
+    if (!stopping_ && port_.send(frame)) {
+        return std::nullopt;
+    }
+    return link_down();
 }
 
 bool Core::may_command(const ClientInfo& client) const {
@@ -94,7 +97,10 @@ Outcome<Done> Core::lock(const ClientInfo& client) {
 }
 
 Outcome<Done> Core::photo(const ClientInfo& client) {
-    return camera(client, gp::CameraAction::kPhoto);
+    if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
+        return std::move(*refused);
+    }
+    return camera_.photo(client.pid);
 }
 
 // The recording state is CameraGate's (assumed: the protocol cannot read it).
@@ -102,35 +108,10 @@ Outcome<RecordResult> Core::record(const ClientInfo& client, RecordRequest reque
     if (auto invalid = camera_.check_record(request)) {
         return std::move(*invalid);
     }
-    if (!camera_.toggle_needed(request)) {
-        if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
-            return std::move(*refused);
-        }
-        return RecordResult{false, camera_.recording()};
-    }
-    if (auto sent = camera(client, gp::CameraAction::kToggleRecording); !sent) {
-        return sent.error();
-    }
-    const auto recording = camera_.toggled(request);
-    log_->info("recording assumed {}", to_string(recording));
-    return RecordResult{true, recording};
-}
-
-Outcome<Done> Core::camera(const ClientInfo& client, gp::CameraAction action) {
     if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
         return std::move(*refused);
     }
-    if (!port_.is_open()) {
-        return link_down();
-    }
-    if (auto refused = camera_.admit()) {
-        return std::move(*refused);
-    }
-    if (!send(gp::encode(gp::Camera{action}))) {
-        return link_down();
-    }
-    camera_.sent(*log_, action == gp::CameraAction::kPhoto ? "photo" : "record toggle", client.pid);
-    return Done{};
+    return camera_.record(request, client.pid);
 }
 
 // ---- control -------------------------------------------------------------------

@@ -5,6 +5,7 @@
 #include <termios.h>
 
 #include <algorithm>
+#include <boost/asio/post.hpp>
 #include <boost/asio/write.hpp>
 #include <utility>
 
@@ -21,6 +22,7 @@ SerialPort::SerialPort(asio::io_context& io, const config::SerialConfig& serial,
     : port_(io),
       reopen_timer_(io),
       pace_timer_(io),
+      drain_timer_(io),
       device_(serial.device),
       baud_(serial.baud),
       byte_time_(std::chrono::nanoseconds(10'000'000'000LL / std::max(serial.baud, 1u))),
@@ -258,12 +260,27 @@ SerialPort::Stats SerialPort::stats() const {
     return s;
 }
 
-void SerialPort::when_drained(std::function<void()> done) {
+void SerialPort::drain(std::chrono::milliseconds limit, std::function<void()> done) {
+    auto once = [this, called = std::make_shared<bool>(false), done = std::move(done)] {
+        if (!std::exchange(*called, true)) {
+            drain_timer_.cancel();
+            done();
+        }
+    };
+    drain_timer_.expires_after(limit);
+    drain_timer_.async_wait([once](boost::system::error_code ec) {
+        if (!ec) {
+            once();
+        }
+    });
+    // Posted: done() may close the port, which must not happen inside the
+    // write completion that found the queue empty.
+    auto drained = [this, once] { asio::post(drain_timer_.get_executor(), once); };
     if ((queue_.empty() && !in_flight_) || !port_.is_open()) {
-        done();
-        return;
+        drained();
+    } else {
+        drained_waiters_.push_back(std::move(drained));
     }
-    drained_waiters_.push_back(std::move(done));
 }
 
 void SerialPort::notify_drained() {

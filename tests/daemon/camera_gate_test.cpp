@@ -12,10 +12,26 @@ namespace {
 
 using ::testing::HasSubstr;
 
+// The frames a gate sent (none when the device refuses them).
+struct SentFrames {
+    std::vector<protocol::Frame> frames;
+    bool link_up = true;
+    daemon::CameraGate::Send send() {
+        return [this](const protocol::Frame& f) -> std::optional<daemon::CommandError> {
+            if (!link_up) {
+                return daemon::CommandError{daemon::ErrorCode::kLinkDown, "link down"};
+            }
+            frames.push_back(f);
+            return std::nullopt;
+        };
+    }
+};
+
 TEST(CameraGate, ABurstOfOneSecondThenTheRate) {
     config::CameraConfig config;
     config.max_commands_per_s = 4;
-    daemon::CameraGate gate(config);
+    SentFrames line;
+    daemon::CameraGate gate(config, quiet_logger(), line.send());
     const auto t0 = std::chrono::steady_clock::time_point{} + 100s;
     for (int i = 0; i < 4; ++i) {
         EXPECT_FALSE(gate.admit(t0).has_value()) << i;
@@ -33,7 +49,8 @@ TEST(CameraGate, ABurstOfOneSecondThenTheRate) {
 TEST(CameraGate, ASlowRateStillAllowsOneCommand) {
     config::CameraConfig config;
     config.max_commands_per_s = 0.1;
-    daemon::CameraGate gate(config);
+    SentFrames line;
+    daemon::CameraGate gate(config, quiet_logger(), line.send());
     const auto t0 = std::chrono::steady_clock::time_point{} + 100s;
     EXPECT_FALSE(gate.admit(t0).has_value());
     EXPECT_TRUE(gate.admit(t0 + 5s).has_value());
@@ -66,8 +83,11 @@ TEST_F(CoreFixture, APhotoFloodIsRefusedPastTheCameraLimitAndNothingMoreIsSent) 
 // The recording state is assumed (the protocol has one toggle and no way to
 // read it): unknown until a toggle, forgotten when the device reopens.
 TEST(CameraGate, TheRecordingStateIsWhatTheLastToggleMadeIt) {
-    daemon::CameraGate gate(config::CameraConfig{});
+    SentFrames line;
+    daemon::CameraGate gate(config::CameraConfig{}, quiet_logger(), line.send());
     using daemon::RecordingState;
+    const auto toggle_frame =
+        protocol::encode(protocol::Camera{protocol::CameraAction::kToggleRecording});
     EXPECT_EQ(gate.recording(), RecordingState::kUnknown);
 
     const daemon::RecordRequest on{true, false};
@@ -78,16 +98,29 @@ TEST(CameraGate, TheRecordingStateIsWhatTheLastToggleMadeIt) {
 
     const daemon::RecordRequest forced_on{true, true};
     EXPECT_FALSE(gate.check_record(forced_on).has_value());
-    EXPECT_TRUE(gate.toggle_needed(forced_on));
-    EXPECT_EQ(gate.toggled(forced_on), RecordingState::kOn);
+    auto result = gate.record(forced_on, 42);
+    ASSERT_TRUE(result.ok());
+    EXPECT_TRUE(result->sent);
+    EXPECT_EQ(result->recording, RecordingState::kOn);
+    ASSERT_EQ(line.frames.size(), 1u);
+    EXPECT_EQ(line.frames[0], toggle_frame);
 
     EXPECT_FALSE(gate.check_record(on).has_value());
-    EXPECT_FALSE(gate.toggle_needed(on));  // already on: nothing to send
+    result = gate.record(on, 42);  // already on: nothing to send
+    ASSERT_TRUE(result.ok());
+    EXPECT_FALSE(result->sent);
+    EXPECT_EQ(line.frames.size(), 1u);
     EXPECT_TRUE(gate.toggle_needed(forced_on));
 
     const daemon::RecordRequest toggle{std::nullopt, false};
-    EXPECT_TRUE(gate.toggle_needed(toggle));
-    EXPECT_EQ(gate.toggled(toggle), RecordingState::kOff);
+    EXPECT_EQ(gate.record(toggle, 42)->recording, RecordingState::kOff);
+    EXPECT_EQ(line.frames.size(), 2u);
+
+    line.link_up = false;  // not sent: the state stays
+    const auto down = gate.record(toggle, 42);
+    ASSERT_FALSE(down.ok());
+    EXPECT_EQ(down.error().code, daemon::ErrorCode::kLinkDown);
+    EXPECT_EQ(gate.recording(), RecordingState::kOff);
 
     gate.device_opened();
     EXPECT_EQ(gate.recording(), RecordingState::kUnknown);

@@ -10,7 +10,6 @@
 #include <spdlog/logger.h>
 
 #include <boost/asio/io_context.hpp>
-#include <boost/asio/steady_timer.hpp>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -90,10 +89,10 @@ class Core final : public Api {
     // The one kLinkDown error (link_down_error), then what follows for this
     // request (may be empty).
     CommandError link_down(std::string_view consequence = {}) const;
-    Outcome<Done> camera(const ClientInfo& client, protocol::CameraAction action);
     void settings(const ClientInfo& client, std::optional<SettingsChange> change,
                   SettingsCallback done);
-    bool send(const protocol::Frame& frame);
+    // Queues a frame for the device, or the kLinkDown error.
+    std::optional<CommandError> send(const protocol::Frame& frame);
 
     // ---- events (core.cpp) ----
     void on_attitude(const protocol::Attitude& attitude, SteadyTime now, WallTime wall);
@@ -112,7 +111,6 @@ class Core final : public Api {
     LinkMonitor monitor_;
     Motion motion_;  // after port_: it sends through it
     SettingsExchange settings_;
-    boost::asio::steady_timer shutdown_timer_;
     std::uint64_t seq_ = 0;
     bool stopping_ = false;
     CameraGate camera_;

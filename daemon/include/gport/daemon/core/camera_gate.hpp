@@ -1,5 +1,6 @@
-// What a camera command must pass before its frame goes to the gimbal: a
-// rate a camera can follow (config camera.max_commands_per_s, over all
+// The camera commands (photo, record), once Core admitted their client
+// (access and control, the device): what they must pass before their frame
+// goes to the gimbal, a rate a camera can follow (config camera.max_commands_per_s, over all
 // clients, a burst of one second's worth), and the journal's pace for them
 // (one line per kind, then a summary at most every 10 s, so a flood cannot
 // push gportd's other messages out of journald's rate limit). It also keeps
@@ -13,6 +14,8 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string_view>
 
@@ -21,6 +24,7 @@
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
 #include "gport/daemon/outcome.hpp"
+#include "gport/protocol/messages.hpp"
 
 namespace gport::daemon {
 
@@ -28,14 +32,20 @@ class CameraGate {
   public:
     using Clock = std::chrono::steady_clock;
 
-    explicit CameraGate(const config::CameraConfig& config);
+    // Queues a frame for the device; the error when it could not be queued.
+    using Send = std::function<std::optional<CommandError>(const protocol::Frame&)>;
+
+    CameraGate(const config::CameraConfig& config, std::shared_ptr<spdlog::logger> log, Send send);
+
+    // A photo for client `pid`: the rate, then the frame.
+    Outcome<Done> photo(int pid);
+    // A record request that passed check_record(): the toggle when the state
+    // asked for does not hold already (or with force), then the state.
+    Outcome<RecordResult> record(const RecordRequest& request, int pid);
 
     // Empty when a command may go now (its token is spent); else the
     // kTooManyRequests error naming the limit and when to try again.
     std::optional<CommandError> admit(Clock::time_point now = Clock::now());
-    // Logs one sent command of `kind` ("photo", "record toggle"), paced.
-    void sent(spdlog::logger& log, std::string_view kind, int pid,
-              Clock::time_point now = Clock::now());
 
     void reload(const config::CameraConfig& config);
     CameraStatus status() const;
@@ -52,6 +62,12 @@ class CameraGate {
     void device_opened() { recording_ = RecordingState::kUnknown; }
 
   private:
+    Outcome<Done> command(protocol::CameraAction action, int pid);
+    // Logs one sent command of `kind` ("photo", "record toggle"), paced.
+    void sent(std::string_view kind, int pid, Clock::time_point now = Clock::now());
+
+    std::shared_ptr<spdlog::logger> log_;
+    Send send_;
     base::TokenBucket rate_;
     std::uint64_t refused_ = 0;
     base::RepeatLimiter photo_log_;

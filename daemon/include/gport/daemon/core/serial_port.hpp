@@ -79,8 +79,10 @@ class SerialPort {
     // because the device is closed (or closes before it is written) is owed:
     // it is the first frame written when the device opens again.
     bool send(const protocol::Frame& frame, FrameKind kind = FrameKind::kOther);
-    // Calls done once every queued frame is written or the device is closed.
-    void when_drained(std::function<void()> done);
+    // Calls done once, from the loop (never inside a completion of the
+    // port's own), when every queued frame is written, the device is
+    // closed, or `limit` passed: a shutdown's bounded wait for its stop.
+    void drain(std::chrono::milliseconds limit, std::function<void()> done);
 
   private:
     void try_open();
@@ -97,6 +99,7 @@ class SerialPort {
     boost::asio::serial_port port_;
     boost::asio::steady_timer reopen_timer_;
     boost::asio::steady_timer pace_timer_;
+    boost::asio::steady_timer drain_timer_;
     std::string device_;
     unsigned baud_;
     std::chrono::nanoseconds byte_time_;  // one byte on the wire: 10 bits (8N1)
