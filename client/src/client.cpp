@@ -377,14 +377,15 @@ AttitudeChannel Client::attitude_channel() {
 
 std::optional<Notification> Client::next_notification(std::optional<Milliseconds> timeout) {
     auto& impl = this->impl();
-    const auto deadline =
-        timeout ? std::optional(std::chrono::steady_clock::now() + *timeout) : std::nullopt;
+    // Used only with a timeout (always set: g++ -O1 took an optional
+    // deadline for one that may be read unset).
+    const auto deadline = std::chrono::steady_clock::now() + timeout.value_or(Milliseconds(0));
     bool tried = false;  // a zero timeout still reads what already arrived
     while (impl.queue.empty()) {
         std::optional<Milliseconds> left;
-        if (deadline) {
+        if (timeout) {
             left = std::max(Milliseconds(0), std::chrono::duration_cast<Milliseconds>(
-                                                 *deadline - std::chrono::steady_clock::now()));
+                                                 deadline - std::chrono::steady_clock::now()));
             if (tried && left->count() == 0) {
                 return std::nullopt;
             }
