@@ -158,7 +158,13 @@ asan_build() {
     -DGPORT_SANITIZE=ON -DGPORT_BUILD_FUZZ=ON -DGPORT_BUILD_BENCH=OFF -DGPORT_WERROR=ON \
     -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_SITL_TESTS=OFF \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O0 -g1"
-  npm_install build/asan  # from npm's cache now
+  # node-mavlink: the Release tree's install, copied (the same lock file), so
+  # npm_install finds it done. npm ci again revalidated its cache with the
+  # registry: two minutes at the head of this build in a fresh root.
+  local peer=tests/mavlink/peer/mavlink-peer
+  mkdir -p "build/asan/$peer"
+  cp -a "build/release/$peer/." "build/asan/$peer/" 2>/dev/null || true
+  npm_install build/asan
   cmake --build build/asan -j "$jobs"
 }
 later_builds() {
@@ -207,13 +213,16 @@ fi
 
 stage "ASan+UBSan tests (clang-14; built in the background)"
 await_built asan
-# The checks of the sources themselves (layering, man pages) ran in the
-# Release stage: they do not depend on how the code was built. So did the
-# browser test: a chromium beside an instrumented gport-web on two cores
-# measures the machine, not the page; gport-web's own suites (every request
-# and WebSocket path, the attacks) run here under the sanitizers.
+# The checks of the sources themselves (layering, man pages, mypy: label
+# typecheck) and of what is installed and packaged (label install: the
+# .deb, the install tree, a consumer of the installed client library, the
+# Python package in a venv) ran in the Release stage: they do not depend on
+# how the code was built. So did the browser test: a chromium beside an
+# instrumented gport-web on two cores measures the machine, not the page;
+# gport-web's own suites (every request and WebSocket path, the attacks) run
+# here under the sanitizers.
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE '^(layering|man|browser)$'
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE '^(layering|man|typecheck|install|browser)$'
 
 # One fuzzer per corpus folder: fuzz/corpus/<name>/ seeds <name>_fuzz.
 fuzzers=()
