@@ -54,7 +54,7 @@ stage() { echo; echo "== $* ($(($(date +%s) - start)) s)"; }
 # alignment) under the unit suites, the cross toolchain's warnings and the
 # .deb's contents; the amd64 Release build checks -O2's code. It saves a
 # quarter of the ARM builds' compile (daemon's unity unit for arm64: 22.4 s
-# of CPU at -O2, 17.2 s at -O1), which is most of CI's time. A package to
+# of CPU at -O2, 17.2 s at -O1); they are about a third of CI's CPU. A package to
 # install is built at -O2 (docs/operations.md, "Building for ARM");
 # GPORT_ARM_RELEASE_FLAGS='-O2 -DNDEBUG' builds these so.
 release_flags=${GPORT_ARM_RELEASE_FLAGS:--O1 -DNDEBUG}
