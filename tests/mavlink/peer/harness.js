@@ -159,6 +159,18 @@ function freeUdpPort() {
   });
 }
 
+// The kernel's view of the UDP socket bound to 127.0.0.1:PORT, from
+// /proc/net/udp: `queued`, the bytes waiting to be read, and `drops`, the
+// datagrams dropped because its receive buffer was full (a receiver slowed
+// down, under a sanitizer, say). Zeros when no such socket is found.
+function udpSocket(port) {
+  const local = `0100007F:${port.toString(16).toUpperCase().padStart(4, '0')}`;
+  const rows = fs.readFileSync('/proc/net/udp', 'utf8').split('\n').slice(1);
+  const row = rows.map((l) => l.trim().split(/\s+/)).find((f) => f[1] === local);
+  if (!row) return { queued: 0, drops: 0 };
+  return { queued: parseInt(row[4].split(':')[1], 16), drops: Number(row[row.length - 1]) };
+}
+
 // ---- signing with node-mavlink's signer
 // `timestamp` in MAVLink's units (10 µs since 2015); defaults to now.
 function nowTimestamp() { return (Date.now() - SIGNATURE_START) * 100; }
@@ -269,7 +281,7 @@ function setParam(gcs, name, value, type) {
 
 module.exports = {
   REGISTRY, check, failures, figures, finish, sleep, until, deg, rad, toQuaternion, toEuler, wrap, start, children,
-  rpc, trace, controlFrames, cameraFrames, sameAxes, angleFrames, startGimbal, freeUdpPort,
+  rpc, trace, controlFrames, cameraFrames, sameAxes, angleFrames, startGimbal, freeUdpPort, udpSocket,
   nowTimestamp, signBuffer, Peer, heartbeat, setAttitude, commandLong, minimal, common,
   MavLinkPacketSignature, readParam, setParam,
 };

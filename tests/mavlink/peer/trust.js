@@ -129,6 +129,7 @@ async function main() {
   //    then a count; section 1 wrote this minute's), 1,000
   //    bad quaternions from the vehicle make one warning.
   const before = bridge.lines.length;
+  const dropsBefore = h.udpSocket(port).drops;
   for (let id = 100; id < 140; id += 1) {
     const p = new Peer({ sysid: id, compid: 1 });
     p.socket = rogue.socket; // one socket, many claimed ids
@@ -140,9 +141,12 @@ async function main() {
     if (i % 50 === 0) await sleep(5);
   }
   await sleep(800);
+  await until(() => h.udpSocket(port).queued === 0, 10000, 'gport-mavlink to read every datagram').catch(() => null);
+  const dropped = h.udpSocket(port).drops - dropsBefore;
   const stranger = bridge.lines.slice(before).filter((l) => /ignoring system|untrusted senders/.test(l));
   const quaternion = bridge.lines.slice(before).filter((l) => /bad quaternion/.test(l));
-  figures.push(`40 more rogue system ids -> ${stranger.length} lines; 1,000 infinite quaternions -> ${quaternion.length} line(s)`);
+  figures.push(`40 more rogue system ids -> ${stranger.length} lines; 1,000 infinite quaternions -> ${quaternion.length} line(s); ` +
+    `${dropped} datagram(s) dropped by the kernel (gport-mavlink's receive buffer full)`);
   check(stranger.length <= 1, `rogue sender lines bounded: ${stranger.length} (one a minute, then a count)`);
   check(quaternion.length === 1, `1,000 bad quaternions -> ${quaternion.length} warning line`);
 
@@ -151,7 +155,15 @@ async function main() {
   bridge.kill('SIGTERM');
   const exit = await bridge.exited;
   check(exit.code === 0, `gport-mavlink exits 0 on SIGTERM (${exit.code} ${exit.signal})`);
-  check(bridge.lines.some((l) => /bad quaternion: 999 more/.test(l)), 'the summary counts the 999 other bad quaternions');
+  // Every quaternion that reached gport-mavlink is counted: 999 more, less
+  // those the kernel dropped before it could read them (a slow receiver's
+  // full socket buffer, under ASan on a busy machine; the drops counted
+  // include any of the 40 rogue frames, so the lower bound is loose by at
+  // most 40).
+  const summary = bridge.lines.map((l) => /bad quaternion: (\d+) more/.exec(l)).find((m) => m);
+  const more = summary ? Number(summary[1]) : -1;
+  check(more <= 999 && more >= 999 - dropped,
+    `the summary counts the other bad quaternions: ${more} more (999 sent, ${dropped} dropped by the kernel)`);
   const refused = bridge.lines.map((l) => /(\d+) refused by the trust rules/.exec(l)).find((m) => m);
   check(refused && Number(refused[1]) >= 40, `the exit line counts the untrusted frames (${refused && refused[1]})`);
   const counted = bridge.lines.map((l) => /untrusted frames ignored: (\d+) more/.exec(l)).find((m) => m);
