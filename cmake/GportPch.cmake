@@ -4,7 +4,7 @@
 # has a few sources. For clang only: scripts/test.sh's sanitizer build
 # (clang-14, -O0), where the front end is about half of a unit's time and
 # clang loads a precompiled header lazily. Measured there: tests/daemon's
-# unit 35.0 s of CPU without it, 25.6 s with it; the header costs 7.4 s
+# unit 35.0 s of CPU without it, 25.6 s with it; the header costs 9.4 s
 # once. GCC loads the whole header for every unit: with g++ it saved
 # nothing (docs/operations.md, "How CI spends its time"), so it is refused.
 #

@@ -1,1 +1,2 @@
-// The source of gport_pch, the target that builds the shared precompiled header (cmake/GportPch.cmake).
+// The source of gport_pch, the target that builds the shared precompiled header
+// (cmake/GportPch.cmake).
