@@ -3,13 +3,10 @@
 // commands go to Motion for both their checks and their frames.
 #include <fmt/format.h>
 
-#include <boost/asio/post.hpp>
-
 #include "gport/daemon/core.hpp"
 
 namespace gport::daemon {
 
-namespace asio = boost::asio;
 namespace gp = gport::protocol;
 
 // ---- checks and the device -----------------------------------------------------
@@ -18,25 +15,10 @@ std::optional<CommandError> Core::admit(const ClientInfo& client, Arbiter::Needs
     if (auto refused = arbiter_.check(client, needs)) {  // access, then control
         return refused;
     }
-    if (!device_ready()) {
-        return link_down();
+    if (!link_.ready()) {
+        return link_.link_down();
     }
     return std::nullopt;
-}
-
-CommandError Core::link_down(std::string_view consequence) const {
-    return link_down_error(port_, stopping_, consequence);
-}
-
-std::optional<CommandError> Core::send(const gp::Frame& frame) {
-    if (!stopping_ && port_.send(frame)) {
-        return std::nullopt;
-    }
-    return link_down();
-}
-
-bool Core::may_command(const ClientInfo& client) const {
-    return arbiter_.may_command(client);
 }
 
 // ---- commands ----------------------------------------------------------------
@@ -50,10 +32,7 @@ Outcome<SpeedStarted> Core::speed(const ClientInfo& client, gp::Axes speed,
     if (!request) {
         return request.error();
     }
-    if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
-        return std::move(*refused);
-    }
-    return motion_.speed(client, std::move(*request));
+    return admitted(client, [&] { return motion_.speed(client, std::move(*request)); });
 }
 
 // Any client that may command may stop, whoever holds control: stopping is
@@ -64,8 +43,8 @@ Outcome<Done> Core::stop(const ClientInfo& client) {
         return std::move(*refused);
     }
     if (!motion_.stop()) {
-        return link_down(stopping_ ? ""
-                                   : "zero speed will be the first frame sent when it reopens");
+        return link_.link_down(
+            link_.stopping() ? "" : "zero speed will be the first frame sent when it reopens");
     }
     return Done{};
 }
@@ -76,31 +55,20 @@ Outcome<AngleSent> Core::angle(const ClientInfo& client, gp::Axes angle, bool cl
     if (!target) {
         return target.error();
     }
-    if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
-        return std::move(*refused);
-    }
-    return motion_.angle(client, std::move(*target), std::move(on_end));
+    return admitted(client,
+                    [&] { return motion_.angle(client, std::move(*target), std::move(on_end)); });
 }
 
 Outcome<AngleSent> Core::center(const ClientInfo& client, MotionEndCallback on_end) {
-    if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
-        return std::move(*refused);
-    }
-    return motion_.center(client, std::move(on_end));
+    return admitted(client, [&] { return motion_.center(client, std::move(on_end)); });
 }
 
 Outcome<Done> Core::lock(const ClientInfo& client) {
-    if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
-        return std::move(*refused);
-    }
-    return motion_.lock(client);
+    return admitted(client, [&] { return motion_.lock(client); });
 }
 
 Outcome<Done> Core::photo(const ClientInfo& client) {
-    if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
-        return std::move(*refused);
-    }
-    return camera_.photo(client.pid);
+    return admitted(client, [&] { return camera_.photo(client.pid); });
 }
 
 // The recording state is CameraGate's (assumed: the protocol cannot read it).
@@ -108,10 +76,7 @@ Outcome<RecordResult> Core::record(const ClientInfo& client, RecordRequest reque
     if (auto invalid = camera_.check_record(request)) {
         return std::move(*invalid);
     }
-    if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
-        return std::move(*refused);
-    }
-    return camera_.record(request, client.pid);
+    return admitted(client, [&] { return camera_.record(request, client.pid); });
 }
 
 // ---- control -------------------------------------------------------------------
@@ -159,35 +124,13 @@ void Core::client_closed(const ClientInfo& client) {
 // ---- settings ------------------------------------------------------------------
 
 void Core::get_settings(const ClientInfo& client, SettingsCallback done) {
-    settings(client, std::nullopt, std::move(done));
+    settings_.request(client.id, admit(client, Arbiter::Needs::kAccessAndControl), std::nullopt,
+                      std::move(done));
 }
 
 void Core::set_settings(const ClientInfo& client, SettingsChange change, SettingsCallback done) {
-    settings(client, change, std::move(done));
-}
-
-void Core::settings(const ClientInfo& client, std::optional<SettingsChange> change,
-                    SettingsCallback done) {
-    auto refused = admit(client, Arbiter::Needs::kAccessAndControl);
-    if (!refused) {
-        refused = settings_.admit(client.id);
-    }
-    if (refused) {
-        asio::post(io_, [done = std::move(done), e = *refused] { done(e); });
-        return;
-    }
-    auto reply = [done = std::move(done)](Outcome<gp::SettingsBlock> r) {
-        if (!r) {
-            done(r.error());
-            return;
-        }
-        done(Settings{r->dead_zone, r->follow_speed, r->inverted()});
-    };
-    if (change) {
-        settings_.set(client.id, *change, std::move(reply));
-    } else {
-        settings_.get(client.id, std::move(reply));
-    }
+    settings_.request(client.id, admit(client, Arbiter::Needs::kAccessAndControl), change,
+                      std::move(done));
 }
 
 }  // namespace gport::daemon

@@ -3,11 +3,16 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <boost/asio/post.hpp>
 
 namespace gport::daemon {
 
 namespace gp = gport::protocol;
 
+namespace {
+
+// "dead_zone 10 -> 5, inverted no -> yes": the values a set changed, or that
+// nothing did.
 std::string describe_change(const gp::SettingsBlock& before, const gp::SettingsBlock& after) {
     std::string out;
     const auto add = [&](const char* name, const std::string& from, const std::string& to) {
@@ -21,9 +26,11 @@ std::string describe_change(const gp::SettingsBlock& before, const gp::SettingsB
     return out.empty() ? "nothing changed (the values asked for were already set)" : out;
 }
 
+}  // namespace
+
 SettingsExchange::SettingsExchange(boost::asio::io_context& io, const config::RequestConfig& config,
-                                   Send send)
-    : timer_(io), config_(config), send_(std::move(send)) {}
+                                   Send send, std::shared_ptr<spdlog::logger> log)
+    : timer_(io), config_(config), send_(std::move(send)), log_(std::move(log)) {}
 
 std::optional<CommandError> SettingsExchange::admit(std::uint64_t client) const {
     const auto mine =
@@ -41,6 +48,26 @@ std::optional<CommandError> SettingsExchange::admit(std::uint64_t client) const 
                                         kMaxTotal)};
     }
     return std::nullopt;
+}
+
+void SettingsExchange::request(std::uint64_t client, std::optional<CommandError> refused,
+                               std::optional<SettingsChange> change, Api::SettingsCallback done) {
+    if (!refused) {
+        refused = admit(client);
+    }
+    if (refused) {
+        boost::asio::post(timer_.get_executor(),
+                          [done = std::move(done), e = std::move(*refused)] { done(e); });
+        return;
+    }
+    Reply reply = [done = std::move(done)](Outcome<gp::SettingsBlock> r) {
+        if (!r) {
+            done(r.error());
+            return;
+        }
+        done(Settings{r->dead_zone, r->follow_speed, r->inverted()});
+    };
+    enqueue(Job{client, change, std::move(reply), Step::kRead, 0, {}, std::nullopt, std::nullopt});
 }
 
 void SettingsExchange::get(std::uint64_t client, Reply reply) {
@@ -154,8 +181,9 @@ void SettingsExchange::finish(Outcome<gp::SettingsBlock> result) {
     Job job = std::move(jobs_.front());
     jobs_.pop_front();
     running_ = false;
-    if (result && job.before && changed_) {
-        changed_(job.client, *job.before, *result);
+    if (result && job.before) {
+        log_->info("settings changed by client {}: {}", job.client,
+                   describe_change(*job.before, *result));
     }
     if (job.reply) {
         job.reply(std::move(result));

@@ -1,6 +1,7 @@
 // gport::daemon::Core — the one object that owns the gimbal device and keeps
-// it safe for every client: the serial port with reconnect, link health,
-// settings requests, control arbitration, status and counters; the motion
+// it safe for every client: the gimbal's link (GimbalLink: the serial port,
+// the read path, link health), settings requests, control arbitration, the
+// camera, status and counters; the motion
 // policy (keepalive, tracking, limits, braking, failsafe) is its Motion part
 // (core/motion.hpp), to which it hands admitted commands. Clients see it only
 // as a daemon::Api; the program that runs gportd constructs it, and so sees
@@ -20,10 +21,8 @@
 #include "gport/daemon/api.hpp"
 #include "gport/daemon/core/arbiter.hpp"
 #include "gport/daemon/core/camera_gate.hpp"
-#include "gport/daemon/core/frame_reader.hpp"
-#include "gport/daemon/core/link_monitor.hpp"
+#include "gport/daemon/core/gimbal_link.hpp"
 #include "gport/daemon/core/motion.hpp"
-#include "gport/daemon/core/serial_port.hpp"
 #include "gport/daemon/core/settings_exchange.hpp"
 
 namespace gport::daemon {
@@ -59,7 +58,9 @@ class Core final : public Api {
     }
     Status status() const override;
     std::optional<AttitudeSample> latest_attitude() const override { return latest_; }
-    bool may_command(const ClientInfo& client) const override;
+    bool may_command(const ClientInfo& client) const override {
+        return arbiter_.may_command(client);
+    }
     config::LimitsConfig limits() const override { return motion_.limits(); }
     Millis max_duration() const override { return motion_.max_duration(); }
     Outcome<SpeedStarted> speed(const ClientInfo& client, protocol::Axes speed,
@@ -85,14 +86,14 @@ class Core final : public Api {
     // The checks a command passes after its parameters, in the order api.hpp
     // states: access and control (Arbiter), then the device.
     std::optional<CommandError> admit(const ClientInfo& client, Arbiter::Needs needs) const;
-    bool device_ready() const { return port_.is_open() && !stopping_; }
-    // The one kLinkDown error (link_down_error), then what follows for this
-    // request (may be empty).
-    CommandError link_down(std::string_view consequence = {}) const;
-    void settings(const ClientInfo& client, std::optional<SettingsChange> change,
-                  SettingsCallback done);
-    // Queues a frame for the device, or the kLinkDown error.
-    std::optional<CommandError> send(const protocol::Frame& frame);
+    // admit(client, kAccessAndControl), then the command.
+    template <class Command>
+    auto admitted(const ClientInfo& client, Command&& command) -> decltype(command()) {
+        if (auto refused = admit(client, Arbiter::Needs::kAccessAndControl)) {
+            return std::move(*refused);
+        }
+        return command();
+    }
 
     // ---- events (core.cpp) ----
     void on_attitude(const protocol::Attitude& attitude, SteadyTime now, WallTime wall);
@@ -106,13 +107,10 @@ class Core final : public Api {
     std::vector<std::function<void(const LinkEvent&)>> link_listeners_;
     std::optional<AttitudeSample> latest_;
     Arbiter arbiter_;
-    FrameReader reader_;
-    SerialPort port_;
-    LinkMonitor monitor_;
-    Motion motion_;  // after port_: it sends through it
+    GimbalLink link_;
+    Motion motion_;  // after link_: it sends through its port
     SettingsExchange settings_;
     std::uint64_t seq_ = 0;
-    bool stopping_ = false;
     CameraGate camera_;
 };
 

@@ -10,10 +10,13 @@
 // never from inside get()/set().
 #pragma once
 
+#include <spdlog/logger.h>
+
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -22,11 +25,6 @@
 #include "gport/protocol/messages.hpp"
 
 namespace gport::daemon {
-
-// "dead_zone 10 -> 5, inverted no -> yes": the values a set changed, or that
-// nothing did (for the journal).
-std::string describe_change(const protocol::SettingsBlock& before,
-                            const protocol::SettingsBlock& after);
 
 class SettingsExchange {
   public:
@@ -38,17 +36,18 @@ class SettingsExchange {
     static constexpr std::size_t kMaxPerClient = 4;
     static constexpr std::size_t kMaxTotal = 64;
 
-    // After a set went through: the block read before and the one read back.
-    using Changed = std::function<void(std::uint64_t client, const protocol::SettingsBlock& before,
-                                       const protocol::SettingsBlock& after)>;
-
-    SettingsExchange(boost::asio::io_context& io, const config::RequestConfig& config, Send send);
-
-    void on_changed(Changed changed) { changed_ = std::move(changed); }
+    // A set that went through is logged at info level with what it changed.
+    SettingsExchange(boost::asio::io_context& io, const config::RequestConfig& config, Send send,
+                     std::shared_ptr<spdlog::logger> log);
 
     // kTooManyRequests when the client, or everyone together, has too many requests
     // waiting; check before get()/set().
     std::optional<CommandError> admit(std::uint64_t client) const;
+    // A client's request as the API takes it: `refused` (the core's
+    // admission) or admit()'s refusal is posted to done; otherwise a get (no
+    // change) or a set, whose block done receives as Settings.
+    void request(std::uint64_t client, std::optional<CommandError> refused,
+                 std::optional<SettingsChange> change, Api::SettingsCallback done);
     void get(std::uint64_t client, Reply reply);
     void set(std::uint64_t client, SettingsChange change, Reply reply);
     // The client's connection closed: its waiting requests are dropped and
@@ -85,7 +84,7 @@ class SettingsExchange {
     boost::asio::steady_timer timer_;
     config::RequestConfig config_;
     Send send_;
-    Changed changed_;
+    std::shared_ptr<spdlog::logger> log_;
     std::deque<Job> jobs_;  // front is on the wire
     bool running_ = false;
     std::uint64_t timeouts_ = 0;
