@@ -98,11 +98,6 @@ inline constexpr auto kCrcLate = make_late();
 
 }  // namespace detail
 
-// The printed-table entry i (exposed so tests can check the generated table).
-constexpr std::uint32_t crc_table_entry(std::size_t i) {
-    return detail::kCrcTable.at(i);
-}
-
 // Byte-at-a-time reference implementation, exactly the seed's algorithm.
 constexpr std::uint32_t crc32_reference(std::span<const std::uint8_t> data) {
     std::uint32_t reg = kCrcInit;
