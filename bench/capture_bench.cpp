@@ -20,6 +20,7 @@
 
 #include "gport/app/capture_writer.hpp"
 #include "gport/ipc/capture_log.hpp"
+#include "process.hpp"
 
 namespace {
 
@@ -41,20 +42,19 @@ std::shared_ptr<spdlog::logger> quiet() {
                                             std::make_shared<spdlog::sinks::null_sink_mt>());
 }
 
-std::string bench_dir() {
+// The capture log's directory on a real disk: GPORT_BENCH_DIR, or /var/tmp
+// (/tmp may be a tmpfs, where fdatasync costs nothing); made fresh, removed
+// with what the benchmark wrote.
+gport::testing::TempDir bench_dir() {
     const char* base = std::getenv("GPORT_BENCH_DIR");
-    std::string pattern = std::string(base != nullptr ? base : "/var/tmp") + "/gport-bench-XXXXXX";
-    if (::mkdtemp(pattern.data()) == nullptr) {
-        return "/tmp";
-    }
-    return pattern;
+    return gport::testing::TempDir("gport-bench", base != nullptr ? base : "/var/tmp");
 }
 
 // The loop's share: add() builds the line and queues it (the writer drains
 // in the background, so the queue never fills here).
 void BM_CaptureOnTheLoop(benchmark::State& state) {
     const auto dir = bench_dir();
-    gport::app::CaptureWriter writer({dir, 64 << 20, 2}, 1001, quiet(), 1 << 20);
+    gport::app::CaptureWriter writer({dir.path(), 64 << 20, 2}, 1001, quiet(), 1 << 20);
     gport::ipc::CaptureLog log;
     log.set_sink(&writer);
     const auto capture = sample_capture();
@@ -72,7 +72,6 @@ void BM_CaptureOnTheLoop(benchmark::State& state) {
             log.add(std::get<gport::ipc::CaptureLog::Prepared>(std::move(prepared)), "photo"));
     }
     writer.drain();
-    std::filesystem::remove_all(dir);
 }
 BENCHMARK(BM_CaptureOnTheLoop);
 
@@ -102,7 +101,7 @@ BENCHMARK(BM_CapturesPageOnTheLoop);
 void BM_CaptureToDisk(benchmark::State& state) {
     constexpr int kBurst = 1000;
     const auto dir = bench_dir();
-    gport::app::CaptureWriter writer({dir, 64 << 20, 2}, 1001, quiet(), kBurst);
+    gport::app::CaptureWriter writer({dir.path(), 64 << 20, 2}, 1001, quiet(), kBurst);
     const auto line = json(sample_capture()).dump();
     for (auto _ : state) {
         for (int i = 0; i < kBurst; ++i) {
@@ -112,7 +111,6 @@ void BM_CaptureToDisk(benchmark::State& state) {
     }
     state.SetItemsProcessed(state.iterations() * kBurst);
     state.counters["dropped"] = static_cast<double>(writer.stats().dropped);
-    std::filesystem::remove_all(dir);
 }
 BENCHMARK(BM_CaptureToDisk)->UseRealTime();
 
@@ -127,7 +125,7 @@ void BM_CaptureFlood(benchmark::State& state) {
     const auto line = json(sample_capture()).dump();
     std::uint64_t dropped = 0;
     for (auto _ : state) {
-        gport::app::CaptureWriter writer({dir, 64 << 20, 2}, 1001, quiet());
+        gport::app::CaptureWriter writer({dir.path(), 64 << 20, 2}, 1001, quiet());
         auto next = std::chrono::steady_clock::now();
         for (int i = 0; i < kPerSecond * kSeconds; ++i) {
             writer.write(line);
@@ -140,7 +138,6 @@ void BM_CaptureFlood(benchmark::State& state) {
     state.counters["dropped"] = static_cast<double>(dropped);
     state.counters["dropped_pct"] = 100.0 * static_cast<double>(dropped) /
                                     static_cast<double>(kPerSecond * kSeconds * state.iterations());
-    std::filesystem::remove_all(dir);
 }
 BENCHMARK(BM_CaptureFlood)->Iterations(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 

@@ -21,6 +21,7 @@
 #include "line_sim.hpp"
 #include "lines.hpp"
 #include "posix.hpp"
+#include "process.hpp"
 
 namespace gport::bench {
 namespace {
@@ -41,16 +42,6 @@ struct LineResult {
     std::string worst_method;
     std::string error;
 };
-
-std::string make_dir() {
-    char dir_template[] = "/tmp/gport-line-XXXXXX";
-    const char* dir = ::mkdtemp(dir_template);
-    if (dir == nullptr) {
-        throw std::runtime_error(std::string("mkdtemp: ") + std::strerror(errno));
-    }
-    ::chmod(dir, 0755);  // read-only peers of another uid reach the socket inside
-    return dir;
-}
 
 bool log_mentions(const std::string& path, const std::string& text) {
     std::ifstream in(path);
@@ -123,7 +114,9 @@ void wait_device_open(const std::string& socket) {
 LineResult run_scenario(const Options& options, const LineScenario& s) {
     LineResult r;
     r.scenario = s;
-    const std::string dir = make_dir();
+    testing::TempDir temp("gport-line");
+    const std::string& dir = temp.path();
+    ::chmod(dir.c_str(), 0755);  // read-only peers of another uid reach the socket inside
     ::mkdir((dir + "/state").c_str(), 0755);
     if (s.seeded) {
         seed_capture_log(dir + "/state", kSeedCaptures);
@@ -158,10 +151,8 @@ LineResult run_scenario(const Options& options, const LineScenario& s) {
     daemon.terminate();
     r.link_stale = log_mentions(d.log_path, "link stale");
     if (options.keep_logs) {
+        temp.keep();
         std::cerr << "bench_e2e: " << s.name << ": gportd's log kept in " << d.log_path << "\n";
-    } else {
-        std::error_code ignored;
-        std::filesystem::remove_all(dir, ignored);
     }
     return r;
 }

@@ -24,6 +24,7 @@
 #include "options.hpp"
 #include "park_attack.hpp"
 #include "posix.hpp"
+#include "process.hpp"
 #include "report.hpp"
 #include "shm_readers.hpp"
 #include "socket_readers.hpp"
@@ -215,13 +216,9 @@ CellResult run_cell(const Options& options, const std::string& dir, AttackResult
 
 int run(const Options& options) {
     raise_fd_limit();
-    char dir_template[] = "/tmp/gport-bench-XXXXXX";
-    const char* dir = ::mkdtemp(dir_template);
-    if (dir == nullptr) {
-        throw std::runtime_error(std::string("mkdtemp: ") + std::strerror(errno));
-    }
+    const testing::TempDir dir("gport-bench");
     AttackResult attack;
-    const auto result = run_cell(options, dir, attack);
+    const auto result = run_cell(options, dir.path(), attack);
     if (!options.no_header) {
         std::cout << table_header();
     }
@@ -249,10 +246,6 @@ int run(const Options& options) {
         std::ofstream out(options.json_path);
         out << summary.dump(2) << "\n";
     }
-    for (const char* name : {"gportd.json", "gportd.log"}) {
-        std::remove((std::string(dir) + "/" + name).c_str());
-    }
-    ::rmdir(dir);
     // Never a time: only a crash or a wrong count fails the run (the short CI form).
     const auto& d = result.delivery;
     if (d.missing > d.reported_dropped || d.out_of_order != 0) {

@@ -16,6 +16,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "unix_connect.hpp"
+
 namespace gport::bench {
 
 std::int64_t now_ns() {
@@ -45,21 +47,8 @@ void Fd::reset(int fd) {
 }
 
 Fd connect_unix(const std::string& path) {
-    sockaddr_un address{};
-    if (path.size() >= sizeof(address.sun_path)) {
-        throw std::runtime_error("socket path too long (at most 107 bytes): " + path);
-    }
-    address.sun_family = AF_UNIX;
-    std::memcpy(address.sun_path, path.c_str(), path.size() + 1);
-    Fd fd(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+    Fd fd(testing::connect_unix(path));
     if (!fd.valid()) {
-        throw std::runtime_error(std::string("socket(): ") + std::strerror(errno));
-    }
-    int rc = 0;
-    do {
-        rc = ::connect(fd.get(), reinterpret_cast<const sockaddr*>(&address), sizeof(address));
-    } while (rc != 0 && errno == EINTR);
-    if (rc != 0) {
         throw std::runtime_error("connect " + path + ": " + std::strerror(errno));
     }
     ::fcntl(fd.get(), F_SETFL, ::fcntl(fd.get(), F_GETFL) | O_NONBLOCK);

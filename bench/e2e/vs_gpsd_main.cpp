@@ -31,6 +31,7 @@
 #include "daemon_process.hpp"
 #include "fake_gimbal.hpp"
 #include "nmea.hpp"
+#include "process.hpp"
 #include "report.hpp"
 #include "shm_readers.hpp"
 #include "watchers.hpp"
@@ -170,12 +171,8 @@ int run(const Options& o) {
         return kSkipped;
     }
     raise_fd_limit();
-    char dir_template[] = "/tmp/gport-vs-gpsd-XXXXXX";
-    const char* dir = ::mkdtemp(dir_template);
-    if (dir == nullptr) {
-        throw std::runtime_error(std::string("mkdtemp: ") + std::strerror(errno));
-    }
-    const std::string base = dir;
+    testing::TempDir temp("gport-vs-gpsd");  // kept when the run failed: its logs
+    const std::string& base = temp.path();
     FakeGimbal gimbal;
     FakeGimbal gps;
     gps.set_payload(nmea_for);
@@ -258,8 +255,8 @@ int run(const Options& o) {
             base.c_str());
         status = 1;
     }
-    if (status == 0) {
-        std::filesystem::remove_all(base);
+    if (status != 0) {
+        temp.keep();
     }
     return status;
 }

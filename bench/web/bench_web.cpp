@@ -36,6 +36,7 @@
 
 #include "../e2e/daemon_process.hpp"
 #include "../e2e/posix.hpp"
+#include "process.hpp"
 
 namespace {
 
@@ -122,14 +123,6 @@ class Browser : public std::enable_shared_from_this<Browser> {
     std::uint64_t messages_ = 0;
 };
 
-std::string temp_dir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "bench_web.XXXXXX").string();
-    if (mkdtemp(pattern.data()) == nullptr) {
-        throw std::runtime_error("cannot make a temporary directory");
-    }
-    return pattern;
-}
-
 // The port gport-web printed ("gport-web: serving http://127.0.0.1:PORT/").
 std::string served_port(const std::string& log) {
     const std::regex served(R"(serving https?://127\.0\.0\.1:([0-9]+)/)");
@@ -189,8 +182,7 @@ std::thread direct_subscriber(const std::string& socket, const std::atomic<bool>
     });
 }
 
-void run(const Options& options) {
-    const std::string dir = temp_dir();
+void run_in(const Options& options, const std::string& dir) {
     const std::string socket = dir + "/gportd.sock";
     const std::string token = "benchbenchbenchbenchbenchbench01";
     {
@@ -278,7 +270,18 @@ void run(const Options& options) {
     }
     web.terminate();
     gportd.terminate();
-    std::filesystem::remove_all(dir);
+}
+
+// In a fresh directory, removed after the run and kept after an error: the
+// logs it names are there.
+void run(const Options& options) {
+    gport::testing::TempDir temp("bench_web");
+    try {
+        run_in(options, temp.path());
+    } catch (...) {
+        temp.keep();
+        throw;
+    }
 }
 
 }  // namespace

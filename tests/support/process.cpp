@@ -135,17 +135,22 @@ std::vector<std::string> Process::drain() {
     return out;
 }
 
-TempDir::TempDir() {
-    std::string templ = (std::filesystem::temp_directory_path() / "gport-test-XXXXXX").string();
+TempDir::TempDir(const std::string& prefix, std::string parent) {
+    if (parent.empty()) {
+        parent = std::filesystem::temp_directory_path().string();
+    }
+    std::string templ = parent + "/" + prefix + "-XXXXXX";
     if (::mkdtemp(templ.data()) == nullptr) {
-        throw std::system_error(errno, std::generic_category(), "mkdtemp");
+        throw std::system_error(errno, std::generic_category(), "mkdtemp " + templ);
     }
     path_ = templ;
 }
 
 TempDir::~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
+    if (!keep_) {
+        std::error_code ec;
+        std::filesystem::remove_all(path_, ec);
+    }
 }
 
 bool eventually(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {

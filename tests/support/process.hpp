@@ -54,18 +54,24 @@ class Process {
     bool eof_ = false;
 };
 
-// A fresh temporary directory, removed with its contents at destruction.
+// A fresh temporary directory, PARENT/PREFIX-XXXXXX (the system's temporary
+// directory by default), removed with its contents at destruction unless
+// kept. Throws std::system_error naming the directory it could not make.
 class TempDir {
   public:
-    TempDir();
+    explicit TempDir(const std::string& prefix = "gport-test", std::string parent = {});
     ~TempDir();
     TempDir(const TempDir&) = delete;
     TempDir& operator=(const TempDir&) = delete;
     const std::string& path() const { return path_; }
     std::string file(const std::string& name) const { return path_ + "/" + name; }
+    // Leaves the directory in place for someone to read (a benchmark's logs
+    // after a failed or --keep-logs run).
+    void keep() { keep_ = true; }
 
   private:
     std::string path_;
+    bool keep_ = false;
 };
 
 // Polls pred every 10 ms until it holds or the timeout passes.
