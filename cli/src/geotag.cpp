@@ -69,14 +69,4 @@ Result<std::optional<json>, std::string> geotag_meta(const GeotagArgs& args) {
     return std::optional<json>(std::move(meta));
 }
 
-std::string capture_suffix(const json& result) {
-    const auto capture = result.value("capture", json());
-    if (!capture.is_object()) {
-        return "";
-    }
-    const auto index = capture.value("index", json());
-    return index.is_number_unsigned() ? fmt::format(", capture {}", index.get<std::uint64_t>())
-                                      : "";
-}
-
 }  // namespace gport::cli

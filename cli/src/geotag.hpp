@@ -23,8 +23,4 @@ struct GeotagArgs {
 // deeper than 32), or a key of --meta that an option also sets.
 Result<std::optional<nlohmann::json>, std::string> geotag_meta(const GeotagArgs& args);
 
-// "photo: sent, capture 12"; without a capture (record that sent
-// nothing, a gportd before captures) the words it always had.
-std::string capture_suffix(const nlohmann::json& result);
-
 }  // namespace gport::cli

@@ -5,8 +5,8 @@
 
 #include <regex>
 
-#include "geotag.hpp"
 #include "gport/cli/printable.hpp"
+#include "gport/client/results.hpp"
 #include "gport/contract/limits.hpp"
 
 namespace gport::cli {
@@ -14,44 +14,21 @@ namespace {
 
 using nlohmann::json;
 
-// Reads a member leniently: output must never throw on an unexpected shape.
-template <typename T>
-T get(const json& object, const char* key, T fallback) {
-    if (!object.is_object()) {
-        return fallback;
-    }
-    auto it = object.find(key);
-    if (it == object.end() || it->is_null()) {
-        return fallback;
-    }
-    try {
-        return it->get<T>();
-    } catch (const json::exception&) {
-        return fallback;
-    }
+// gportd's words and a peer's text, safe for the terminal; `fallback` when
+// there are none.
+std::string text(const std::string& value, const char* fallback = "?") {
+    return printable(value.empty() ? fallback : value);
 }
 
-// A string member as printable text (gportd's words, a peer's text).
-std::string word(const json& object, const char* key, const char* fallback) {
-    return printable(get(object, key, std::string(fallback)));
+std::string axes(const client::Axes& a) {
+    return fmt::format("roll {:.2f} pitch {:.2f} yaw {:.2f}", a.roll, a.pitch, a.yaw);
 }
 
-// Any member as printable text: a string as it is, anything else as JSON.
-std::string shown(const json& value) {
-    return printable(value.is_string() ? value.get<std::string>() : json_line(value));
-}
-
-std::string axes(const json& a) {
-    return fmt::format("roll {:.2f} pitch {:.2f} yaw {:.2f}", get(a, "roll", 0.0),
-                       get(a, "pitch", 0.0), get(a, "yaw", 0.0));
-}
-
-std::string client(const json& c) {
-    if (!c.is_object()) {
+std::string client_text(const std::optional<client::Peer>& c) {
+    if (!c) {
         return "nobody";
     }
-    return fmt::format("pid {} (uid {}, client {})", get(c, "pid", 0), get(c, "uid", 0),
-                       get(c, "id", 0));
+    return fmt::format("pid {} (uid {}, client {})", c->pid, c->uid, c->id);
 }
 
 std::string duration(long long ms) {
@@ -65,192 +42,200 @@ std::string duration(long long ms) {
     return fmt::format("{:.1f}s", static_cast<double>(ms) / 1000.0);
 }
 
-std::string attitude(const json& a) {
-    std::string out =
-        fmt::format("seq {}  imu {}  hall {}", get(a, "seq", 0ull),
-                    axes(a.value("imu", json::object())), axes(a.value("hall", json::object())));
-    if (a.contains("rates")) {
-        const auto& r = a["rates"];
-        const auto imu = r.value("imu", json::object());
-        out += fmt::format("  rates hall {}  imu x {:.2f} y {:.2f} z {:.2f}",
-                           axes(r.value("hall", json::object())), get(imu, "x", 0.0),
-                           get(imu, "y", 0.0), get(imu, "z", 0.0));
+std::string attitude(const client::AttitudeSample& a) {
+    std::string out = fmt::format("seq {}  imu {}  hall {}", a.seq, axes(a.imu), axes(a.hall));
+    if (a.rates) {
+        const auto& imu = a.rates->imu;
+        out += fmt::format("  rates hall {}  imu x {:.2f} y {:.2f} z {:.2f}", axes(a.rates->hall),
+                           imu.x, imu.y, imu.z);
     }
-    if (a.contains("dropped")) {
-        out += fmt::format("  ({} dropped so far)", get(a, "dropped", 0ull));
+    if (a.dropped > 0) {  // gportd sends it once the client has lost samples
+        out += fmt::format("  ({} dropped so far)", a.dropped);
     }
     return out;
 }
 
-std::string motion(const json& m) {
-    if (!m.is_object()) {
+std::string motion(const std::optional<client::Motion>& m) {
+    if (!m) {
         return "none";
     }
-    if (m.contains("target")) {  // a tracked angle or centre motion
-        return fmt::format("{} to {} deg, {} ms so far, owner {}", word(m, "mode", "?"),
-                           axes(m["target"]), get(m, "elapsed_ms", 0ll),
-                           client(m.value("owner", json())));
+    if (m->target) {  // a tracked angle or centre motion
+        return fmt::format("{} to {} deg, {} ms so far, owner {}", text(m->mode), axes(*m->target),
+                           m->elapsed_ms.value_or(0), client_text(m->owner));
     }
-    return fmt::format("{} {} deg/s, {} ms left, owner {}", word(m, "mode", "?"),
-                       axes(m.value("speed", json::object())), get(m, "time_left_ms", 0ll),
-                       client(m.value("owner", json())));
+    return fmt::format("{} {} deg/s, {} ms left, owner {}", text(m->mode),
+                       axes(m->speed.value_or(client::Axes{})), m->time_left_ms.value_or(0),
+                       client_text(m->owner));
 }
 
-std::string status(const json& s) {
-    const auto link = s.value("link", json::object());
-    const auto c = s.value("counters", json::object());
+std::string status(const client::Status& s) {
+    const auto& c = s.counters;
     std::string out;
-    out += fmt::format("link:      {} ({})\n", word(link, "state", "?"), word(link, "reason", ""));
-    const auto error = word(s, "device_error", "");
-    out += fmt::format("device:    {} ({})\n", word(s, "device", "?"),
-                       get(s, "device_open", false) ? "open"
-                       : error.empty()              ? "closed"
-                                                    : "closed: " + error);
-    out += fmt::format("daemon:    gportd {}, API {}, up {}\n", word(s, "daemon_version", "?"),
-                       get(s, "api_version", 0), duration(get(s, "uptime_ms", 0ll)));
-    const auto age = s.value("attitude_age_ms", json());
-    out += fmt::format("attitude:  {}\n", age.is_number()
-                                              ? fmt::format("{} ms old", age.get<long long>())
+    out += fmt::format("link:      {} ({})\n", text(s.link.state), text(s.link.reason, ""));
+    const auto error = text(s.device_error.value_or(""), "");
+    out += fmt::format("device:    {} ({})\n", text(s.device),
+                       s.device_open   ? "open"
+                       : error.empty() ? "closed"
+                                       : "closed: " + error);
+    out += fmt::format("daemon:    gportd {}, API {}, up {}\n", text(s.daemon_version),
+                       s.api_version, duration(s.uptime_ms));
+    out += fmt::format("attitude:  {}\n", s.attitude_age_ms
+                                              ? fmt::format("{} ms old", *s.attitude_age_ms)
                                               : std::string("none received"));
-    out += fmt::format("clients:   {}\n", get(s, "clients", 0));
-    out += fmt::format("motion:    {}\n", motion(s.value("motion", json())));
-    out += fmt::format("control:   {}\n", s.value("controller", json()).is_object()
-                                              ? "held by " + client(s["controller"])
-                                              : std::string("free (last command wins)"));
-    out += fmt::format("recording: {} (assumed)\n", word(s, "recording", "unknown"));
-    out +=
-        fmt::format("frames:    in {} ({} bytes), out {} ({} bytes), attitude {}\n",
-                    get(c, "frames_in", 0ull), get(c, "bytes_in", 0ull), get(c, "frames_out", 0ull),
-                    get(c, "bytes_out", 0ull), get(c, "attitude_frames", 0ull));
-    out += fmt::format("errors:    crc {}, header {}, resyncs {}, garbage bytes {}\n",
-                       get(c, "crc_errors", 0ull), get(c, "header_errors", 0ull),
-                       get(c, "resyncs", 0ull), get(c, "garbage_bytes", 0ull));
-    out += fmt::format("dropped:   {} notifications in total\n",
-                       get(s, "dropped_notifications", 0ull));
+    out += fmt::format("clients:   {}\n", s.clients);
+    out += fmt::format("motion:    {}\n", motion(s.motion));
+    out += fmt::format("control:   {}\n", s.controller ? "held by " + client_text(s.controller)
+                                                       : std::string("free (last command wins)"));
+    out += fmt::format("recording: {} (assumed)\n", text(s.recording, "unknown"));
+    out += fmt::format("frames:    in {} ({} bytes), out {} ({} bytes), attitude {}\n", c.frames_in,
+                       c.bytes_in, c.frames_out, c.bytes_out, c.attitude_frames);
+    out += fmt::format("errors:    crc {}, header {}, resyncs {}, garbage bytes {}\n", c.crc_errors,
+                       c.header_errors, c.resyncs, c.garbage_bytes);
+    out += fmt::format("dropped:   {} notifications in total\n", s.dropped_notifications);
     return out;
 }
 
 // angle and center: "sent", what was clamped, and with --wait how it ended.
-std::string position(const std::string& command, const json& result) {
+// center's result has the shape of angle's (sent, clamped, ended), its
+// target named `target`: only angle's is printed, as the user typed it.
+std::string position(const std::string& command, const client::AngleResult& result) {
     std::string out = fmt::format("{}: sent", command);
-    if (result.contains("angle")) {
-        out += " " + axes(result["angle"]) + " deg";
+    if (command == "angle") {
+        out += " " + axes(result.angle) + " deg";
     }
     std::string clamped;
-    for (const auto& axis : result.value("clamped", json::array())) {
-        clamped += (clamped.empty() ? "" : ", ") + shown(axis);
+    for (const auto& axis : result.clamped) {
+        clamped += (clamped.empty() ? "" : ", ") + printable(axis);
     }
     if (!clamped.empty()) {
         out += " (clamped: " + clamped + ")";
     }
     out += "\n";
-    const auto ended = result.value("ended", json());
-    if (ended.is_object()) {
-        const auto at = ended.value("attitude", json());
-        out += fmt::format("ended: {} after {} ms; {}\n", word(ended, "reason", "?"),
-                           get(ended, "elapsed_ms", 0ll),
-                           at.is_object() ? "hall " + axes(at.value("hall", json::object()))
-                                          : std::string("no attitude received"));
-        if (ended.contains("detail")) {  // stalled: where the gimbal stopped
-            out += word(ended, "detail", "") + "\n";
+    if (const auto& ended = result.ended) {
+        out += fmt::format("ended: {} after {} ms; {}\n", text(ended->reason), ended->elapsed_ms,
+                           ended->attitude ? "hall " + axes(ended->attitude->hall)
+                                           : std::string("no attitude received"));
+        if (!ended->detail.empty()) {  // stalled: where the gimbal stopped
+            out += printable(ended->detail) + "\n";
         }
     }
     return out;
 }
 
-std::string settings(const json& s) {
-    return fmt::format("dead zone:     {}\nfollow speed:  {}\ninverted:      {}\n",
-                       get(s, "dead_zone", 0), get(s, "follow_speed", 0),
-                       get(s, "inverted", false) ? "yes" : "no");
+std::string settings(const client::Settings& s) {
+    return fmt::format("dead zone:     {}\nfollow speed:  {}\ninverted:      {}\n", s.dead_zone,
+                       s.follow_speed, s.inverted ? "yes" : "no");
 }
 
 // limits: one line per axis, then speed and margin; "no limit" for the
 // protocol's whole range.
-std::string limits(const json& l) {
+std::string limits(const client::Limits& l) {
     using contract::kMaxDegrees;
     std::string out;
-    for (const auto* axis : {"roll", "pitch", "yaw"}) {
-        const auto range = l.value(axis, json::object());
-        const double min = get(range, "min", -kMaxDegrees);
-        const double max = get(range, "max", kMaxDegrees);
-        out += fmt::format("{:<16}{} to {} deg{}\n", std::string(axis) + ":", min, max,
-                           min <= -kMaxDegrees && max >= kMaxDegrees ? " (no limit)" : "");
+    for (const auto& [axis, range] :
+         {std::pair{"roll", l.roll}, std::pair{"pitch", l.pitch}, std::pair{"yaw", l.yaw}}) {
+        out +=
+            fmt::format("{:<16}{} to {} deg{}\n", std::string(axis) + ":", range.min, range.max,
+                        range.min <= -kMaxDegrees && range.max >= kMaxDegrees ? " (no limit)" : "");
     }
-    const double speed = get(l, "max_speed", kMaxDegrees);
-    out += fmt::format("{:<16}{} deg/s{}\n", "max speed:", speed,
-                       speed >= kMaxDegrees ? " (no limit)" : "");
-    out += fmt::format("{:<16}{} deg\n", "braking margin:", get(l, "braking_margin_deg", 0.0));
+    out += fmt::format("{:<16}{} deg/s{}\n", "max speed:", l.max_speed,
+                       l.max_speed >= kMaxDegrees ? " (no limit)" : "");
+    out += fmt::format("{:<16}{} deg\n", "braking margin:", l.braking_margin_deg);
     return out;
+}
+
+// ", capture 12" when gportd logged the capture.
+std::string capture_suffix(const std::optional<client::Capture>& capture) {
+    return capture ? fmt::format(", capture {}", capture->index) : "";
+}
+
+std::string topics(const std::vector<std::string>& watched) {
+    std::string out;
+    for (const auto& t : watched) {
+        out += (out.empty() ? "" : ", ") + printable(t);
+    }
+    return out.empty() ? "nothing" : out;
+}
+
+std::string notification(const client::Notification& n) {
+    if (const auto* a = std::get_if<client::AttitudeSample>(&n)) {
+        return "attitude  " + attitude(*a) + "\n";
+    }
+    if (const auto* l = std::get_if<client::LinkEvent>(&n)) {
+        return fmt::format("link      {} ({})\n", text(l->state), text(l->reason, ""));
+    }
+    const auto& m = std::get<client::MotionEvent>(n);
+    std::string out = fmt::format("motion    {} {}", text(m.change), text(m.mode));
+    if (m.speed) {
+        out += " " + axes(*m.speed) + " deg/s";
+    }
+    if (m.target) {
+        out += " to " + axes(*m.target) + " deg";
+    }
+    if (m.reason) {
+        out += ", reason " + text(*m.reason);
+    }
+    return out + ", owner " + client_text(m.owner) + "\n";
 }
 
 }  // namespace
 
 std::string format_result(const std::string& command, const json& result) {
+    const auto r = result.dump();
     if (command == "status") {
-        return status(result);
+        return status(client::status_from_json(r));
     }
     if (command == "attitude") {
-        return attitude(result) + fmt::format("  (age {} ms)\n", get(result, "age_ms", 0ll));
+        const auto a = client::attitude_from_json(r);
+        return attitude(a) + fmt::format("  (age {} ms)\n", a.age_ms.value_or(0));
     }
     if (command == "settings") {
-        return settings(result);
+        return settings(client::settings_from_json(r));
     }
     if (command == "limits") {
-        return limits(result);
+        return limits(client::limits_from_json(r));
     }
     if (command == "angle" || command == "center") {
-        return position(command, result);
+        return position(command, client::angle_result_from_json(r));
     }
     if (command == "speed") {
-        return fmt::format("moving for {} ms\n", get(result, "duration_ms", 0ll));
+        return fmt::format("moving for {} ms\n", client::speed_result_from_json(r).duration_ms);
     }
     if (command == "watch") {
-        std::string topics;
-        for (const auto& t : result.value("topics", json::array())) {
-            topics += (topics.empty() ? "" : ", ") + shown(t);
-        }
-        return fmt::format("watching {} (Ctrl-C to stop)\n", topics.empty() ? "nothing" : topics);
+        return fmt::format("watching {} (Ctrl-C to stop)\n",
+                           topics(client::subscription_from_json(r).topics));
     }
     if (command == "record" && result.contains("recording")) {
+        const auto record = client::record_result_from_json(r);
         return fmt::format("record: {}{}; recording {} (assumed)\n",
-                           get(result, "sent", true) ? "sent" : "nothing sent",
-                           capture_suffix(result), word(result, "recording", "unknown"));
+                           record.sent ? "sent" : "nothing sent", capture_suffix(record.capture),
+                           text(record.recording, "unknown"));
     }
-    return fmt::format("{}: sent{}\n", command, capture_suffix(result));
+    if (command == "photo") {
+        return fmt::format("photo: sent{}\n",
+                           capture_suffix(client::photo_result_from_json(r).capture));
+    }
+    return fmt::format("{}: sent\n", command);
 }
 
 std::string format_notification(const json& message) {
-    const auto topic = word(message, "method", "?");
-    const auto params = message.value("params", json::object());
-    if (topic == "attitude") {
-        return "attitude  " + attitude(params) + "\n";
-    }
-    if (topic == "link") {
-        return fmt::format("link      {} ({})\n", word(params, "state", "?"),
-                           word(params, "reason", ""));
-    }
-    if (topic == "motion") {
-        std::string out =
-            fmt::format("motion    {} {}", word(params, "change", "?"), word(params, "mode", "?"));
-        if (params.contains("speed")) {
-            out += " " + axes(params["speed"]) + " deg/s";
+    try {
+        if (const auto n = client::notification_from_json(message.dump())) {
+            return notification(*n);
         }
-        if (params.contains("target")) {
-            out += " to " + axes(params["target"]) + " deg";
-        } else if (params.contains("angle")) {
-            out += " " + axes(params["angle"]) + " deg";
-        }
-        if (params.contains("reason")) {
-            out += ", reason " + word(params, "reason", "?");
-        }
-        return out + ", owner " + client(params.value("owner", json())) + "\n";
+    } catch (const client::Error&) {
+        // A shape the library cannot read is shown as it came, like a topic
+        // it does not know: the watch goes on.
     }
     return json_line(message) + "\n";
 }
 
 std::string format_error(const json& error) {
-    return fmt::format("error {}: {}", get(error, "code", 0),
-                       word(error, "message", "(no message)"));
+    const auto code = error.is_object() ? error.value("code", json()) : json();
+    const auto message = error.is_object() ? error.value("message", json()) : json();
+    return fmt::format(
+        "error {}: {}", code.is_number_integer() ? code.get<long long>() : 0,
+        message.is_string() ? printable(message.get<std::string>()) : std::string("(no message)"));
 }
 
 }  // namespace gport::cli

@@ -54,7 +54,9 @@ int Runner::dispatch() {
     if (status != kExitOk) {
         return status;
     }
-    print(result);
+    if (const int printed = print(result); printed != kExitOk) {
+        return printed;
+    }
     if (inv_.command == "status" && !link_up(result.value("link", json()))) {
         return kExitLinkNotUp;  // a health check: printed as ever, but not 0
     }
@@ -156,9 +158,14 @@ std::optional<std::string> Runner::option_refusal(const json& error, const json&
     return std::nullopt;
 }
 
-void Runner::print(const json& result) {
-    out_ << (inv_.json ? json_line(result) + "\n" : format_result(inv_.command, result));
+int Runner::print(const json& result) {
+    try {
+        out_ << (inv_.json ? json_line(result) + "\n" : format_result(inv_.command, result));
+    } catch (const client::Error& e) {
+        return failed(e);
+    }
     out_.flush();
+    return kExitOk;
 }
 
 // Sends stop on the way out, ignoring the interruption that asked for it.

@@ -118,7 +118,11 @@ int Runner::watch() {
     // What is watched, for the person at the terminal; never in the output
     // a script reads.
     if (terminals_.err) {
-        err_ << format_result("watch", result);
+        try {
+            err_ << format_result("watch", result);
+        } catch (const client::Error& e) {
+            return failed(e);
+        }
         err_.flush();
     }
     const auto deadline = inv_.duration ? std::chrono::steady_clock::now() + *inv_.duration
@@ -169,7 +173,9 @@ int Runner::speed_for() {
     if (const int s = call(contract::method::kSpeed, inv_.params, result); s != kExitOk) {
         return s;
     }
-    print(result);
+    if (const int s = print(result); s != kExitOk) {
+        return s;
+    }
     // From here: a motion notification during the call may be about the
     // motion ours replaced, another client's.
     Progress progress(out_, *inv_.duration, terminals_.out && !inv_.json);

@@ -35,7 +35,9 @@ class Runner {
     int call(const std::string& method, const json& params, json& result, json* response = nullptr);
     int refused(const json& error, const json& params);
     int failed(const client::Error& error);
-    void print(const json& result);
+    // The result as the command prints it: 0, or 69 when it does not
+    // decode (said on stderr, like any reply the library cannot read).
+    int print(const json& result);
     static std::optional<std::string> option_refusal(const json& error, const json& params);
     int stop_and_exit();
 

@@ -47,6 +47,17 @@ TEST(GportctlHostile, ADeepLineDuringAWatchEndsIt) {
     EXPECT_THAT(ran.err, HasSubstr("nested deeper than 64 levels"));
 }
 
+// gportctl prints results by type (libgport-client's results.hpp): a result
+// of the wrong shape is named, not printed with made-up values.
+TEST(GportctlHostile, AResultOfTheWrongShapeIsNamed) {
+    HostileServer server([](HostilePeer& peer, const json& request) {
+        peer.reply(request, {{"link", "up"}, {"uptime_ms", "a while"}});
+    });
+    const auto ran = run(server, {"status"});
+    EXPECT_EQ(ran.status, kExitUnavailable);
+    EXPECT_THAT(ran.err, HasSubstr("cannot read a status ("));
+}
+
 // Takes the library's default call timeout (10 s).
 TEST(GportctlHostile, ASilentDaemonGivesUpAfterTheCallTimeout) {
     HostileServer server([](HostilePeer&, const json&) {});

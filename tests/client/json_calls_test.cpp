@@ -1,10 +1,14 @@
 // The blocking Client's JSON-text interface (call_json, call_json_response,
 // on_notification_json) and its interruption (set_interrupt), against
 // gportd --simulate: what gportctl is built on.
+#include <gmock/gmock.h>
+
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "client_fixture.hpp"
+#include "gport/client/results.hpp"
 
 namespace gport::testing {
 namespace {
@@ -46,6 +50,69 @@ TEST_F(ClientJson, ResultsAndRefusalsAsText) {
     EXPECT_EQ(angle["error"]["code"], -32602);
     const auto ok = json::parse(client().call_json_response("get_settings"));
     EXPECT_TRUE(ok["result"].contains("dead_zone"));
+}
+
+// results.hpp: the text call_json returns, decoded as the typed calls
+// decode it, gives what they give.
+TEST_F(ClientJson, ResultsDecodedFromTextAreTheTypedCallsResults) {
+    const auto typed = client().status();
+    const auto text = gc::status_from_json(client().call_json("status"));
+    EXPECT_EQ(text.link.state, typed.link.state);
+    EXPECT_EQ(text.device, typed.device);
+    EXPECT_EQ(text.api_version, typed.api_version);
+    EXPECT_EQ(text.daemon_version, typed.daemon_version);
+    EXPECT_GE(text.uptime_ms, typed.uptime_ms);
+    EXPECT_GE(text.counters.frames_in, typed.counters.frames_in);
+    const auto limits = gc::limits_from_json(client().call_json("limits"));
+    EXPECT_EQ(limits.max_speed, client().limits().max_speed);
+    EXPECT_EQ(limits.pitch.min, client().limits().pitch.min);
+    const auto settings = gc::settings_from_json(client().call_json("get_settings"));
+    EXPECT_EQ(settings.dead_zone, client().settings().dead_zone);
+    EXPECT_GT(gc::attitude_from_json(client().call_json("attitude")).seq, 0U);
+    const auto angle = gc::angle_result_from_json(client().call_json("angle", R"({"pitch": -10})"));
+    EXPECT_TRUE(angle.sent);
+    EXPECT_DOUBLE_EQ(angle.angle.pitch, -10);
+    EXPECT_EQ(
+        gc::speed_result_from_json(client().call_json("speed", R"({"yaw": 5, "duration_ms": 200})"))
+            .duration_ms,
+        200);
+    const auto link = gc::notification_from_json(
+        R"({"jsonrpc":"2.0","method":"link","params":{"state":"up","reason":"ok"}})");
+    ASSERT_TRUE(link.has_value());
+    EXPECT_EQ(std::get<gc::LinkEvent>(*link).state, "up");
+    EXPECT_FALSE(gc::notification_from_json(R"({"method":"capture","params":{}})").has_value());
+}
+
+// A result that is not what the type needs is Error kBadReply naming it and
+// what was wrong, never a default-filled value or another exception.
+TEST(ResultsFromJson, WhatDoesNotDecodeIsABadReplyNamingIt) {
+    const auto bad_reply = [](const std::function<void()>& decode) -> std::string {
+        try {
+            decode();
+        } catch (const gc::Error& e) {
+            EXPECT_TRUE(e.is(gc::ErrorCode::kBadReply)) << e.what();
+            return e.message();
+        } catch (const std::exception& e) {
+            ADD_FAILURE() << "not a gport::client::Error: " << e.what();
+        }
+        return "decoded";
+    };
+    EXPECT_THAT(bad_reply([] { gc::status_from_json("{\"link\":"); }),
+                ::testing::HasSubstr("a status result that is not JSON"));
+    EXPECT_THAT(bad_reply([] { gc::status_from_json("[1]"); }),
+                ::testing::HasSubstr("not an object"));
+    EXPECT_THAT(bad_reply([] { gc::status_from_json(R"({"uptime_ms": 5})"); }),
+                ::testing::HasSubstr("status"));
+    EXPECT_THAT(bad_reply([] { gc::status_from_json(R"({"link": {}, "uptime_ms": "long"})"); }),
+                ::testing::HasSubstr("status"));
+    EXPECT_THAT(bad_reply([] { gc::settings_from_json(R"({"dead_zone": 1})"); }),
+                ::testing::HasSubstr("settings result"));
+    EXPECT_THAT(bad_reply([] { gc::notification_from_json("5"); }),
+                ::testing::HasSubstr("not an object"));
+    EXPECT_THAT(bad_reply([] {
+                    gc::notification_from_json(R"({"method":"attitude","params":{"seq":1}})");
+                }),
+                ::testing::HasSubstr("attitude notification"));
 }
 
 // The open descriptors of this process.
