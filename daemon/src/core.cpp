@@ -15,8 +15,7 @@ constexpr auto kShutdownDrainLimit = 500ms;
 }  // namespace
 
 Core::Core(asio::io_context& io, const config::Config& config, std::shared_ptr<spdlog::logger> log)
-    : io_(io),
-      config_(config),
+    : config_(config),
       log_(std::move(log)),
       started_(std::chrono::steady_clock::now()),
       arbiter_(AccessPolicy(config.access)),

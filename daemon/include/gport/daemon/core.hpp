@@ -99,7 +99,6 @@ class Core final : public Api {
     void on_attitude(const protocol::Attitude& attitude, SteadyTime now, WallTime wall);
     void on_link(const LinkEvent& event);
 
-    boost::asio::io_context& io_;
     config::Config config_;  // as started: read only for keys a reload never changes
     std::shared_ptr<spdlog::logger> log_;
     SteadyTime started_;
