@@ -6,8 +6,10 @@
 
 #include <cerrno>
 #include <cstring>
+#include <nlohmann/json.hpp>
 #include <utility>
 
+#include "gport/ipc/json_rpc.hpp"
 #include "json_common.hpp"
 
 namespace gport::ipc::detail {
@@ -171,6 +173,27 @@ void AttitudeChannel::close() {
     closed_ = true;
     writer_->close();  // before the last round: a reader it wakes sees the flag
     waker_.close();
+}
+
+std::string unsent_reply(const std::string& line, const std::string& why) {
+    nlohmann::json reply = nlohmann::json::parse(line, nullptr, false);
+    const nlohmann::json error = {{"code", rpc_error::kInternal},
+                                  {"message", std::string(kUnavailable) + why}};
+    const auto replace = [&error](nlohmann::json& member) {
+        if (member.is_object() && member.contains("result") && member["result"].is_object() &&
+            member["result"].contains("slots") && member["result"].value("descriptors", 0) > 0) {
+            member.erase("result");
+            member["error"] = error;
+        }
+    };
+    if (reply.is_array()) {
+        for (auto& member : reply) {
+            replace(member);
+        }
+    } else {
+        replace(reply);
+    }
+    return reply.dump() + '\n';
 }
 
 }  // namespace gport::ipc::detail

@@ -42,6 +42,11 @@ namespace gport::ipc::detail {
 // The start of every -32603 message about the channel.
 inline constexpr std::string_view kUnavailable = "attitude channel unavailable: ";
 
+// The reply line to send instead when the descriptors could not be sent: the
+// attitude_channel result in `line` that announced them ("descriptors" > 0)
+// becomes -32603 with the same id, its message kUnavailable + `why`.
+std::string unsent_reply(const std::string& line, const std::string& why);
+
 // A sample as the ring carries it: the attitude notification's values.
 base::RingSample ring_sample(const daemon::AttitudeSample& sample);
 

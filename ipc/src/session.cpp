@@ -1,20 +1,42 @@
-// A session's life cycle and input side: reading, bounded request handling
-// per turn, back-pressure, half-close and the idle timeout.
+// A session: the reader, writer and idle-watch coroutines, the queueing of
+// replies and notifications, the attitude rate limit, and the reply that
+// carries the attitude channel's descriptors (SCM_RIGHTS on its first byte,
+// after every line queued before it; docs/api.md, "Shared-memory attitude
+// channel").
 #include "session.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/logger.h>
+#include <sys/socket.h>
 
+#include <boost/asio/co_spawn.hpp>
 #include <boost/asio/post.hpp>
-#include <cassert>
+#include <boost/asio/redirect_error.hpp>
+#include <boost/asio/use_awaitable.hpp>
+#include <boost/asio/write.hpp>
+#include <cerrno>
+#include <cstring>
+#include <exception>
+#include <functional>
 #include <utility>
 
+#include "attitude_channel.hpp"
+#include "gport/base/descriptors.hpp"
 #include "gport/config/config.hpp"
 
 namespace gport::ipc {
 namespace {
 
 namespace asio = boost::asio;
+using boost::system::error_code;
+
+// Lines gathered into one write: enough to amortise the syscall, few enough
+// that one write stays short.
+constexpr std::size_t kLinesPerWrite = 64;
+
+auto with(error_code& error) {
+    return asio::redirect_error(asio::use_awaitable, error);
+}
 
 bool blank(std::string_view line) {
     return line.find_first_not_of(" \t\r") == std::string_view::npos;
@@ -48,26 +70,37 @@ Session::Session(Socket socket, daemon::ClientInfo info, SessionHost& host)
       host_(host),
       state_{info, {}, 0, RequestRate(static_cast<double>(host.config().max_requests_per_s))},
       outbox_(host.config().queue_limit),
+      wake_writer_(socket_.get_executor(), Clock::time_point::max()),
+      unpause_(socket_.get_executor(), Clock::time_point::max()),
       idle_timer_(socket_.get_executor()),
       throttle_timer_(socket_.get_executor()),
       last_request_(Clock::now()) {}
 
 void Session::start() {
     // Writes are tried at once (see flush); reads stay asynchronous.
-    boost::system::error_code ignored;
+    error_code ignored;
     socket_.non_blocking(true, ignored);
-    arm_idle_timer(host_.config().idle_timeout);
-    read();
+    for (auto body : {&Session::reader, &Session::writer, &Session::idle_watch}) {
+        asio::co_spawn(
+            socket_.get_executor(), [self = shared_from_this(), body] { return (*self.*body)(); },
+            [](const std::exception_ptr& thrown) {
+                if (thrown) {
+                    std::rethrow_exception(thrown);
+                }
+            });
+    }
 }
 
 void Session::close() {
     if (closed()) {
         return;
     }
-    advance(SessionEvent::kClosed);
-    boost::system::error_code ignored;
+    life_ = Life::kClosed;
+    error_code ignored;
     socket_.shutdown(Socket::shutdown_both, ignored);
     socket_.close(ignored);
+    wake_writer_.cancel();
+    unpause_.cancel();
     idle_timer_.cancel();
     throttle_timer_.cancel();
     if (rate_timer_) {
@@ -78,103 +111,67 @@ void Session::close() {
     host_.session_closed(*this);
 }
 
-// A refused event means the session's code broke its own table: loud in
-// every build (the log), fatal in a debug build.
-bool Session::advance(SessionEvent event) {
-    if (const auto next = transition(lifecycle_, event)) {
-        lifecycle_ = *next;
-        return true;
-    }
-    host_.log().error("client {} (pid {}): session event {} is illegal in state {}; ignored",
-                      state_.info.id, state_.info.pid, to_string(event), to_string(lifecycle_));
-    assert(!"illegal session transition (session_state.cpp)");
-    return false;
-}
+// ---- input ----------------------------------------------------------------------
 
-// ---- reading --------------------------------------------------------------------
-
-void Session::read() {
-    if (!advance(SessionEvent::kReadStarted)) {
-        return;
-    }
-    socket_.async_read_some(
-        asio::buffer(read_buffer_),
-        [self = shared_from_this()](const boost::system::error_code& error, std::size_t size) {
-            self->on_read(error, size);
-        });
-}
-
-void Session::on_read(const boost::system::error_code& error, std::size_t size) {
-    advance(SessionEvent::kReadDone);
-    if (!open()) {
-        return;
-    }
-    if (error == asio::error::eof) {
-        hang_up();
-    } else if (error) {
-        close();  // reset: the client cannot read replies either
-    } else {
-        input_.append(read_buffer_.data(), size);
-        process_input();
-    }
-}
-
-// Runs process_input on a later turn, once: `event` is kYielded (a turn's
-// worth handled) or kUnpaused (a paused client has read its replies).
-void Session::post_input(SessionEvent event) {
-    if (!advance(event)) {
-        return;
-    }
-    asio::post(socket_.get_executor(), [self = shared_from_this()] {
-        self->advance(SessionEvent::kResumed);
-        self->process_input();
-    });
-}
-
-// Handles up to kLinesPerTurn complete lines, then yields; reads more only
-// when no complete line is left and the client's replies are drained.
-void Session::process_input() {
-    if (!open() || lifecycle_.input != Input::kIdle) {
-        return;
-    }
+// Handles up to kLinesPerTurn complete lines per turn; reads more only when
+// no complete line is left and the client's replies are drained.
+Session::Awaitable<void> Session::reader() {
     const std::size_t limit = host_.config().line_limit;
-    std::size_t handled = 0;
+    std::size_t consumed = 0;  // bytes of input_ already handled
+    std::size_t handled = 0;   // lines this turn
+    error_code error;
     while (open()) {
         if (backlogged()) {
-            advance(SessionEvent::kBacklogged);  // drained() resumes
-            return;
+            paused_ = true;  // flush() wakes it once everything is written
+            co_await unpause_.async_wait(with(error));
+            handled = 0;
+            continue;
         }
-        const auto newline = input_.find('\n', consumed_);
+        const auto newline = input_.find('\n', consumed);
         if (newline == std::string::npos) {
-            break;
+            input_.erase(0, std::exchange(consumed, 0));
+            if (input_.size() > limit) {
+                refuse_long_line();
+                co_return;
+            }
+            const auto size =
+                co_await socket_.async_read_some(asio::buffer(read_buffer_), with(error));
+            if (!open()) {
+                co_return;
+            }
+            if (error == asio::error::eof) {
+                hang_up(input_);
+                co_return;
+            }
+            if (error) {
+                close();  // reset: the client cannot read replies either
+                co_return;
+            }
+            input_.append(read_buffer_.data(), size);
+            handled = 0;
+            continue;
         }
-        if (newline - consumed_ > limit) {
+        if (newline - consumed > limit) {
             refuse_long_line();
-            return;
+            co_return;
         }
         if (handled++ == kLinesPerTurn) {
-            post_input(SessionEvent::kYielded);
-            return;
+            co_await asio::post(socket_.get_executor(), asio::use_awaitable);
+            handled = 0;
+            continue;
         }
         if (handled == 1) {
             last_request_ = Clock::now();
         }
-        const std::string_view line(input_.data() + consumed_, newline - consumed_);
-        consumed_ = newline + 1;
+        const auto line = std::string_view(input_).substr(consumed, newline - consumed);
+        consumed = newline + 1;
         handle_line(line);
-        if (throttle()) {
-            return;
+        if (const auto wait = throttle()) {
+            throttle_timer_.expires_after(*wait);
+            co_await throttle_timer_.async_wait(with(error));
+            handled = 0;
         }
     }
-    if (!open()) {
-        return;
-    }
-    input_.erase(0, std::exchange(consumed_, 0));
-    if (input_.size() > limit) {
-        refuse_long_line();
-        return;
-    }
-    read();
 }
 
 void Session::handle_line(std::string_view line) {
@@ -188,7 +185,8 @@ void Session::handle_line(std::string_view line) {
     auto weak = weak_from_this();
     auto pending = std::make_shared<Pending>([weak] {
         if (auto self = weak.lock()) {
-            self->request_done();
+            --self->outstanding_;
+            self->finish_if_done();
         }
     });
     // A reply may come later (settings, or a batch waiting for one): it
@@ -213,31 +211,16 @@ void Session::attach_descriptors(std::size_t count) {
 // Out of request tokens (the client was just refused, or is about to be):
 // wait until a whole batch would be allowed, rather than answer the rest of
 // a flood with errors at full speed.
-bool Session::throttle() {
+std::optional<Session::Clock::duration> Session::throttle() const {
     const auto& rate = state_.rate;
     if (rate.has_token(Clock::now()) || !open()) {
-        return false;
+        return std::nullopt;
     }
     const auto wait = rate.wait_for(static_cast<double>(kMaxBatch), Clock::now());
     if (wait <= Clock::duration::zero()) {
-        return false;
+        return std::nullopt;
     }
-    if (!advance(SessionEvent::kThrottled)) {
-        return false;
-    }
-    throttle_timer_.expires_after(wait);
-    throttle_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
-        self->advance(SessionEvent::kThrottleEnded);
-        if (!error) {
-            self->process_input();
-        }
-    });
-    return true;
-}
-
-void Session::request_done() {
-    --outstanding_;
-    finish_if_done();
+    return wait;
 }
 
 bool Session::backlogged() const {
@@ -257,7 +240,7 @@ void Session::refuse_long_line() {
 void Session::close_after_reply(int code, const std::string& message) {
     reply(error_line(code, message));
     if (open()) {  // else the reply overflowed the queue and closed it
-        advance(SessionEvent::kRefused);
+        life_ = Life::kClosing;
     }
     input_.clear();
     input_.shrink_to_fit();
@@ -266,54 +249,40 @@ void Session::close_after_reply(int code, const std::string& message) {
 
 // EOF: a last line without '\n' still counts; the deadman runs now; the
 // connection closes once the replies owed are written (finish_if_done).
-void Session::hang_up() {
-    const std::string_view rest = std::string_view(input_).substr(consumed_);
+void Session::hang_up(std::string_view rest) {
     if (rest.size() <= host_.config().line_limit) {
         handle_line(rest);
         if (closed()) {
             return;  // it overflowed: closing already told the server
         }
     }
-    advance(SessionEvent::kHungUp);
+    life_ = Life::kClosing;
+    hung_up_ = true;
     input_.clear();
     input_.shrink_to_fit();
     host_.client_hung_up(*this);
     flush();
 }
 
-// ---- idle timeout -------------------------------------------------------------------
-
-void Session::arm_idle_timer(Clock::duration after) {
-    idle_timer_.expires_after(after);
-    idle_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
-        if (!error) {
-            self->on_idle_timer();
-        }
-    });
-}
-
-// Armed once per timeout, not per request: it looks at the last request when
-// it fires.
-void Session::on_idle_timer() {
-    if (!open()) {
-        return;
-    }
+// Wakes once per timeout, not per request: it looks at the last request.
+Session::Awaitable<void> Session::idle_watch() {
     const auto timeout = host_.config().idle_timeout;
-    const auto quiet = Clock::now() - last_request_;
-    if (quiet < timeout) {
-        arm_idle_timer(timeout - quiet);
-        return;
+    Clock::duration after = timeout;
+    for (error_code error; !error && open();) {
+        idle_timer_.expires_after(after);
+        co_await idle_timer_.async_wait(with(error));
+        const auto quiet = Clock::now() - last_request_;
+        after = quiet < timeout ? timeout - quiet : timeout;
+        if (error || !open() || quiet < timeout || busy()) {
+            continue;
+        }
+        host_.log().info("client {} (pid {} uid {}) idle for {} ms; closing it", state_.info.id,
+                         state_.info.pid, state_.info.uid, timeout.count());
+        close_after_reply(
+            rpc_error::kNoSlot,
+            fmt::format("idle for {} ms with no subscription (socket.idle_timeout_ms); closing",
+                        timeout.count()));
     }
-    if (busy()) {
-        arm_idle_timer(timeout);
-        return;
-    }
-    host_.log().info("client {} (pid {} uid {}) idle for {} ms; closing it", state_.info.id,
-                     state_.info.pid, state_.info.uid, timeout.count());
-    close_after_reply(
-        rpc_error::kNoSlot,
-        fmt::format("idle for {} ms with no subscription (socket.idle_timeout_ms); closing",
-                    timeout.count()));
 }
 
 // Quiet is fine for a client that listens (on the socket or through the
@@ -323,6 +292,243 @@ bool Session::busy() const {
     const auto& s = state_.subscriptions;
     return s.attitude || s.link || s.motion || state_.attitude_channel || outstanding_ > 0 ||
            host_.holds_control_or_motion(state_.info);
+}
+
+// ---- queueing -------------------------------------------------------------------
+
+void Session::reply(std::string line, std::size_t descriptors) {
+    if (!closed()) {
+        queue(std::make_shared<const std::string>(std::move(line)), descriptors);
+    }
+}
+
+void Session::deliver_event(const Line& line) {
+    if (open()) {
+        queue(line, 0);
+    }
+}
+
+// A line that does not fit closes the session; only the server is told, the
+// core hears of it after the current event.
+void Session::queue(const Line& line, std::size_t descriptors) {
+    if (outbox_.push(line, descriptors)) {
+        flush();
+        return;
+    }
+    host_.log().warn(
+        "client pid {} uid {}: a line of {} bytes does not fit its output queue ({} lines, {} "
+        "bytes wait unread); disconnecting it",
+        state_.info.pid, state_.info.uid, line->size(), outbox_.size(), outbox_.bytes());
+    close();
+}
+
+void Session::deliver_attitude(const AttitudeLine& line) {
+    if (!open()) {
+        return;
+    }
+    const auto& rate = state_.subscriptions.max_rate_hz;
+    if (!rate) {
+        queue_attitude(line);
+        return;
+    }
+    // max_rate_hz is at least kMinRateHz, so the interval fits a duration.
+    const auto interval =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / *rate));
+    switch (pacer_.offer(line, Clock::now(), interval)) {
+        case AttitudePacer::Decision::kSend:
+            queue_attitude(line);
+            return;
+        case AttitudePacer::Decision::kHold:
+            return;
+        case AttitudePacer::Decision::kHoldAndWake:
+            break;
+    }
+    if (!rate_timer_) {
+        rate_timer_.emplace(socket_.get_executor());
+    }
+    rate_timer_->expires_at(pacer_.wake_at());
+    rate_timer_->async_wait([self = shared_from_this()](const error_code& error) {
+        if (error) {
+            self->pacer_.disarmed();
+        } else {
+            self->on_rate_timer();
+        }
+    });
+}
+
+void Session::on_rate_timer() {
+    if (!open()) {
+        pacer_.disarmed();
+        return;
+    }
+    const auto line = pacer_.woken(Clock::now());
+    if (line && state_.subscriptions.attitude) {  // it may have unsubscribed meanwhile
+        queue_attitude(line);
+    }
+}
+
+// Over the server's memory budget, a client that has not read what it has
+// loses the sample (counted like any drop) instead of queueing more.
+void Session::queue_attitude(const AttitudeLine& line) {
+    const bool refuse = host_.over_budget() && !outbox_.empty();
+    if (const auto dropped = refuse ? outbox_.drop_attitude() : outbox_.push_attitude(line);
+        dropped > 0) {
+        state_.dropped = outbox_.dropped();
+        host_.note_dropped(dropped);
+    }
+    flush();
+}
+
+// ---- writing --------------------------------------------------------------------
+
+// Writes what it can at once; once everything is written, a paused reader
+// resumes (on a later turn, so a reply written from inside the core never
+// runs a request there) and a closing session closes if no reply is owed.
+void Session::flush() {
+    if (!writing_ && !closed()) {
+        write_queued();
+    }
+    sync_budget();
+    if (!writing_ && !closed() && outbox_.empty()) {
+        if (std::exchange(paused_, false)) {
+            unpause_.cancel();
+        }
+        finish_if_done();
+    }
+}
+
+// Most batches fit in the socket's buffer: they are sent at once, with no
+// asynchronous operation to set up. Only what does not fit is left to the
+// writer coroutine.
+void Session::write_queued() {
+    while (!outbox_.empty()) {
+        if (outbox_.front_descriptors() > 0) {
+            if (!send_with_descriptors()) {
+                return;  // the writer waits, or closed
+            }
+            continue;
+        }
+        in_flight_.clear();
+        outbox_.take(in_flight_, kLinesPerWrite);
+        buffers_.clear();
+        in_flight_bytes_ = 0;
+        for (const auto& line : in_flight_) {
+            buffers_.push_back(asio::buffer(*line));
+            in_flight_bytes_ += line->size();
+        }
+        error_code error;
+        const std::size_t sent = socket_.write_some(buffers_, error);
+        if (error && error != asio::error::would_block && error != asio::error::try_again) {
+            close();  // the client went away
+            return;
+        }
+        if (sent < in_flight_bytes_) {
+            write_later(sent);
+            return;
+        }
+    }
+    in_flight_.clear();
+    in_flight_bytes_ = 0;
+}
+
+// Sends the front line with its descriptors. True: all of it went out and
+// the caller writes on. False: the writer waits for room (the line stays
+// queued) or writes the rest of the line, or the client is gone.
+bool Session::send_with_descriptors() {
+    const Line line = outbox_.front();
+    const auto fds = host_.channel_descriptors(state_.info);
+    if (fds[0] < 0 || fds[1] < 0) {  // cannot happen: the block lives as long as the session
+        outbox_.replace_front(std::make_shared<const std::string>(
+            detail::unsent_reply(*line, "its descriptors are gone; ask again")));
+        host_.channel_delivered(state_.info, EBADF);
+        return true;
+    }
+    const ssize_t sent = base::send_with_descriptors(
+        socket_.native_handle(), line->data(), line->size(), fds, MSG_DONTWAIT | MSG_NOSIGNAL);
+    if (sent < 0) {
+        const int error = errno;
+        if (error == EAGAIN || error == EWOULDBLOCK) {
+            wait_writable_ = true;
+            write_later(0);
+        } else if (error == EPIPE || error == ECONNRESET || error == ENOTCONN) {
+            close();
+        } else {  // ETOOMANYREFS, ENOMEM, ENOBUFS...: nothing was sent
+            outbox_.replace_front(std::make_shared<const std::string>(detail::unsent_reply(
+                *line, std::string("sending its descriptors: ") + std::strerror(error))));
+            host_.channel_delivered(state_.info, error);
+            return true;
+        }
+        return false;
+    }
+    host_.channel_delivered(state_.info, 0);
+    outbox_.pop_front();
+    if (static_cast<std::size_t>(sent) == line->size()) {
+        return true;
+    }
+    in_flight_.assign(1, line);
+    in_flight_bytes_ = line->size();
+    buffers_.assign(1, asio::buffer(*line));
+    write_later(static_cast<std::size_t>(sent));
+    return false;
+}
+
+// Hands the writer what write_some left of the batch in flight (skipping
+// `sent` bytes), or the wait for room (wait_writable_).
+void Session::write_later(std::size_t sent) {
+    if (!wait_writable_) {
+        auto first = buffers_.begin();
+        while (sent > 0 && sent >= first->size()) {
+            sent -= first->size();
+            ++first;
+        }
+        *first += sent;
+        buffers_.erase(buffers_.begin(), first);
+    }
+    writing_ = true;
+    wake_writer_.cancel();
+}
+
+// The one write in flight: sleeps until write_later hands it something,
+// writes it (or waits for room), then writes on at once.
+Session::Awaitable<void> Session::writer() {
+    error_code error;
+    while (!closed()) {
+        if (!writing_) {
+            co_await wake_writer_.async_wait(with(error));
+            continue;
+        }
+        if (wait_writable_) {
+            co_await socket_.async_wait(Socket::wait_write, with(error));
+        } else {
+            co_await asio::async_write(socket_, buffers_, with(error));
+        }
+        writing_ = wait_writable_ = false;
+        in_flight_.clear();
+        in_flight_bytes_ = 0;
+        if (closed()) {
+            co_return;
+        }
+        if (error) {
+            close();  // the client went away mid-write
+            co_return;
+        }
+        flush();
+    }
+}
+
+void Session::finish_if_done() {
+    if (life_ == Life::kClosing && outstanding_ == 0 && !writing_ && outbox_.empty()) {
+        close();
+    }
+}
+
+// Keeps the server's total of queued bytes (its memory budget) current.
+void Session::sync_budget() {
+    const std::size_t now = closed() ? 0 : outbox_.bytes() + in_flight_bytes_;
+    if (now != accounted_) {
+        host_.account(accounted_, now);
+        accounted_ = now;
+    }
 }
 
 }  // namespace gport::ipc
