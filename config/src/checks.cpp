@@ -1,6 +1,7 @@
 #include "checks.hpp"
 
 #include <fmt/format.h>
+#include <gport/contract/names.hpp>
 #include <sys/un.h>
 
 #include <algorithm>
