@@ -1,5 +1,8 @@
 #!/usr/bin/env bash
-# Checks the layering, installs what is missing, then builds and runs every test:
+# Runs the README's demo, checks the layering, installs what is missing, then
+# builds and runs every test:
+#   D. scripts/demo.sh, the README's first command, on the clean checkout as a
+#      newcomer runs it (its own packages, its plain build, no warning);
 #   0. scripts/check-layering.sh: every include and CMake link is on its folder's
 #      allow-list (docs/architecture.md, "Layout"; seconds);
 #   1. Release build (warnings are errors): first, alone, the
@@ -28,7 +31,10 @@
 # choices.
 # Used word for word by .ci/run. The builds are unity builds (each target's
 # sources compiled as one unit), which halves the compile time on a 2-core
-# machine; every file also compiles on its own in a normal build.
+# machine, but for the Release build's production code (shared with the
+# demo's plain build through ccache) and the sanitizer build's tests: every
+# source compiles on its own in one of the two (GPORT_PLAIN_PRODUCTION,
+# GPORT_PLAIN_TESTS; cmake/GportPlainProduction.cmake).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$(date +%s)
@@ -57,6 +63,32 @@ stage_table() {
 }
 trap stage_table EXIT
 
+logs=build/ci-logs
+mkdir -p "$logs"
+
+# ---- the README's first command, first, as a newcomer runs it --------------
+# scripts/demo.sh on the clean checkout, before anything else is installed:
+# its own package set (gport_install_deps build), its plain build (every
+# source of gportd, gportctl and gport-sim compiled on its own), the daemon
+# on its simulated gimbal, and an output with no warning in it. The one
+# thing added is ccache, through CMake's CMAKE_CXX_COMPILER_LAUNCHER
+# environment variable: the Release build below compiles the programs' sources
+# file by file too, with the same commands (GPORT_PLAIN_PRODUCTION), and gets
+# the demo's objects from the cache instead of compiling them again. The
+# cache is this run's own (build/ccache), so nothing from another run counts.
+stage "README demo (scripts/demo.sh: its own packages, its plain build)"
+command -v ccache >/dev/null || {
+  DEBIAN_FRONTEND=noninteractive apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends ccache
+}
+export CCACHE_DIR=$PWD/build/ccache CCACHE_BASEDIR=$PWD CCACHE_NOHASHDIR=1 CCACHE_MAXSIZE=4G
+CMAKE_CXX_COMPILER_LAUNCHER=ccache scripts/demo.sh 2>&1 | tee "$logs/demo.log"
+if grep -nE "CMake (Warning|Deprecation)|: warning:" "$logs/demo.log"; then
+  echo "error: the README's demo printed the warnings above (log $logs/demo.log)" >&2
+  exit 1
+fi
+echo "(the demo's build: $(ccache --show-stats 2>/dev/null | grep -iE "^ *(cache )?(misses|hits)" | tr -s ' ' | paste -sd';' -))"
+
 stage "Layering"
 scripts/check-layering.sh
 
@@ -75,8 +107,6 @@ fuzz_seconds=${GPORT_FUZZ_SECONDS:-30}
 # beside NAME CMD...: runs CMD in the background, its output in
 # build/ci-logs/NAME.log; await NAME waits for it and fails, printing the log,
 # if it failed.
-logs=build/ci-logs
-mkdir -p "$logs"
 declare -A beside_pids=()
 beside() {
   local name=$1
@@ -129,11 +159,22 @@ prepare_rest() {
 # again on armhf: in the Release build they would only repeat the check.
 release_suites='integration_tests;client_tests;client_hostile_tests;web_tests'
 
+# The programs and their libraries are compiled file by file
+# (GPORT_PLAIN_PRODUCTION; the tests in unity units), with the demo's compile
+# commands: ccache gives back the demo's objects. So that those commands are
+# the demo's, -Werror is not among them; a warning fails the stage all the
+# same (a cached object's warnings are printed again).
 stage "Release build"
 beside prepare prepare_rest
-cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DGPORT_WERROR=ON \
-  -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_GTEST_SUITES="$release_suites"
-cmake --build build/release -j "$jobs"
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
+  -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_PLAIN_PRODUCTION=ON \
+  -DGPORT_GTEST_SUITES="$release_suites"
+cmake --build build/release -j "$jobs" 2>&1 | tee "$logs/release-build.log"
+if grep -n ": warning:" "$logs/release-build.log"; then
+  echo "error: the Release build has the warnings above (log $logs/release-build.log)" >&2
+  exit 1
+fi
+echo "(ccache, demo and Release builds: $(ccache --show-stats 2>/dev/null | grep -iE "^ *(cache )?(misses|hits)" | tr -s ' ' | paste -sd';' -))"
 # The tests that talk to another implementation at its own pace (ArduCopter
 # and PX4 SITL, node-mavlink, the Python client, chromium) and the
 # benchmarks run alone: with a build beside them (even a niced one) SITL and
@@ -155,10 +196,16 @@ ctest --test-dir build/release --output-on-failure -j "$jobs" -L "$interop_label
 # but for the code the fuzzers run, which fuzz/CMakeLists.txt keeps at -O1;
 # its targets share one precompiled header of the third-party headers
 # (GPORT_PCH, cmake/GportPch.cmake: at -O0 the front end is half of a unit).
+# Its tests, benchmarks and fuzzers are compiled file by file
+# (GPORT_PLAIN_TESTS), the production code in unity units: with the Release
+# build's plain production code, every source compiles on its own somewhere
+# (the shared header holds only third-party and standard headers, so a
+# missing include of the project's own still fails).
 asan_build() {
   CC=clang-14 CXX=clang++-14 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DGPORT_SANITIZE=ON -DGPORT_BUILD_FUZZ=ON -DGPORT_BUILD_BENCH=OFF -DGPORT_WERROR=ON \
-    -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_SITL_TESTS=OFF -DGPORT_PCH=ON \
+    -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_PLAIN_TESTS=ON \
+    -DGPORT_SITL_TESTS=OFF -DGPORT_PCH=ON \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O0 -g1"
   # node-mavlink: the Release tree's install, copied (the same lock file), so
   # npm_install finds it done. npm ci again revalidated its cache with the

@@ -1,7 +1,7 @@
 # Runs at install time (install(CODE) in systemd/CMakeLists.txt), so that the
 # paths written into the units and the directories chosen follow the prefix
 # actually used: `cmake --install --prefix ...`, or /usr when CPack stages the
-# .deb. Inputs (set by the caller): GPORT_SRC_DIR, GPORT_STAGE_DIR,
+# .deb. Inputs (set by the caller): GPORT_SRC_DIR,
 # GPORT_BINDIR_REL, GPORT_DOCDIR_REL, GPORT_SYSCONFDIR_REL, GPORT_CONFIG_DIR,
 # GPORT_CMAKE_DIR, the forced and the
 # system directories (GPORT_SYSTEMD_UNITDIR / GPORT_SYSTEM_UNITDIR, ...).
@@ -35,16 +35,29 @@ file(READ "${GPORT_SRC_DIR}/units/mavlink-sandbox.conf" GPORT_MAVLINK_SANDBOX)
 file(READ "${GPORT_SRC_DIR}/units/web-sandbox.conf" GPORT_WEB_SANDBOX)
 set(GPORT_BINDIR "${CMAKE_INSTALL_PREFIX}/${GPORT_BINDIR_REL}")
 set(GPORT_DOC_DIR "${CMAKE_INSTALL_PREFIX}/${GPORT_DOCDIR_REL}")
+# They are staged in a private directory under the temporary directory, not
+# in the build tree: whoever installs (a user installing to a prefix of
+# their own, CPack) may be unable to write the build tree, and an install
+# writes nothing there.
+if(DEFINED ENV{TMPDIR} AND IS_DIRECTORY "$ENV{TMPDIR}")
+  set(stage_parent "$ENV{TMPDIR}")
+else()
+  set(stage_parent "/tmp")
+endif()
+string(RANDOM LENGTH 12 stage_suffix)
+set(stage "${stage_parent}/gportd-units-${stage_suffix}")
+file(MAKE_DIRECTORY "${stage}")
 set(units "")
 foreach(unit gportd.service gportd.socket gportd@.service gportd@.socket gport-mavlink.service
              gport-mavlink@.service gport-web.service)
-  configure_file("${GPORT_SRC_DIR}/units/${unit}.in" "${GPORT_STAGE_DIR}/${unit}" @ONLY)
-  list(APPEND units "${GPORT_STAGE_DIR}/${unit}")
+  configure_file("${GPORT_SRC_DIR}/units/${unit}.in" "${stage}/${unit}" @ONLY)
+  list(APPEND units "${stage}/${unit}")
 endforeach()
 
 # file(INSTALL) prefixes DESTDIR, prints and records in install_manifest.txt
 # like install() does.
 file(INSTALL DESTINATION "${unitdir}" TYPE FILE FILES ${units})
+file(REMOVE_RECURSE "${stage}")
 file(INSTALL DESTINATION "${sysusersdir}" TYPE FILE
      FILES "${GPORT_SRC_DIR}/sysusers/gportd.conf" "${GPORT_SRC_DIR}/sysusers/gport-mavlink.conf"
            "${GPORT_SRC_DIR}/sysusers/gport-web.conf")

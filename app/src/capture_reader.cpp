@@ -241,7 +241,40 @@ RestoredCaptures read_captures(const CaptureFiles& files, std::size_t keep_lines
     return out;
 }
 
+namespace {
+
+// A symbolic link another user owns in a sticky directory anyone may write
+// (/tmp, /var/tmp) is theirs to point anywhere at any time, so it is not
+// followed: the rule of the kernel's fs.protected_symlinks, and of the
+// capture files' own O_NOFOLLOW.
+std::optional<std::string> foreign_link(const std::string& dir) {
+    struct stat link {};
+    if (::lstat(dir.c_str(), &link) != 0 || !S_ISLNK(link.st_mode)) {
+        return std::nullopt;
+    }
+    const auto uid = ::geteuid();
+    if (link.st_uid == uid || link.st_uid == 0) {
+        return std::nullopt;
+    }
+    const auto slash = dir.find_last_of('/');
+    const auto parent = slash == 0 ? std::string("/") : dir.substr(0, slash);
+    struct stat up {};
+    if (::stat(parent.c_str(), &up) != 0 || (up.st_mode & S_ISVTX) == 0 ||
+        (up.st_mode & S_IWOTH) == 0) {
+        return std::nullopt;
+    }
+    return fmt::format(
+        "{} is a symbolic link of uid {} in {}, a sticky directory anyone may write: its owner "
+        "can point it anywhere, so it is not followed; give the directory itself",
+        dir, link.st_uid, parent);
+}
+
+}  // namespace
+
 std::optional<std::string> check_capture_dir(const std::string& dir) {
+    if (auto refused = foreign_link(dir)) {
+        return refused;
+    }
     if (::mkdir(dir.c_str(), 0750) != 0 && errno != EEXIST) {
         return fmt::format("{} cannot be created: {}", dir, std::strerror(errno));
     }

@@ -26,6 +26,7 @@
 #include "gport/systemd/notifier.hpp"
 #include "gport/systemd/watchdog.hpp"
 #include "gport/version.hpp"
+#include "hangup.hpp"
 
 namespace gport::app {
 namespace {
@@ -42,6 +43,8 @@ const char* signal_name(int sig) {
             return "SIGINT";
         case SIGQUIT:
             return "SIGQUIT";
+        case SIGHUP:
+            return "SIGHUP";
         default:
             return "a signal";
     }
@@ -105,6 +108,7 @@ class Daemon {
           log_(std::move(log)),
           notifier_(log_),
           watchdog_(io_, notifier_),
+          hangup_(HangupRule::at_start()),
           signals_(io_, SIGINT, SIGTERM, SIGQUIT) {
         signals_.add(SIGHUP);
     }
@@ -126,6 +130,11 @@ class Daemon {
             log_->info("watchdog enabled: pinging every {} ms", interval->count() / 1000);
         }
         wait_for_signal();
+        if (hangup_.watches_terminal()) {
+            log_->info(
+                "started from a terminal: gportd ends when it hangs up (closing it, logging "
+                "out); `kill -HUP` while it is open reloads the configuration");
+        }
         log_->info("gportd {} ready", kVersion);
         io_.run();
         if (capture_writer_ != nullptr) {  // every client gone: no capture after this
@@ -202,15 +211,21 @@ class Daemon {
         notifier_.status(status_text(config_.serial.device, event));
     }
 
-    // SIGHUP reloads and waits again; the others stop the daemon. The set
-    // stays installed while stopping, so a second signal cannot kill the
-    // process before the gimbal heard its zero speed.
+    // SIGHUP reloads and waits again, unless it is the hang-up of the
+    // terminal gportd was started from (hangup.hpp); the others stop the
+    // daemon. The set stays installed while stopping, so a second signal
+    // cannot kill the process before the gimbal heard its zero speed.
     void wait_for_signal() {
         signals_.async_wait([this](boost::system::error_code ec, int sig) {
             if (ec) {
                 return;
             }
-            if (sig == SIGHUP) {
+            if (sig == SIGHUP && hangup_.is_hangup()) {
+                if (!stopping_) {
+                    log_->info("the terminal gportd was started from hung up");
+                    stop(sig);
+                }
+            } else if (sig == SIGHUP) {
                 reload();
                 wait_for_signal();
             } else if (!stopping_) {
@@ -284,6 +299,7 @@ class Daemon {
     asio::io_context io_{1};  // one thread: Asio may skip its locking
     systemd::Notifier notifier_;
     systemd::WatchdogDriver watchdog_;
+    HangupRule hangup_;  // read before signals_ installs its handlers
     asio::signal_set signals_;
     std::optional<sim::PtySimulator> simulator_;
     std::optional<Core> core_;

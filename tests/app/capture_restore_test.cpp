@@ -171,6 +171,30 @@ TEST_F(CaptureRestoreTest, ADirectoryOfAnotherUserIsRefused) {
     EXPECT_NE(refused->find("belongs to uid 12345"), std::string::npos) << *refused;
 }
 
+// A link another user owns in a sticky, world-writable directory (/tmp)
+// is theirs to repoint: refused, though its target passes every check.
+TEST_F(CaptureRestoreTest, AnotherUsersLinkInAStickyDirectoryIsNotFollowed) {
+    if (::geteuid() != 0) {
+        GTEST_SKIP() << "a link of another user needs root to make";
+    }
+    const auto sticky = tmp_.file("sticky");
+    ASSERT_EQ(::mkdir(sticky.c_str(), 01777), 0);
+    ASSERT_EQ(::chmod(sticky.c_str(), 01777), 0);  // past the umask
+    const auto link = sticky + "/state";
+    ASSERT_EQ(::symlink(files_.dir.c_str(), link.c_str()), 0);
+    ASSERT_EQ(::lchown(link.c_str(), 12345, 12345), 0);
+    auto refused = check_capture_dir(link);
+    ASSERT_TRUE(refused);
+    EXPECT_NE(refused->find("symbolic link of uid 12345"), std::string::npos) << *refused;
+    EXPECT_NE(refused->find("not followed"), std::string::npos) << *refused;
+    // Ours, or in a directory only its owner writes: followed, as before.
+    ASSERT_EQ(::lchown(link.c_str(), 0, 0), 0);
+    EXPECT_FALSE(check_capture_dir(link));
+    ASSERT_EQ(::lchown(link.c_str(), 12345, 12345), 0);
+    ASSERT_EQ(::chmod(sticky.c_str(), 0755), 0);
+    EXPECT_FALSE(check_capture_dir(link));
+}
+
 TEST_F(CaptureRestoreTest, AMissingDirectoryIsCreatedForGportdAlone) {
     const auto dir = tmp_.file("new");
     EXPECT_FALSE(check_capture_dir(dir));

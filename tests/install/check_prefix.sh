@@ -12,9 +12,10 @@
 #     directory of its own it serves gportctl;
 #   - installed to /usr (DESTDIR, the .deb's layout) the programs carry no
 #     RUNPATH and the config is /etc/gportd/gportd.json.
-# The install itself runs as root (when the tests do): cmake --install writes
-# its manifest and the units' staging copies into the build tree, which an
-# unprivileged user cannot write; the unprivileged part is running it.
+#   - from a build tree it cannot write (mounted read-only), the install
+#     succeeds and its manifest goes to <prefix>/share/gportd.
+# The install itself runs as root (when the tests do): the unprivileged part
+# is running what it installed.
 #
 # usage: check_prefix.sh BUILD_DIR
 set -eu
@@ -145,4 +146,33 @@ for program in "$root"/usr/bin/*; do
     fi
 done
 echo "prefix /usr: no RUNPATH, config /etc/gportd/gportd.json"
+
+# Installing writes nothing into the build tree: an installer who cannot
+# write it (a user installing a tree root built) gets a whole install, the
+# manifest beside it (cmake/GportInstallManifest.cmake). The build tree is
+# mounted read-only in a mount namespace of the install's own, which even
+# root cannot write through; where no mount namespace can be made (an
+# unprivileged container), this part is skipped, saying so.
+readonly_prefix=$work/readonly-prefix
+if unshare --mount true 2>/dev/null; then
+    status=0
+    unshare --mount sh -c '
+        mount --bind "$1" "$1" && mount -o remount,bind,ro "$1" || exit 90
+        exec "$2" --install "$1" --prefix "$3"' sh "$build" "$cmake" "$readonly_prefix" \
+        >"$work/install-readonly.log" 2>&1 || status=$?
+    [ "$status" -ne 90 ] || fail "could not mount $build read-only: $(cat "$work/install-readonly.log")"
+    [ "$status" -eq 0 ] || { cat "$work/install-readonly.log" >&2;
+        fail "cmake --install from a build tree it cannot write: exit $status"; }
+    manifest=$readonly_prefix/share/gportd/install_manifest.txt
+    [ -s "$manifest" ] || fail "no install manifest at $manifest"
+    grep -q "/gportd.service$" "$manifest" || fail "the units are not in $manifest"
+    outside=$(grep -v "^$readonly_prefix/" "$manifest" || true)
+    [ -z "$outside" ] || fail "the read-only build tree's install wrote outside the prefix:
+$outside"
+    grep -qF "the install manifest is $manifest" "$work/install-readonly.log" \
+        || fail "the install does not say where its manifest went: $(cat "$work/install-readonly.log")"
+    echo "build tree read-only: installed $(wc -l <"$manifest") files, the manifest in the prefix"
+else
+    echo "SKIPPED the read-only build tree's install: no mount namespace here (unshare --mount)"
+fi
 echo "PASS"
