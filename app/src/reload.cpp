@@ -34,6 +34,13 @@ const std::vector<Key>& keys() {
         key<&Config::socket, &SocketConfig::line_limit>("socket.line_limit", false),
         key<&Config::socket, &SocketConfig::max_clients>("socket.max_clients", false),
         key<&Config::socket, &SocketConfig::queue_limit>("socket.queue_limit", false),
+        // The server keeps the socket section it started with.
+        key<&Config::socket, &SocketConfig::max_clients_per_uid>("socket.max_clients_per_uid",
+                                                                 false),
+        key<&Config::socket, &SocketConfig::reserved_command_slots>("socket.reserved_command_slots",
+                                                                    false),
+        key<&Config::socket, &SocketConfig::idle_timeout>("socket.idle_timeout_ms", false),
+        key<&Config::socket, &SocketConfig::max_requests_per_s>("socket.max_requests_per_s", false),
         key<&Config::keepalive, &KeepaliveConfig::rate_hz>("keepalive.rate_hz", false),
         key<&Config::keepalive, &KeepaliveConfig::default_duration>("keepalive.default_duration_ms",
                                                                     true),
@@ -59,6 +66,8 @@ const std::vector<Key>& keys() {
         key<&Config::motion, &MotionConfig::tolerance_deg>("motion.tolerance_deg", true),
         key<&Config::motion, &MotionConfig::timeout>("motion.timeout_ms", true),
         key<&Config::motion, &MotionConfig::stall>("motion.stall_ms", true),
+        // Core::reload hands it to the camera limit's token bucket.
+        key<&Config::camera, &CameraConfig::max_commands_per_s>("camera.max_commands_per_s", true),
         // The writer thread holds its file open: a new place or rotation needs a restart.
         key<&Config::captures, &CapturesConfig::dir>("captures.dir", false),
         key<&Config::captures, &CapturesConfig::max_file_bytes>("captures.max_file_bytes", false),

@@ -54,8 +54,9 @@ std::optional<CommandError> Arbiter::check_access(const ClientInfo& client) cons
         return std::nullopt;
     }
     return CommandError{ErrorCode::kPermission,
-                        fmt::format("permission denied: uid {} may only read "
-                                    "(status, attitude, subscribe, unsubscribe)",
+                        fmt::format("permission denied: uid {} may only read (status, "
+                                    "attitude, attitude_channel, subscribe, unsubscribe, "
+                                    "captures, limits)",
                                     client.uid)};
 }
 

@@ -75,5 +75,25 @@ TEST(PlanReload, NothingChangedMeansNothingToDo) {
     EXPECT_TRUE(plan.need_restart.empty());
 }
 
+// Every key of the file is in the plan: one left out was neither applied
+// nor reported as needing a restart (the camera limit, documented as read
+// on reload, stayed as it was; the socket's limits changed silently).
+TEST(PlanReload, TheCameraLimitAppliesAndTheSocketLimitsNeedARestart) {
+    config::Config running;
+    config::Config next;
+    next.camera.max_commands_per_s = 2;
+    next.socket.max_clients_per_uid = 4;
+    next.socket.reserved_command_slots = 2;
+    next.socket.idle_timeout = 1000ms;
+    next.socket.max_requests_per_s = 50;
+    const auto plan = app::plan_reload(running, next);
+    EXPECT_EQ(plan.applied, (std::vector<std::string>{"camera.max_commands_per_s"}));
+    EXPECT_EQ(plan.need_restart, (std::vector<std::string>{
+                                     "socket.max_clients_per_uid", "socket.reserved_command_slots",
+                                     "socket.idle_timeout_ms", "socket.max_requests_per_s"}));
+    EXPECT_EQ(plan.in_effect.camera.max_commands_per_s, 2);
+    EXPECT_EQ(plan.in_effect.socket.max_requests_per_s, running.socket.max_requests_per_s);
+}
+
 }  // namespace
 }  // namespace gport::testing
