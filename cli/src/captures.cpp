@@ -1,16 +1,19 @@
 #include "gport/cli/captures.hpp"
 
 #include <fmt/format.h>
-#include <time.h>
 
+#include <limits>
 #include <string_view>
 
 #include "gport/cli/printable.hpp"
+#include "gport/client/capture_files.hpp"
 
 namespace gport::cli {
 namespace {
 
 using nlohmann::json;
+
+constexpr std::string_view kTableRow = "{:>7}  {:<27}  {:<13}  {:<24}  {:<24}  {:<26}  {}\n";
 
 const json& member(const json& object, const char* key) {
     static const json kNull;
@@ -38,7 +41,11 @@ std::optional<std::uint64_t> index_of(const json& value) {
 
 std::string utc_of(const json& capture) {
     const auto& us = member(capture, "utc_us");
-    return us.is_number_integer() ? utc_text(us.get<std::int64_t>()) : std::string();
+    if (us.is_number_unsigned() &&
+        us.get<std::uint64_t>() > std::uint64_t{std::numeric_limits<std::int64_t>::max()}) {
+        return "";
+    }
+    return us.is_number_integer() ? client::utc_text(us.get<std::int64_t>()) : std::string();
 }
 
 // A string as it is, anything else but null as JSON; printable either way.
@@ -48,36 +55,22 @@ std::string text(const json& value) {
                                        : json_line(value));
 }
 
-// RFC 4180: every field in double quotes, a double quote in it doubled.
-std::string csv_field(const std::string& field) {
-    std::string out = "\"";
-    for (const char c : field) {
-        out += c == '"' ? "\"\"" : std::string(1, c);
+// A meta member of the position: a number as JSON writes it, "?" when
+// missing, anything else as its JSON text, printable.
+std::string position_part(const json& value) {
+    return value.is_number() ? value.dump() : value.is_null() ? "?" : printable(json_line(value));
+}
+
+std::string position_of(const json& capture) {
+    const auto& meta = member(capture, "meta");
+    const auto& lat = member(meta, "lat");
+    const auto& lon = member(meta, "lon");
+    const auto& alt = member(meta, "alt_m");
+    if (lat.is_null() && lon.is_null() && alt.is_null()) {
+        return "-";
     }
-    return out + "\"";
-}
-
-// A text cell: a spreadsheet takes a cell starting with = + - @ (or a tab or
-// CR) as a formula; a leading ' makes it text, as OWASP advises.
-std::string text_cell(const json& value) {
-    auto cell = text(value);
-    if (!cell.empty() && std::string_view("=+-@\t\r").find(cell.front()) != std::string::npos) {
-        cell.insert(0, 1, '\'');
-    }
-    return csv_field(cell);
-}
-
-// A number cell: only a JSON number's own digits (-?d+(.d+)?(e[+-]d+)?), so
-// a leading '-' is a sign and stays, and the cell stays a number; any
-// other value leaves it empty.
-std::string number_cell(const json& value) {
-    return csv_field(number(value));
-}
-
-std::string angle_cells(const json& attitude, const char* part) {
-    const auto& axes = member(attitude, part);
-    return fmt::format("{},{},{}", number_cell(member(axes, "roll")),
-                       number_cell(member(axes, "pitch")), number_cell(member(axes, "yaw")));
+    const auto where = position_part(lat) + "," + position_part(lon);
+    return alt.is_null() ? where : where + " " + position_part(alt) + "m";
 }
 
 }  // namespace
@@ -101,35 +94,13 @@ std::optional<std::uint64_t> capture_index(const json& capture) {
     return index_of(member(capture, "index"));
 }
 
-std::string utc_text(std::int64_t utc_us) {
-    const auto seconds =
-        static_cast<time_t>(utc_us >= 0 ? utc_us / 1000000 : (utc_us - 999999) / 1000000);
-    const auto micros = utc_us - static_cast<std::int64_t>(seconds) * 1000000;
-    struct tm tm {};
-    gmtime_r(&seconds, &tm);
-    return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:06}Z", tm.tm_year + 1900,
-                       tm.tm_mon + 1, tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec, micros);
-}
-
-std::string captures_csv_header() {
-    return "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,hall_yaw,lat,lon,"
-           "alt_m\n";
-}
-
 std::string capture_csv_row(const json& capture) {
-    const auto& attitude = member(capture, "attitude");
-    const auto& meta = member(capture, "meta");
-    // kind comes from the log as written: a crafted one is a text cell like any.
-    return fmt::format("{},{},{},{},{},{},{},{}\n", number_cell(member(capture, "index")),
-                       csv_field(utc_of(capture)), text_cell(member(capture, "kind")),
-                       angle_cells(attitude, "imu"), angle_cells(attitude, "hall"),
-                       number_cell(member(meta, "lat")), number_cell(member(meta, "lon")),
-                       number_cell(member(meta, "alt_m")));
+    return client::capture_csv_row(capture.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 
 std::string captures_table_header() {
-    return fmt::format("{:>7}  {:<27}  {:<13}  {:<24}  {:<24}  {}\n", "INDEX", "UTC", "KIND",
-                       "IMU ROLL/PITCH/YAW", "HALL ROLL/PITCH/YAW", "CLIENT");
+    return fmt::format(kTableRow, "INDEX", "UTC", "KIND", "IMU ROLL/PITCH/YAW",
+                       "HALL ROLL/PITCH/YAW", "POSITION", "CLIENT");
 }
 
 std::string capture_table_row(const json& capture) {
@@ -146,9 +117,9 @@ std::string capture_table_row(const json& capture) {
     const auto& name = member(client, "name");
     const auto who = fmt::format("{}(pid {})", name.is_string() ? text(name) + " " : "",
                                  text(member(client, "pid")));
-    return fmt::format("{:>7}  {:<27}  {:<13}  {:<24}  {:<24}  {}\n",
-                       number(member(capture, "index")), utc_of(capture),
-                       text(member(capture, "kind")), axes("imu"), axes("hall"), who);
+    return fmt::format(kTableRow, number(member(capture, "index")), utc_of(capture),
+                       text(member(capture, "kind")), axes("imu"), axes("hall"),
+                       position_of(capture), who);
 }
 
 }  // namespace gport::cli

@@ -9,6 +9,7 @@
 #include "exiftool.hpp"
 #include "gport/cli/captures.hpp"
 #include "gport/cli/printable.hpp"
+#include "gport/client/capture_files.hpp"
 #include "gport/contract/names.hpp"
 #include "image_tags.hpp"
 
@@ -111,7 +112,7 @@ void report(const Invocation& inv, const std::vector<ImageFile>& images,
     }
     for (const auto c : m.captures_left) {
         out << fmt::format("capture {} ({})  no image\n", photos[c].index,
-                           utc_text(photos[c].utc_us));
+                           client::utc_text(photos[c].utc_us));
     }
     out << fmt::format("{} of {} images matched{}; {} of {} photo captures without an image\n",
                        m.matched.size(), images.size(), inv.in_order ? " in order" : " by time",

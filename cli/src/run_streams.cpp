@@ -7,6 +7,7 @@
 #include "gport/cli/captures.hpp"
 #include "gport/cli/output.hpp"
 #include "gport/cli/printable.hpp"
+#include "gport/client/capture_files.hpp"
 #include "gport/contract/names.hpp"
 #include "runner.hpp"
 
@@ -254,7 +255,7 @@ int Runner::captures() {
         }
     }
     if (!inv_.json) {
-        out_ << (inv_.csv ? captures_csv_header() : captures_table_header());
+        out_ << (inv_.csv ? client::captures_csv_header() : captures_table_header());
     }
     std::uint64_t since = inv_.since;
     const int listed = list_captures(since);

@@ -1,6 +1,10 @@
 // The HTTP API and the login's happy paths: gportd's status passed through,
 // /?token= and POST /login setting the session cookie with 303, logout,
-// checked bodies, the capture log's page and its streamed downloads.
+// checked bodies, the capture log's page and its streamed downloads (the CSV
+// byte for byte gportctl captures --csv's).
+#include <fstream>
+#include <sstream>
+
 #include "web_fixture.hpp"
 
 namespace gport::testing {
@@ -129,6 +133,41 @@ TEST_F(WebApi, TheCaptureLogComesAsAPageAndAsStreamedCsvAndGeoJson) {
     const auto collection = json::parse(geojson.body());
     EXPECT_EQ(collection.at("type"), "FeatureCollection");
     EXPECT_TRUE(collection.at("features").empty());  // no position given with these photos
+}
+
+// gportctl captures --csv's stdout as written to a file, byte for byte.
+std::string gportctl_csv(const std::string& socket, const std::string& file) {
+    Process gportctl({"/bin/sh", "-c", "exec \"$0\" --socket \"$1\" captures --csv > \"$2\"",
+                      GPORTCTL_PATH, socket, file});
+    EXPECT_EQ(gportctl.wait(20s), 0);
+    std::ostringstream bytes;
+    bytes << std::ifstream(file, std::ios::binary).rdbuf();
+    return bytes.str();
+}
+
+// One writer (libgport-client's capture_files.hpp) behind both: the same
+// log gives the same bytes, whatever its positions hold.
+TEST_F(WebApi, TheCsvDownloadIsGportctlsCsvByteForByte) {
+    const json metas[] = {{{"lat", 47.397742}, {"lon", -8.545594}, {"alt_m", 488.2}},
+                          {{"lat", "47.5"}, {"lon", 8.5}},
+                          {{"lat", -33.9}, {"note", "say \"cheese\", twice\r\n=1"}},
+                          {{"lat", 1e-7}, {"lon", -180}, {"alt_m", -0.5}}};
+    for (const auto& meta : metas) {
+        ASSERT_EQ(gportd_->call("photo", {{"meta", meta}}).at("result").at("sent"), true);
+    }
+    const auto csv = get("/api/captures.csv", kViewToken);
+    ASSERT_EQ(csv.result(), http::status::ok);
+    EXPECT_EQ(std::count(csv.body().begin(), csv.body().end(), '\n'), 5);
+    EXPECT_EQ(csv.body(), gportctl_csv(daemon_->socket(), dir_.file("captures.csv")));
+    EXPECT_TRUE(csv.body().starts_with("index,utc,kind,imu_roll,")) << csv.body();
+    EXPECT_NE(csv.body().find(R"("photo",)"), std::string::npos) << csv.body();
+    EXPECT_NE(csv.body().find(R"("47.397742","-8.545594","488.2")"), std::string::npos);
+    EXPECT_NE(csv.body().find(R"(,"","8.5","")"), std::string::npos) << "a string is no lat";
+    EXPECT_NE(csv.body().find(R"("1e-07","-180","-0.5")"), std::string::npos) << csv.body();
+
+    const auto features = json::parse(get("/api/captures.geojson").body()).at("features");
+    ASSERT_EQ(features.size(), 2U) << "a numeric lat and lon make a point";
+    EXPECT_EQ(features[1].at("geometry").at("coordinates"), json({-180, 1e-7, -0.5}));
 }
 
 }  // namespace

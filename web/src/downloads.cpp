@@ -1,11 +1,12 @@
-// The capture log as CSV (gportctl captures --csv's columns) or GeoJSON
-// (the captures with a position), streamed in chunks, one gportd page at a
-// time: memory holds one page, however long the log.
+// The capture log as CSV (gportctl captures --csv's bytes: both are
+// libgport-client's writer, gport/client/capture_files.hpp) or GeoJSON (the
+// captures with a position), streamed in chunks, one gportd page at a time:
+// memory holds one page, however long the log.
 #include <boost/asio/write.hpp>
 #include <boost/beast/http/chunk_encode.hpp>
-#include <ctime>
 #include <nlohmann/json.hpp>
 
+#include "gport/client/capture_files.hpp"
 #include "gport/contract/names.hpp"
 #include "gport/web/limits.hpp"
 #include "http_session.hpp"
@@ -16,24 +17,6 @@ namespace {
 using nlohmann::json;
 namespace beast = boost::beast;
 
-std::string number(const json& value) {
-    return value.is_number() ? value.dump() : "";
-}
-
-// A text cell, quoted, with a leading quote before what a spreadsheet would
-// take for a formula.
-std::string text_cell(const json& value) {
-    std::string cell = value.is_string() ? value.get<std::string>() : number(value);
-    if (!cell.empty() && std::string_view("=+-@\t\r").find(cell.front()) != std::string::npos) {
-        cell.insert(0, "'");
-    }
-    std::string out = "\"";
-    for (char c : cell) {
-        out += c == '"' ? std::string("\"\"") : std::string(1, c);
-    }
-    return out + "\"";
-}
-
 const json& member(const json& object, const char* key) {
     static const json kNull;
     if (!object.is_object()) {
@@ -43,54 +26,9 @@ const json& member(const json& object, const char* key) {
     return it == object.end() ? kNull : *it;
 }
 
-std::string utc_of(const json& capture) {
-    const auto& us = member(capture, "utc_us");
-    if (!us.is_number_integer()) {
-        return "";
-    }
-    const auto micros = us.get<std::int64_t>();
-    const std::time_t seconds = micros / 1000000;
-    std::tm tm{};
-    gmtime_r(&seconds, &tm);
-    char text[96];
-    std::snprintf(text, sizeof(text), "%04d-%02d-%02dT%02d:%02d:%02d.%06lldZ", tm.tm_year + 1900,
-                  tm.tm_mon + 1, tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec,
-                  static_cast<long long>(micros % 1000000));
-    return text;
-}
-
-std::string csv_row(const json& capture) {
-    std::string row = number(member(capture, "index")) + "," + text_cell(utc_of(capture)) + "," +
-                      text_cell(member(capture, "kind"));
-    const auto& attitude = member(capture, "attitude");
-    for (const char* source : {"imu", "hall"}) {
-        for (const char* axis : {"roll", "pitch", "yaw"}) {
-            row += "," + number(member(member(attitude, source), axis));
-        }
-    }
-    const auto& meta = member(capture, "meta");
-    return row + "," + number(member(meta, "lat")) + "," + number(member(meta, "lon")) + "," +
-           number(member(meta, "alt_m")) + "\n";
-}
-
-// A GeoJSON feature, or nothing for a capture without a position.
-std::string feature(const json& capture) {
-    const auto& meta = member(capture, "meta");
-    if (!member(meta, "lat").is_number() || !member(meta, "lon").is_number()) {
-        return "";
-    }
-    json coordinates = {meta["lon"], meta["lat"]};
-    if (member(meta, "alt_m").is_number()) {
-        coordinates.push_back(meta["alt_m"]);
-    }
-    const json f = {{"type", "Feature"},
-                    {"geometry", {{"type", "Point"}, {"coordinates", coordinates}}},
-                    {"properties",
-                     {{"index", member(capture, "index")},
-                      {"utc", utc_of(capture)},
-                      {"kind", member(capture, "kind")},
-                      {"attitude", member(capture, "attitude")}}}};
-    return f.dump(-1, ' ', false, json::error_handler_t::replace);
+// A capture as libgport-client's writer reads it (gportctl's CSV is the same).
+std::string text_of(const json& capture) {
+    return capture.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 class Download : public std::enable_shared_from_this<Download> {
@@ -128,11 +66,12 @@ class Download : public std::enable_shared_from_this<Download> {
         }
         std::string text = started_ ? "" : head();
         for (const auto& capture : page["captures"]) {
-            text += geojson_ ? separated(feature(capture)) : csv_row(capture);
+            text += geojson_ ? separated(client::capture_geojson_feature(text_of(capture)))
+                             : client::capture_csv_row(text_of(capture));
         }
         more_ = member(page, "more") == true && member(page, "next").is_number_unsigned();
         since_ = more_ ? page["next"].get<std::uint64_t>() : since_;
-        text += more_ ? "" : (geojson_ ? "]}\n" : "");
+        text += more_ || !geojson_ ? "" : client::captures_geojson_tail();
         if (!started_) {
             start(std::move(text));
         } else {
@@ -141,9 +80,7 @@ class Download : public std::enable_shared_from_this<Download> {
     }
 
     std::string head() const {
-        return geojson_ ? R"({"type":"FeatureCollection","features":[)"
-                        : "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,"
-                          "hall_yaw,lat,lon,alt_m\n";
+        return geojson_ ? client::captures_geojson_head() : client::captures_csv_header();
     }
 
     std::string separated(std::string f) {

@@ -27,21 +27,16 @@ CapturesPage read_captures_page(const nlohmann::json& result, std::uint64_t sinc
 // A capture's index; none when it has no unsigned integer one.
 std::optional<std::uint64_t> capture_index(const nlohmann::json& capture);
 
-// "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,hall_yaw,lat,lon,alt_m\n"
-std::string captures_csv_header();
-// One row: utc as ISO 8601 UTC with microseconds; the angles empty without an
-// attitude; lat, lon, alt_m from meta's numbers of those names, else empty.
-// RFC 4180: every field in double quotes (one inside doubled). Number
-// columns hold a JSON number's own digits or nothing; the text column
-// (kind) is printable() and gets a leading ' when it starts with
-// = + - @, a tab or a CR, so no spreadsheet takes it for a formula.
+// The CSV: libgport-client's capture_csv_row (gport/client/capture_files.hpp),
+// gport-web's writer too; a capture that does not serialise (invalid UTF-8 in
+// a built one) has U+FFFD in its place.
 std::string capture_csv_row(const nlohmann::json& capture);
 
-// The table for people: kind and the client's name printable().
+// The table for people: kind and the client's name printable(); utc as in
+// the CSV; POSITION from meta's lat, lon and alt_m ("-" without any of
+// them), each a number as JSON writes it, "?" when missing, else its JSON
+// text made printable ("47.1,?" or "\"N47\",8.5 488m"), never an error.
 std::string captures_table_header();
 std::string capture_table_row(const nlohmann::json& capture);
-
-// 1795563183085470 -> "2026-11-24T23:33:03.085470Z".
-std::string utc_text(std::int64_t utc_us);
 
 }  // namespace gport::cli

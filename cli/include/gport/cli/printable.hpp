@@ -2,7 +2,8 @@
 // terminal (issue 30): a process name, a refusal's message, a link reason
 // can hold escape sequences that would clear, retitle or reprogram the
 // reader's terminal. Every such text gportctl prints goes through
-// printable(); its JSON output goes through json_line().
+// printable() (libgport-client's, gport/client/printable.hpp); its JSON
+// output goes through json_line().
 #pragma once
 
 #include <nlohmann/json.hpp>

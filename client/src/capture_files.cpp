@@ -1,0 +1,148 @@
+// The capture log as CSV and GeoJSON (capture_files.hpp): one writer for
+// gportctl and gport-web.
+#include "gport/client/capture_files.hpp"
+
+#include <cstdio>
+#include <ctime>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "gport/client/printable.hpp"
+
+namespace gport::client {
+namespace {
+
+using nlohmann::json;
+
+json parsed(std::string_view capture) {
+    auto value = json::parse(capture, nullptr, false);
+    if (value.is_discarded()) {
+        throw Error(ErrorCode::kBadReply, "capture: not JSON: " + printable(capture.substr(0, 64)));
+    }
+    return value;
+}
+
+const json& member(const json& object, const char* key) {
+    static const json kNull;
+    if (!object.is_object()) {
+        return kNull;
+    }
+    const auto it = object.find(key);
+    return it == object.end() ? kNull : *it;
+}
+
+// utc_us as text; empty unless it is an integer that fits an int64.
+std::string utc_of(const json& capture) {
+    const auto& us = member(capture, "utc_us");
+    if (us.is_number_unsigned() &&
+        us.get<std::uint64_t>() > std::uint64_t{std::numeric_limits<std::int64_t>::max()}) {
+        return "";
+    }
+    return us.is_number_integer() ? utc_text(us.get<std::int64_t>()) : "";
+}
+
+// RFC 4180: the field in double quotes, a double quote in it doubled.
+std::string csv_quoted(std::string_view field) {
+    std::string out = "\"";
+    for (const char c : field) {
+        out += c;
+        if (c == '"') {
+            out += '"';
+        }
+    }
+    return out + "\"";
+}
+
+// A JSON number's own digits (-?d+(.d+)?(e[+-]d+)?), else nothing: a leading
+// '-' is a sign and stays, and the field stays a number.
+std::string number_field(const json& value) {
+    return csv_quoted(value.is_number() ? value.dump() : "");
+}
+
+// The text field: printable, and a leading ' before what a spreadsheet would
+// take for a formula (= + - @; OWASP's advice names a tab and a CR too, which
+// printable has already written as \x09 and \x0d).
+std::string text_field(const json& value) {
+    auto text =
+        printable(value.is_string() ? value.get<std::string>()
+                  : value.is_null() ? ""
+                                    : value.dump(-1, ' ', false, json::error_handler_t::replace));
+    if (!text.empty() && std::string_view("=+-@").find(text.front()) != std::string::npos) {
+        text.insert(0, 1, '\'');
+    }
+    return csv_quoted(text);
+}
+
+std::string angle_fields(const json& attitude, const char* source) {
+    const auto& axes = member(attitude, source);
+    return number_field(member(axes, "roll")) + "," + number_field(member(axes, "pitch")) + "," +
+           number_field(member(axes, "yaw"));
+}
+
+}  // namespace
+
+std::string captures_csv_header() {
+    return "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,hall_yaw,lat,lon,"
+           "alt_m\n";
+}
+
+std::string capture_csv_row(std::string_view text) {
+    const auto capture = parsed(text);
+    const auto& attitude = member(capture, "attitude");
+    const auto& meta = member(capture, "meta");
+    return number_field(member(capture, "index")) + "," + csv_quoted(utc_of(capture)) + "," +
+           text_field(member(capture, "kind")) + "," + angle_fields(attitude, "imu") + "," +
+           angle_fields(attitude, "hall") + "," + number_field(member(meta, "lat")) + "," +
+           number_field(member(meta, "lon")) + "," + number_field(member(meta, "alt_m")) + "\n";
+}
+
+std::string captures_geojson_head() {
+    return R"({"type":"FeatureCollection","features":[)";
+}
+
+std::string captures_geojson_tail() {
+    return "]}\n";
+}
+
+std::string capture_geojson_feature(std::string_view text) {
+    const auto capture = parsed(text);
+    const auto& meta = member(capture, "meta");
+    if (!member(meta, "lat").is_number() || !member(meta, "lon").is_number()) {
+        return "";
+    }
+    json coordinates = {meta["lon"], meta["lat"]};
+    if (member(meta, "alt_m").is_number()) {
+        coordinates.push_back(meta["alt_m"]);
+    }
+    const auto utc = utc_of(capture);
+    const json feature = {{"type", "Feature"},
+                          {"geometry", {{"type", "Point"}, {"coordinates", coordinates}}},
+                          {"properties",
+                           {{"index", member(capture, "index")},
+                            {"utc", utc.empty() ? json() : json(utc)},
+                            {"kind", member(capture, "kind")},
+                            {"attitude", member(capture, "attitude")}}}};
+    return feature.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+std::string utc_text(std::int64_t utc_us) {
+    constexpr std::int64_t kPerSecond = 1000000;
+    auto seconds = utc_us / kPerSecond;  // toward zero: one second late before 1970
+    auto micros = utc_us % kPerSecond;
+    if (micros < 0) {
+        seconds -= 1;
+        micros += kPerSecond;
+    }
+    const auto time = static_cast<std::time_t>(seconds);
+    std::tm tm{};
+    if (gmtime_r(&time, &tm) == nullptr) {
+        return "";
+    }
+    char out[64];
+    std::snprintf(out, sizeof(out), "%04lld-%02d-%02dT%02d:%02d:%02d.%06lldZ",
+                  static_cast<long long>(tm.tm_year) + 1900, tm.tm_mon + 1, tm.tm_mday, tm.tm_hour,
+                  tm.tm_min, tm.tm_sec, static_cast<long long>(micros));
+    return out;
+}
+
+}  // namespace gport::client
