@@ -218,10 +218,10 @@ bool offset_accepted(const Invocation& inv, const std::vector<ImageFile>& images
     }
     const auto given = inv.clock_offset_s;
     out << fmt::format(
-        "camera clock: {} (UTC plus), estimated: {} of {} images within {:.1f} s of a capture at "
-        "it; {} at --clock-offset {}\n",
-        clock_text(given, e.offset_us), e.pairs, images.size(), window_us / 1e6, e.pairs_at_given,
-        clock_text(given, 0));
+        "camera clock: UTC{} by the images ({} of {} within {:.1f} s of a capture); "
+        "--clock-offset {} pairs {}\n",
+        clock_text(given, e.offset_us), e.pairs, images.size(), window_us / 1e6,
+        clock_text(given, 0), e.pairs_at_given);
     std::string problem;
     if (e.rival_us) {
         problem = fmt::format(

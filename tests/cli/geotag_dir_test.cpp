@@ -181,7 +181,8 @@ TEST_F(GeotagDir, ACameraClockAheadIsRefusedNamingTheOffsetItPairsAt) {
         EXPECT_THAT(accepted.out,
                     HasSubstr(name(k) + "  capture " + std::to_string(k) + "  +0.00 s"));
     }
-    EXPECT_THAT(accepted.out, HasSubstr("camera clock: +31.0 s (UTC plus), estimated: 20 of 20"));
+    EXPECT_THAT(accepted.out,
+                HasSubstr("camera clock: UTC+31.0 s by the images (20 of 20 within 0.5 s"));
 
     const auto forced = geotag({"--tolerance", "1h", "--force"});
     EXPECT_THAT(forced.err, HasSubstr("--force: the images pair best"));
