@@ -207,6 +207,26 @@ std::string clock_text(double given_s, std::int64_t offset_us) {
     return fmt::format("{:+.1f} s", given_s + static_cast<double>(offset_us) / 1e6);
 }
 
+// Why the estimate contradicts --clock-offset; empty when it does not.
+std::string offset_problem(const OffsetEstimate& e, double given, std::size_t images) {
+    if (e.rival_us) {
+        return fmt::format(
+            "the images pair as well with the camera's clock at {} as at {} ({} of {} images): "
+            "ambiguous; check the camera's clock, match --in-order, or pass the right "
+            "--clock-offset with --force",
+            clock_text(given, e.offset_us), clock_text(given, *e.rival_us), e.pairs, images);
+    }
+    if (std::llabs(e.offset_us) <= kMarginUs) {
+        return {};
+    }
+    return fmt::format(
+        "the images pair best with the captures when the camera's clock is {} off UTC ({} of {} "
+        "images, against {} at --clock-offset {}): pass --clock-offset {:.1f} to use it, or "
+        "--force to match at {} anyway",
+        clock_text(given, e.offset_us), e.pairs, images, e.pairs_at_given, clock_text(given, 0),
+        given + static_cast<double>(e.offset_us) / 1e6, clock_text(given, 0));
+}
+
 bool offset_accepted(const Invocation& inv, const std::vector<ImageFile>& images,
                      const std::vector<PhotoCapture>& photos, std::ostream& out,
                      std::ostream& err) {
@@ -222,22 +242,7 @@ bool offset_accepted(const Invocation& inv, const std::vector<ImageFile>& images
         "--clock-offset {} pairs {}\n",
         clock_text(given, e.offset_us), e.pairs, images.size(), window_us / 1e6,
         clock_text(given, 0), e.pairs_at_given);
-    std::string problem;
-    if (e.rival_us) {
-        problem = fmt::format(
-            "the images pair as well with the camera's clock at {} as at {} ({} of {} images): "
-            "ambiguous; check the camera's clock, match --in-order, or pass the right "
-            "--clock-offset with --force",
-            clock_text(given, e.offset_us), clock_text(given, *e.rival_us), e.pairs, images.size());
-    } else if (std::llabs(e.offset_us) > kMarginUs) {
-        problem = fmt::format(
-            "the images pair best with the captures when the camera's clock is {} off UTC ({} of "
-            "{} images, against {} at --clock-offset {}): pass --clock-offset {:.1f} to use it, "
-            "or --force to match at {} anyway",
-            clock_text(given, e.offset_us), e.pairs, images.size(), e.pairs_at_given,
-            clock_text(given, 0), given + static_cast<double>(e.offset_us) / 1e6,
-            clock_text(given, 0));
-    }
+    const auto problem = offset_problem(e, given, images.size());
     if (problem.empty()) {
         return true;
     }
@@ -257,21 +262,29 @@ std::vector<std::size_t> without_position(const std::vector<PhotoCapture>& photo
     return out;
 }
 
+// Without --clock-offset: the whole hours that would pair at least half of
+// the unmatched images, if any.
+void hint_time_zone(const Invocation& inv, const std::vector<ImageFile>& images,
+                    const std::vector<PhotoCapture>& photos, const Matching& m, std::ostream& err) {
+    if (inv.in_order || inv.clock_offset_given) {
+        return;
+    }
+    const auto shift = hour_shift(images, m.images_left, photos,
+                                  static_cast<std::int64_t>(inv.tolerance.count()) * 1000);
+    if (!shift || shift->images * 2 < m.images_left.size()) {
+        return;
+    }
+    err << fmt::format(
+        "gportctl: geotag: {} of the {} images without a capture are within the tolerance of "
+        "one {} h {}: a camera set to local time? try --clock-offset {}\n",
+        shift->images, m.images_left.size(), std::abs(shift->hours),
+        shift->hours > 0 ? "earlier" : "later", shift->hours * 3600);
+}
+
 // What stays unmatched or without a position, said on stderr; false then.
 bool all_placed(const Invocation& inv, const std::vector<ImageFile>& images,
                 const std::vector<PhotoCapture>& photos, const Matching& m, std::ostream& err) {
-    if (const auto shift =
-            inv.in_order || inv.clock_offset_given
-                ? std::nullopt
-                : hour_shift(images, m.images_left, photos,
-                             static_cast<std::int64_t>(inv.tolerance.count()) * 1000);
-        shift && shift->images * 2 >= m.images_left.size()) {
-        err << fmt::format(
-            "gportctl: geotag: {} of the {} images without a capture are within the tolerance of "
-            "one {} h {}: a camera set to local time? try --clock-offset {}\n",
-            shift->images, m.images_left.size(), std::abs(shift->hours),
-            shift->hours > 0 ? "earlier" : "later", shift->hours * 3600);
-    }
+    hint_time_zone(inv, images, photos, m, err);
     const auto unplaced = without_position(photos, m);
     if (!unplaced.empty()) {
         err << fmt::format(
