@@ -64,7 +64,7 @@ _gportctl() {
         monitor) options="--control --for --color --ascii" ;;
         captures) options="--since --limit --follow --csv" ;;
         geotag)
-            options="--captures --since --tolerance --clock-offset --in-order --write --geo-txt"
+            options="--captures --since --tolerance --clock-offset --in-order --write --force --geo-txt"
             ((positionals == 0)) && compopt -o dirnames 2>/dev/null
             ;;
         wait)

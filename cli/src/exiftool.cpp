@@ -6,12 +6,16 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <sstream>
 
 extern char** environ;
 
@@ -105,17 +109,94 @@ Result<std::string, ExifError> write_argfile(const std::vector<std::string>& lin
     return std::string(path);
 }
 
+// A name that ends in .jpg or .jpeg (any case), blanks after it allowed.
+bool is_jpeg_name(std::string name) {
+    while (!name.empty() && (name.back() == ' ' || name.back() == '\t')) {
+        name.pop_back();
+    }
+    std::transform(name.begin(), name.end(), name.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return name.ends_with(".jpg") || name.ends_with(".jpeg");
+}
+
+// The JPEG files in `dir`, sorted; a name with a newline is an error.
+Result<std::vector<std::string>, ExifError> jpeg_files(const std::string& dir) {
+    std::vector<std::string> files;
+    std::error_code ec;
+    for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const auto name = it->path().filename().string();
+        if (!is_jpeg_name(name) || !it->is_regular_file(ec)) {
+            continue;
+        }
+        if (name.find('\n') != std::string::npos) {
+            return gport::unexpected(
+                ExifError{fmt::format("a file name holds a newline: {}", name)});
+        }
+        files.push_back(it->path().string());
+    }
+    if (ec) {
+        return gport::unexpected(ExifError{fmt::format("cannot read {}: {}", dir, ec.message())});
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// Runs exiftool with `lines` as its argument file, then `args`.
+Result<Ran, ExifError> run_with_argfile(const std::vector<std::string>& lines,
+                                        std::vector<std::string> args) {
+    auto argfile = write_argfile(lines);
+    if (!argfile) {
+        return gport::unexpected(argfile.error());
+    }
+    args.insert(args.begin(), {"-@", *argfile});
+    auto ran = run_exiftool(args);
+    std::remove(argfile->c_str());
+    return ran;
+}
+
+// After file i's command, exiftool prints this line (-echo4: to stderr, in
+// order with its messages about the file).
+std::string marker(std::size_t i) {
+    return fmt::format("{{gportctl geotag: done {}}}", i);
+}
+
+// exiftool's "Error: MESSAGE - FILE" lines for each file, told apart by
+// the markers; empty when none.
+std::vector<std::optional<std::string>> errors_by_file(const std::string& out, std::size_t files) {
+    std::vector<std::optional<std::string>> errors(files);
+    std::size_t file = 0;
+    std::istringstream lines(out);
+    for (std::string line; std::getline(lines, line) && file < files;) {
+        if (line == marker(file)) {
+            ++file;
+        } else if (line.starts_with("Error: ")) {
+            auto message = line.substr(7);
+            if (const auto dash = message.rfind(" - "); dash != std::string::npos) {
+                message.resize(dash);  // " - FILE": the caller names it
+            }
+            errors[file] = errors[file] ? *errors[file] + "; " + message : message;
+        }
+    }
+    for (; file < files; ++file) {
+        errors[file] = errors[file].value_or("exiftool stopped before it");
+    }
+    return errors;
+}
+
 }  // namespace
 
 Result<json, ExifError> read_image_times(const std::string& dir) {
-    auto ran =
-        run_exiftool({"-json", "-n", "-q", "-q", "-ext", "jpg", "-ext", "jpeg", "-DateTimeOriginal",
-                      "-SubSecTimeOriginal", "-OffsetTimeOriginal", dir});
+    auto files = jpeg_files(dir);
+    if (!files) {
+        return gport::unexpected(files.error());
+    }
+    if (files->empty()) {
+        return json::array();
+    }
+    auto ran = run_with_argfile(*files, {"-json", "-n", "-q", "-q", "-DateTimeOriginal",
+                                         "-SubSecTimeOriginal", "-OffsetTimeOriginal"});
     if (!ran) {
         return gport::unexpected(ran.error());
-    }
-    if (ran->out.find_first_not_of(" \t\r\n") == std::string::npos) {
-        return json::array();  // no JPEG in it: exiftool prints nothing
     }
     auto parsed = json::parse(ran->out, nullptr, false);
     if (!parsed.is_array()) {
@@ -125,33 +206,32 @@ Result<json, ExifError> read_image_times(const std::string& dir) {
     return parsed;
 }
 
-std::optional<ExifError> write_image_tags(const std::vector<std::string>& files,
-                                          const std::vector<std::vector<std::string>>& tags) {
+Result<std::vector<std::optional<std::string>>, ExifError> write_image_tags(
+    const std::vector<std::string>& files, const std::vector<std::vector<std::string>>& tags) {
     std::vector<std::string> lines;
     for (std::size_t i = 0; i < files.size(); ++i) {
         if (files[i].find('\n') != std::string::npos) {
-            return ExifError{fmt::format("a file name holds a newline: {}", files[i])};
+            return gport::unexpected(
+                ExifError{fmt::format("a file name holds a newline: {}", files[i])});
         }
         if (i > 0) {
             lines.emplace_back("-execute");
         }
         lines.insert(lines.end(), tags[i].begin(), tags[i].end());
-        lines.push_back(files[i]);
+        lines.insert(lines.end(), {files[i], "-echo4", marker(i)});
     }
-    auto argfile = write_argfile(lines);
-    if (!argfile) {
-        return argfile.error();
-    }
-    auto ran = run_exiftool({"-q", "-m", "-@", *argfile});
-    std::remove(argfile->c_str());
+    // -common_args: -q and -m for every file's command, not just the first.
+    auto ran = run_with_argfile(lines, {"-common_args", "-q", "-q", "-m"});
     if (!ran) {
-        return ran.error();
+        return gport::unexpected(ran.error());
     }
-    if (ran->status != 0) {
-        return ExifError{
-            fmt::format("exiftool failed (exit {}): {}", ran->status, ran->out.substr(0, 2000))};
+    auto errors = errors_by_file(ran->out, files.size());
+    if (ran->status != 0 &&
+        std::none_of(errors.begin(), errors.end(), [](const auto& e) { return e.has_value(); })) {
+        return gport::unexpected(ExifError{
+            fmt::format("exiftool failed (exit {}): {}", ran->status, ran->out.substr(0, 2000))});
     }
-    return std::nullopt;
+    return errors;
 }
 
 }  // namespace gport::cli

@@ -313,6 +313,9 @@ class Parser {
                       "match the images, oldest first, to the photos in index order instead "
                       "of by time");
         sub->add_flag("--write", v_.write, "write the tags (default: a dry run that only reports)");
+        sub->add_flag("--force", v_.force,
+                      "match at --clock-offset even when the images pair better at another "
+                      "offset, or as well at two");
         sub->add_option("--geo-txt", v_.geo_txt,
                         "also write OpenDroneMap's image geolocation file (geo.txt) here")
             ->type_name("FILE");
@@ -323,7 +326,17 @@ class Parser {
                "capture's position (EXIF GPS) and the gimbal's pitch and roll (and yaw\n"
                "when the meta has heading_deg; XMP drone-dji Gimbal*Degree) with exiftool\n"
                "(libimage-exiftool-perl), which keeps every original as NAME_original.\n"
-               "Exits 0 when every image matched, 1 when some did not.\n");
+               "\n"
+               "By time, it first estimates the camera's clock from the data: the offset\n"
+               "within --tolerance that pairs the most images with captures within 0.5 s.\n"
+               "It refuses to match (nothing written, exit 1) when that offset is more\n"
+               "than 1 s from --clock-offset (the message names it: pass it as\n"
+               "--clock-offset) or when another offset, over 1 s away, pairs as many\n"
+               "images (ambiguous), unless --force. --in-order refuses images without a\n"
+               "DateTimeOriginal and a number of images other than of captures.\n"
+               "\n"
+               "Exits 0 when every image matched a capture with a position (and, with\n"
+               "--write, was written); 1 when one did not (each named), or refused.\n");
     }
 
     void add_watch() {
@@ -533,7 +546,7 @@ class Parser {
         } else if (inv.command == "captures") {
             captures(inv);
         } else if (inv.command == "geotag") {
-            geotag_dir(inv);
+            geotag_dir(*sub, inv);
         } else if (inv.command == "wait" && sub->count("--timeout") > 0) {
             inv.timeout = args::parse_duration(v_.timeout_text);
         }
@@ -679,8 +692,10 @@ class Parser {
         }
     }
 
-    void geotag_dir(Invocation& inv) const {
+    void geotag_dir(const CLI::App& sub, Invocation& inv) const {
         inv.geotag_dir = v_.geotag_dir;
+        inv.clock_offset_given = sub.count("--clock-offset") > 0;
+        inv.force = v_.force;
         inv.captures_files = v_.captures_files;
         inv.since = static_cast<std::uint64_t>(v_.since);
         inv.tolerance = *args::parse_duration(v_.tolerance_text);

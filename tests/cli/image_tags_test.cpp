@@ -3,6 +3,10 @@
 #include "image_tags.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
 
 namespace gport::cli {
 namespace {
@@ -124,6 +128,72 @@ TEST(GeoTxt, Epsg4326ThenNameLonLatAltAndAnglesZeroWhenUnknown) {
     const auto m = match_by_time(images, {a, b}, 1000000);
     EXPECT_EQ(geo_txt(images, {a, b}, m),
               "EPSG:4326\nIMG_1.JPG 8.5455940 47.3977420 488.500 0.00 -90.00 0.00\n");
+}
+
+TEST(EstimateOffset, TheOffsetThatPairsTheMostAndARivalThatPairsAsMany) {
+    std::vector<PhotoCapture> captures;
+    std::vector<ImageFile> images;
+    for (int k = 0; k < 20; ++k) {  // a photo every 2 s, the camera 31 s ahead
+        captures.push_back(capture_at(static_cast<std::uint64_t>(k), kT + 2 * k));
+        images.push_back(image_at("i" + std::to_string(k), kT + 2 * k + 31));
+    }
+    const auto e = estimate_offset(images, captures, 3600000000, 500000);
+    EXPECT_EQ(e.offset_us, 31000000);
+    EXPECT_EQ(e.pairs, 20U);
+    EXPECT_EQ(e.pairs_at_given, 0U);
+    EXPECT_FALSE(e.rival_us) << "+29 s and +33 s pair 19";
+
+    const auto ambiguous =
+        estimate_offset({image_at("a", kT), image_at("b", kT + 10), image_at("c", kT + 20)},
+                        {capture_at(1, kT), capture_at(2, kT + 10)}, 3600000000, 500000);
+    EXPECT_EQ(ambiguous.offset_us, 0) << "the given offset wins a tie";
+    EXPECT_EQ(ambiguous.pairs, 2U);
+    EXPECT_EQ(ambiguous.rival_us, 10000000);
+
+    const auto none =
+        estimate_offset({image_at("a", kT + 100)}, {capture_at(1, kT)}, 2000000, 500000);
+    EXPECT_EQ(none.pairs, 0U) << "nothing within the search";
+}
+
+TEST(HourShift, TheWholeHoursThatBringTheMostMissesToACapture) {
+    const std::vector<PhotoCapture> captures{capture_at(1, kT), capture_at(2, kT + 5)};
+    const std::vector<ImageFile> images{image_at("a", kT - 7200), image_at("b", kT + 5 - 7200),
+                                        image_at("c", kT + 999)};
+    const auto shift = hour_shift(images, {0, 1, 2}, captures, 1000000);
+    ASSERT_TRUE(shift);
+    EXPECT_EQ(shift->hours, -2);
+    EXPECT_EQ(shift->images, 2U);
+    EXPECT_FALSE(hour_shift(images, {2}, captures, 1000000));
+}
+
+// 10,000 images and 4,096 captures all within --tolerance 1h of each other:
+// the estimate and the matching never hold every pair (41 million), so this
+// stays in megabytes and seconds. No wall-clock assertion; the peak resident
+// size is printed and bounded loosely.
+TEST(MatchByTime, TenThousandImagesAndFourThousandCapturesInASweep) {
+    std::vector<PhotoCapture> captures;
+    std::vector<ImageFile> images;
+    for (int k = 0; k < 4096; ++k) {
+        captures.push_back(capture_at(static_cast<std::uint64_t>(k), 0));
+        captures.back().utc_us = kT * 1000000 + std::int64_t{k} * 700000;  // every 0.7 s
+    }
+    for (int k = 0; k < 10000; ++k) {
+        images.push_back(image_at("i" + std::to_string(k), std::nullopt));
+        images.back().utc_us = kT * 1000000 + std::int64_t{k} * 287000 + 42000;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const auto e = estimate_offset(images, captures, 3600000000, 500000);
+    const auto m = match_by_time(images, captures, 3600000000);
+    const auto seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    rusage usage{};
+    ::getrusage(RUSAGE_SELF, &usage);
+    std::printf("10000 x 4096 at 1h: %.2f s, peak RSS %ld MB (the whole test binary)\n", seconds,
+                usage.ru_maxrss / 1024);
+    EXPECT_GT(e.pairs, 4000U);
+    EXPECT_EQ(m.matched.size(), 4096U);
+    EXPECT_EQ(m.images_left.size(), 10000U - 4096U);
+    EXPECT_LT(usage.ru_maxrss / 1024, 400) << "MB: no pair list of 41 million";
 }
 
 }  // namespace

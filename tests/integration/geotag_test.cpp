@@ -154,7 +154,7 @@ TEST_F(Geotag, DryRunThenWriteTheRightPositionIntoEachFile) {
 
     const auto geo = dir_.file("geo.txt");
     const auto wrote = gportctl({images_, "--clock-offset", "3600", "--write", "--geo-txt", geo});
-    EXPECT_NE(wrote.out.find("wrote 2 images (exiftool kept each original as NAME_original)"),
+    EXPECT_NE(wrote.out.find("wrote 2 of 2 images (exiftool kept each original as NAME_original)"),
               std::string::npos)
         << wrote.out;
     const auto ta = tags(a);

@@ -55,6 +55,8 @@ struct Invocation {
     std::vector<std::string> captures_files;    // --captures FILE...: not from gportd
     std::chrono::milliseconds tolerance{2000};  // --tolerance
     double clock_offset_s = 0;                  // --clock-offset: camera clock minus UTC
+    bool clock_offset_given = false;            // --clock-offset given
+    bool force = false;                         // --force: match despite the estimate
     bool in_order = false;                      // --in-order
     bool write = false;                         // --write (else a dry run)
     std::string geo_txt;                        // --geo-txt FILE
