@@ -180,12 +180,17 @@ std::vector<DeviceHolders> device_holders(const std::vector<std::string>& device
 }
 
 std::string describe_holders(const std::vector<DeviceHolder>& holders) {
+    constexpr std::size_t kNamed = 3;
     std::string text;
-    for (const auto& h : holders) {
-        text += fmt::format("{}PID {} {}", text.empty() ? "" : ", ", h.pid, h.name);
+    for (std::size_t i = 0; i < holders.size() && i < kNamed; ++i) {
+        const auto& h = holders[i];
+        text += fmt::format("{}PID {} {}", i == 0 ? "" : ", ", h.pid, h.name);
         if (!h.lock.empty()) {
             text += fmt::format(" (lock file {})", h.lock);
         }
+    }
+    if (holders.size() > kNamed) {
+        text += fmt::format(" and {} more", holders.size() - kNamed);
     }
     return text;
 }

@@ -169,6 +169,9 @@ TEST(DeviceHolders, TheRealProcShowsAPtyThisProcessHolds) {
 TEST(DeviceHolders, Described) {
     EXPECT_EQ(describe_holders({{812, "mavproxy", ""}, {990, "minicom", "/run/lock/LCK..ttyUSB0"}}),
               "PID 812 mavproxy, PID 990 minicom (lock file /run/lock/LCK..ttyUSB0)");
+    EXPECT_EQ(
+        describe_holders({{1, "a", ""}, {2, "b", ""}, {3, "c", ""}, {4, "d", ""}, {5, "e", ""}}),
+        "PID 1 a, PID 2 b, PID 3 c and 2 more");
 }
 
 }  // namespace

@@ -44,7 +44,8 @@ struct HolderPlaces {
 std::vector<DeviceHolders> device_holders(const std::vector<std::string>& devices, pid_t except,
                                           const HolderPlaces& places = {});
 
-// "PID 812 mavproxy, PID 990 minicom (lock file /run/lock/LCK..ttyUSB0)".
+// "PID 812 mavproxy, PID 990 minicom (lock file /run/lock/LCK..ttyUSB0)";
+// the first three, then "and N more".
 std::string describe_holders(const std::vector<DeviceHolder>& holders);
 
 }  // namespace gport::daemon
