@@ -1,13 +1,19 @@
 // Finding the G-Port (gportd --probe, gport/app/probe.hpp). A powered, wired G-Port
 // streams its attitude (0x87 frames) at 115200 baud whether anybody asked
-// or not, so listening is enough: nothing is written to any device. Each
-// device is opened (non-blocking, never exclusively), set to 115200 8N1
-// raw, read for a short while, and its settings are put back. Devices are
-// read at the same time, so the whole probe takes one listening period.
-// docs/operations.md, "Finding the gimbal".
+// or not, so listening is enough: nothing is written to any device.
+// A device another process has open (device_holders.hpp: its descriptors,
+// its UUCP lock file) is left alone, not opened. Each other one is opened
+// non-blocking; one already held exclusively (TIOCGEXCL) is let go as busy;
+// the rest are held exclusively (TIOCEXCL) and checked for holders again
+// (one may have opened it in between: it is let go untouched), then set to
+// 115200 8N1 raw, read for a short while, and their settings put back,
+// unless someone changed them meanwhile (theirs stay), and the exclusive
+// hold is dropped. Devices are read at the same time, so the whole probe
+// takes one listening period. docs/operations.md, "Finding the gimbal".
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,6 +25,7 @@ struct ProbeResult {
         kGport,   // valid 0x87 frames: a G-Port
         kOther,   // bytes, but no G-Port frame: another device, or another baud rate
         kSilent,  // nothing at all
+        kInUse,   // another process has it open or locked; `detail` names it: left alone
         kFailed,  // could not be opened or set up; `detail` says why and what to do
     };
     std::string device;  // as given
@@ -28,6 +35,10 @@ struct ProbeResult {
     std::uint64_t bytes = 0;
     std::string detail;
     std::chrono::milliseconds listened{0};
+    // Its settings changed while the probe listened, not by the probe: left as they were found.
+    bool settings_left = false;
+    // Processes whose descriptors could not be read (other users', not root).
+    std::size_t unchecked = 0;
 };
 
 // At least this many valid 0x87 frames make a G-Port (one could be chance).
