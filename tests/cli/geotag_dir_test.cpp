@@ -16,6 +16,7 @@
 
 #include "gport/base/exit_status.hpp"
 #include "gport/cli/run.hpp"
+#include "minimal_jpeg.hpp"
 
 namespace gport::cli::geotag_dir_test {
 namespace {
@@ -26,31 +27,6 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 
 constexpr std::int64_t kT = 1795762800;  // 2026-11-27 07:00:00 UTC
-
-// A minimal valid baseline JPEG, 8x8 grey (tests/integration/geotag_test.cpp).
-std::string minimal_jpeg() {
-    auto segment = [](unsigned char marker, const std::string& payload) {
-        const auto n = payload.size() + 2;
-        return std::string{'\xFF', static_cast<char>(marker), static_cast<char>(n >> 8U),
-                           static_cast<char>(n & 0xFFU)} +
-               payload;
-    };
-    const std::string jfif("JFIF\0\x01\x01\0\0\x01\0\x01\0\0", 14);
-    std::string dqt(1, '\0');
-    dqt += std::string(64, '\x01');
-    const std::string sof("\x08\0\x08\0\x08\x01\x01\x11\0", 9);
-    auto dht = [](char table) {
-        std::string t(1, table);
-        t += '\x01';
-        t += std::string(15, '\0');
-        t += '\0';
-        return t;
-    };
-    const std::string sos("\x01\x01\0\0\x3F\0", 6);
-    return std::string("\xFF\xD8", 2) + segment(0xE0, jfif) + segment(0xDB, dqt) +
-           segment(0xC0, sof) + segment(0xC4, dht('\0')) + segment(0xC4, dht('\x10')) +
-           segment(0xDA, sos) + std::string("\x3F\xFF\xD9", 3);
-}
 
 // EXIF's "YYYY:MM:DD HH:MM:SS" of a camera clock reading `camera_s`.
 std::string exif_time(std::int64_t camera_s) {
@@ -106,7 +82,8 @@ class GeotagDir : public ::testing::Test {
         std::ofstream args(root_ / "args");
         bool first = true;
         for (const auto& image : list) {
-            std::ofstream(card() + "/" + image.name, std::ios::binary) << minimal_jpeg();
+            std::ofstream(card() + "/" + image.name, std::ios::binary)
+                << gport::testing::minimal_jpeg();
             if (!image.camera_s) {
                 continue;
             }
