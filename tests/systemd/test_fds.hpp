@@ -23,9 +23,9 @@ class FdOverride {
         dup2(source, target_);
     }
     ~FdOverride() {
-        if (saved_) {
-            dup2(*saved_, target_);
-            close(*saved_);
+        if (saved_ >= 0) {
+            dup2(saved_, target_);
+            close(saved_);
         } else {
             close(target_);
         }
@@ -35,7 +35,10 @@ class FdOverride {
 
   private:
     int target_;
-    std::optional<int> saved_;
+    // -1: `target` was not open. (A std::optional<int> here made g++ 12 at
+    // -O1 warn "may be used uninitialized" in a plain build: a false
+    // positive, with -Werror an error.)
+    int saved_ = -1;
 };
 
 // Sets (or, with std::nullopt, unsets) an environment variable until
