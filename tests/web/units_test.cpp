@@ -50,17 +50,48 @@ TEST(Sessions, AreBoundedAndExpire) {
     EXPECT_FALSE(sessions.find(late, t0 + kSessionIdle + std::chrono::seconds(1)));
 }
 
-TEST(LoginGuard, BlocksAfterTheFailuresUntilTheWindowEnds) {
+TEST(LoginGuard, BlocksAnAddressAfterItsFailuresUntilTheWindowEnds) {
     LoginGuard guard;
     const auto t0 = LoginGuard::Clock::now();
-    for (int i = 0; i < kMaxLoginFailures; ++i) {
-        EXPECT_FALSE(guard.blocked(t0));
-        guard.failed(t0);
+    for (std::size_t i = 0; i < kMaxLoginFailures; ++i) {
+        EXPECT_FALSE(guard.blocked("10.0.0.1", t0));
+        guard.failed("10.0.0.1", t0);
     }
-    const auto wait = guard.blocked(t0 + std::chrono::seconds(10));
+    const auto wait = guard.blocked("10.0.0.1", t0 + std::chrono::seconds(10));
     ASSERT_TRUE(wait);
     EXPECT_EQ(*wait, 50);
-    EXPECT_FALSE(guard.blocked(t0 + kLoginWindow));
+    EXPECT_FALSE(guard.blocked("10.0.0.2", t0 + std::chrono::seconds(10)));
+    EXPECT_FALSE(guard.blocked("10.0.0.1", t0 + kLoginWindow));
+    EXPECT_EQ(guard.addresses(), 0U);  // forgotten once its window ended
+}
+
+TEST(LoginGuard, HasACeilingAcrossAddresses) {
+    LoginGuard guard;
+    const auto t0 = LoginGuard::Clock::now();
+    for (std::size_t i = 0; i < kMaxLoginFailuresTotal; ++i) {
+        guard.failed("10.1.0." + std::to_string(i), t0 + std::chrono::seconds(i % 2));
+    }
+    const auto wait = guard.blocked("10.2.0.1", t0 + std::chrono::seconds(1));
+    ASSERT_TRUE(wait);
+    EXPECT_EQ(*wait, 59);
+    EXPECT_FALSE(guard.blocked("10.2.0.1", t0 + kLoginWindow + std::chrono::seconds(1)));
+}
+
+TEST(LoginGuard, RemembersAtMostItsCapOfAddressesTheOldestForgotten) {
+    LoginGuard guard;
+    const auto t0 = LoginGuard::Clock::now();
+    for (int i = 0; i < 5000; ++i) {
+        const auto address = "10." + std::to_string(i / 256) + ".0." + std::to_string(i % 256);
+        guard.failed(address, t0 + std::chrono::milliseconds(i));
+        guard.failed(address, t0 + std::chrono::milliseconds(i));
+        EXPECT_LE(guard.addresses(), kMaxLoginAddresses);
+    }
+    EXPECT_EQ(guard.addresses(), kMaxLoginAddresses);
+    for (std::size_t i = 0; i < kMaxLoginFailures; ++i) {
+        guard.failed("10.99.0.1", t0 + std::chrono::seconds(6));
+    }
+    EXPECT_TRUE(guard.blocked("10.99.0.1", t0 + std::chrono::seconds(6)));
+    EXPECT_EQ(guard.addresses(), kMaxLoginAddresses);
 }
 
 TEST(Outbox, KeepsTheNewestAttitudeAndBoundsTheRest) {

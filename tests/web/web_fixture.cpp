@@ -27,14 +27,16 @@ void receive_timeout(tcp::socket& socket, int seconds) {
     ::setsockopt(socket.native_handle(), SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
 }
 
-// A connection; a receive buffer of `rcvbuf` bytes when not 0 (a browser
-// that stops reading fills it soon).
-tcp::socket connect_to(unsigned short port, int rcvbuf = 0) {
+// A connection from `from` (any 127/8 address is this host); a receive
+// buffer of `rcvbuf` bytes when not 0 (a browser that stops reading fills it
+// soon).
+tcp::socket connect_to(unsigned short port, int rcvbuf = 0, const std::string& from = "127.0.0.1") {
     tcp::socket socket(io());
     socket.open(tcp::v4());
     if (rcvbuf > 0) {
         ::setsockopt(socket.native_handle(), SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof(rcvbuf));
     }
+    socket.bind(tcp::endpoint(asio::ip::make_address(from), 0));
     socket.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
     receive_timeout(socket, 10);
     return socket;
@@ -80,7 +82,17 @@ bool WebTest::connected(const std::string& token) {
 
 HttpResponse WebTest::request(http::verb verb, const std::string& target, Headers headers,
                               const std::string& body) {
-    auto socket = connect_to(port_);
+    return request_from("127.0.0.1", verb, target, std::move(headers), body);
+}
+
+tcp::socket WebTest::open_from(const std::string& from) {
+    return connect_to(port_, 0, from);
+}
+
+HttpResponse WebTest::request_from(const std::string& from, http::verb verb,
+                                   const std::string& target, Headers headers,
+                                   const std::string& body) {
+    auto socket = connect_to(port_, 0, from);
     http::request<http::string_body> request(verb, target, 11);
     request.set(http::field::host, host());
     for (const auto& [name, value] : headers) {

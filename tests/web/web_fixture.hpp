@@ -44,6 +44,11 @@ class WebTest : public ::testing::Test {
     // One request on a new connection ("Host" is 127.0.0.1:PORT unless given).
     HttpResponse request(http::verb verb, const std::string& target, Headers headers = {},
                          const std::string& body = "");
+    // The same from another source address (127.0.0.2, ...: another peer).
+    HttpResponse request_from(const std::string& from, http::verb verb, const std::string& target,
+                              Headers headers = {}, const std::string& body = "");
+    // A connection from `from`, its reads bounded by a 10 s receive timeout.
+    boost::asio::ip::tcp::socket open_from(const std::string& from);
     HttpResponse get(const std::string& target, const std::string& token = kControlToken);
     HttpResponse post(const std::string& target, const std::string& body,
                       const std::string& token = kControlToken);

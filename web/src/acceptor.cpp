@@ -2,7 +2,7 @@
 
 #include <boost/asio/write.hpp>
 
-#include "gport/web/limits.hpp"
+#include "connections.hpp"
 #include "http_session.hpp"
 
 namespace gport::web {
@@ -22,11 +22,7 @@ void Acceptor::accept() {
     acceptor_.async_accept(
         [self = shared_from_this()](boost::system::error_code ec, tcp::socket socket) {
             if (!ec) {
-                if (self->context_.connections >= kMaxConnections) {
-                    self->turn_away(std::move(socket));
-                } else {
-                    std::make_shared<HttpSession>(self->context_, std::move(socket))->start();
-                }
+                self->admit(std::move(socket));
             }
             if (ec != asio::error::operation_aborted) {
                 self->accept();
@@ -34,16 +30,36 @@ void Acceptor::accept() {
         });
 }
 
-void Acceptor::turn_away(tcp::socket socket) {
-    static const std::string kBody =
-        R"({"error":{"code":503,"message":"too many connections: try later"}})";
-    static const std::string kBusy =
+void Acceptor::admit(tcp::socket socket) {
+    boost::system::error_code ec;
+    const auto remote = socket.remote_endpoint(ec);
+    if (ec) {
+        return;  // gone already
+    }
+    auto peer = peer_key(remote.address());
+    switch (web::admit(context_, peer)) {
+        case Admission::kServe:
+            std::make_shared<HttpSession>(context_, std::move(socket), std::move(peer))->start();
+            break;
+        case Admission::kTooManyFromPeer:
+            turn_away(std::move(socket), "too many connections from your address: try later");
+            break;
+        case Admission::kFull:
+            turn_away(std::move(socket), "too many connections: try later");
+            break;
+    }
+}
+
+// 503 with Retry-After, and the close.
+void Acceptor::turn_away(tcp::socket socket, const std::string& message) {
+    const std::string body = R"({"error":{"code":503,"message":")" + message + R"("}})";
+    auto busy = std::make_shared<std::string>(
         "HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/json\r\n"
         "Connection: close\r\nRetry-After: 5\r\nContent-Length: " +
-        std::to_string(kBody.size()) + "\r\n\r\n" + kBody;
+        std::to_string(body.size()) + "\r\n\r\n" + body);
     auto shared = std::make_shared<tcp::socket>(std::move(socket));
-    asio::async_write(*shared, asio::buffer(kBusy),
-                      [shared](boost::system::error_code, std::size_t) {
+    asio::async_write(*shared, asio::buffer(*busy),
+                      [shared, busy](boost::system::error_code, std::size_t) {
                           boost::system::error_code ignored;
                           shared->shutdown(tcp::socket::shutdown_both, ignored);
                       });

@@ -1,9 +1,10 @@
-// Accepts connections: each becomes an HttpSession, or, beyond
-// kMaxConnections, gets 503 and is closed.
+// Accepts connections: each becomes an HttpSession, or, beyond the limits
+// of connections.hpp, gets 503 and is closed.
 #pragma once
 
 #include <boost/asio/ip/tcp.hpp>
 #include <memory>
+#include <string>
 
 #include "context.hpp"
 
@@ -22,7 +23,8 @@ class Acceptor : public std::enable_shared_from_this<Acceptor> {
 
   private:
     void accept();
-    void turn_away(boost::asio::ip::tcp::socket socket);
+    void admit(boost::asio::ip::tcp::socket socket);
+    void turn_away(boost::asio::ip::tcp::socket socket, const std::string& message);
 
     Context& context_;
     boost::asio::ip::tcp::acceptor acceptor_;

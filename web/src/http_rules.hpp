@@ -31,9 +31,13 @@ bool origin_allowed(const Context& context, std::string_view origin);
 
 // True when the request carries an Authorization: Bearer token.
 bool bearer_of(const Request& request);
-// The role of the request's Bearer token or session cookie; a wrong token
-// counts as a failed login.
+// The role of the request's Bearer token or session cookie (a wrong token is
+// the caller's to count: routes.cpp).
 std::optional<Role> authenticate(Context& context, const Request& request);
+// True when a browser says another site's page sent the request
+// (Sec-Fetch-Site: cross-site or same-site; none or same-origin: false, as
+// for clients that send no such header).
+bool cross_site(const Request& request);
 std::string session_of(const Request& request);
 
 // The request's target ("/api/captures?since=3") and its path.

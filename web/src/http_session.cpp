@@ -7,12 +7,18 @@ namespace gport::web {
 
 namespace beast = boost::beast;
 
-HttpSession::HttpSession(Context& context, boost::asio::ip::tcp::socket socket)
-    : context_(context), slot_(context), stream_(std::move(socket)) {
-    context_.closers[this] = [this] {
+HttpSession::HttpSession(Context& context, boost::asio::ip::tcp::socket socket, std::string peer)
+    : context_(context),
+      slot_(std::make_unique<ConnectionSlot>(context, std::move(peer))),
+      stream_(std::move(socket)),
+      delay_(context.io) {
+    auto close = [this] {
         beast::error_code ignored;
         stream_.socket().close(ignored);
+        delay_.cancel();
     };
+    context_.closers[this] = close;
+    slot_->on_evict(close);
 }
 
 HttpSession::~HttpSession() {
@@ -23,7 +29,8 @@ void HttpSession::read() {
     parser_.emplace();
     parser_->header_limit(static_cast<std::uint32_t>(kMaxHeaderBytes));
     parser_->body_limit(kMaxBodyBytes);
-    stream_.expires_after(kHttpIdleTimeout);
+    stream_.expires_after(slot_->authenticated() ? kHttpIdleTimeout
+                                                 : kUnauthenticatedRequestTimeout);
     http::async_read(
         stream_, buffer_, *parser_,
         [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
@@ -82,6 +89,16 @@ void HttpSession::send(Response response) {
                       });
 }
 
+void HttpSession::send_after(Response response, std::chrono::steady_clock::duration delay) {
+    delay_.expires_after(delay);
+    delay_.async_wait(
+        [self = shared_from_this(), response = std::move(response)](beast::error_code ec) mutable {
+            if (!ec) {
+                self->send(std::move(response));
+            }
+        });
+}
+
 void HttpSession::finish(bool keep_alive) {
     if (keep_alive) {
         read();
@@ -93,7 +110,7 @@ void HttpSession::finish(bool keep_alive) {
 
 void HttpSession::upgrade(Request request, Role role) {
     stream_.expires_never();
-    LiveSocket::start(context_, std::move(stream_), std::move(request), role);
+    LiveSocket::start(context_, std::move(slot_), std::move(stream_), std::move(request), role);
 }
 
 }  // namespace gport::web

@@ -1,9 +1,11 @@
 // One HTTP connection: requests read within the header and body limits
-// (431, 413), the idle timeout, one answer at a time, and the hand-over of
-// a WebSocket upgrade to a LiveSocket.
+// (431, 413), the timeouts (shorter before a valid session or token), one
+// answer at a time (a refused guess's after the tarpit delay), and the
+// hand-over of a WebSocket upgrade to a LiveSocket.
 #pragma once
 
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
 #include <memory>
 #include <optional>
@@ -15,7 +17,7 @@ namespace gport::web {
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
   public:
-    HttpSession(Context& context, boost::asio::ip::tcp::socket socket);
+    HttpSession(Context& context, boost::asio::ip::tcp::socket socket, std::string peer);
     ~HttpSession();
     HttpSession(const HttpSession&) = delete;
     HttpSession& operator=(const HttpSession&) = delete;
@@ -23,8 +25,11 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
     Context& context() { return context_; }
     boost::beast::tcp_stream& stream() { return stream_; }
+    ConnectionSlot& slot() { return *slot_; }
     // Writes the answer, then reads the next request (or closes).
     void send(Response response);
+    // The same after `delay` (a timer: the loop goes on meanwhile).
+    void send_after(Response response, std::chrono::steady_clock::duration delay);
     // After a streamed answer: the next request, or the end.
     void finish(bool keep_alive);
     // Hands the connection to a live WebSocket.
@@ -37,8 +42,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     void drain(std::size_t budget);
 
     Context& context_;
-    ConnectionSlot slot_;
+    std::unique_ptr<ConnectionSlot> slot_;
     boost::beast::tcp_stream stream_;
+    boost::asio::steady_timer delay_;
     boost::beast::flat_buffer buffer_;
     std::optional<http::request_parser<http::string_body>> parser_;
 };

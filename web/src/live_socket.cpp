@@ -13,14 +13,16 @@ namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 using nlohmann::json;
 
-void LiveSocket::start(Context& context, beast::tcp_stream stream, Request request, Role role) {
-    auto socket = std::make_shared<LiveSocket>(context, std::move(stream), role);
+void LiveSocket::start(Context& context, std::unique_ptr<ConnectionSlot> slot,
+                       beast::tcp_stream stream, Request request, Role role) {
+    auto socket = std::make_shared<LiveSocket>(context, std::move(slot), std::move(stream), role);
     socket->accept(std::move(request));
 }
 
-LiveSocket::LiveSocket(Context& context, beast::tcp_stream stream, Role role)
+LiveSocket::LiveSocket(Context& context, std::unique_ptr<ConnectionSlot> slot,
+                       beast::tcp_stream stream, Role role)
     : context_(context),
-      slot_(context),
+      slot_(std::move(slot)),
       ws_(std::move(stream)),
       rate_(kMaxWsMessagesPerSecond, kMaxWsMessagesPerSecond),
       role_(role) {

@@ -18,9 +18,11 @@ namespace gport::web {
 
 class LiveSocket : public Listener, public std::enable_shared_from_this<LiveSocket> {
   public:
-    static void start(Context& context, boost::beast::tcp_stream stream, Request request,
-                      Role role);
-    LiveSocket(Context& context, boost::beast::tcp_stream stream, Role role);
+    // Takes over the connection's slot (it stays counted as it was).
+    static void start(Context& context, std::unique_ptr<ConnectionSlot> slot,
+                      boost::beast::tcp_stream stream, Request request, Role role);
+    LiveSocket(Context& context, std::unique_ptr<ConnectionSlot> slot,
+               boost::beast::tcp_stream stream, Role role);
     ~LiveSocket() override;
 
     void send(const Message& message, bool attitude) override;
@@ -36,7 +38,7 @@ class LiveSocket : public Listener, public std::enable_shared_from_this<LiveSock
     void close(boost::beast::websocket::close_code code);
 
     Context& context_;
-    ConnectionSlot slot_;
+    std::unique_ptr<ConnectionSlot> slot_;
     // Without permessage-deflate (the template's false): no compression
     // to attack (a small message inflating to a large one) or to pay for.
     boost::beast::websocket::stream<boost::beast::tcp_stream, false> ws_;

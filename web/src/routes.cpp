@@ -68,30 +68,48 @@ Response login_page(const Request& request, http::status status) {
 // While the failed logins of the window are used up: 429 with Retry-After.
 Response too_many_logins(const Request& request, int wait) {
     auto response = error_response(request, http::status::too_many_requests,
-                                   "too many failed logins: try again later");
+                                   "too many failed logins from your address: try again later");
     response.set(http::field::retry_after, std::to_string(wait));
     return response;
 }
 
-// A login with `secret`: the cookie and 303 to /, or 401/429.
-Response log_in(Context& context, const Request& request,
-                const std::optional<std::string>& secret) {
-    if (const auto wait = context.logins.blocked()) {
-        return too_many_logins(request, *wait);
+// A wrong or missing token: 401 and one failure of the peer's, or, beyond
+// its failures, 429 after the tarpit delay (counting nothing more).
+void refuse_guess(const std::shared_ptr<HttpSession>& session, const Request& request) {
+    auto& context = session->context();
+    const auto& peer = session->slot().peer();
+    if (const auto wait = context.logins.blocked(peer)) {
+        session->send_after(too_many_logins(request, *wait), kLoginTarpit);
+        return;
     }
+    context.logins.failed(peer);
+    session->send(error_response(request, http::status::unauthorized, "wrong or missing token"));
+}
+
+// A login with `secret`: the cookie and 303 to /, or 401/429; 403 when a
+// browser says another site's page sent it (login CSRF; counts nothing).
+void log_in(const std::shared_ptr<HttpSession>& session, const Request& request,
+            const std::optional<std::string>& secret) {
+    if (cross_site(request)) {
+        session->send(error_response(
+            request, http::status::forbidden,
+            "login from another site's page refused (Sec-Fetch-Site): open this server's page"));
+        return;
+    }
+    auto& context = session->context();
     const auto role = secret ? role_of(context.tokens, *secret) : std::nullopt;
     if (!role) {
-        context.logins.failed();
-        return error_response(request, http::status::unauthorized, "wrong or missing token");
+        refuse_guess(session, request);
+        return;
     }
+    session->slot().authenticate();
     auto response = redirect(request, "/");
     response.set(http::field::set_cookie, session_cookie(context.sessions.open(*role)));
-    return response;
+    session->send(std::move(response));
 }
 
 void page(const std::shared_ptr<HttpSession>& session, const Request& request,
           std::optional<Role> role) {
-    auto& context = session->context();
     if (request.method() != http::verb::get && request.method() != http::verb::head) {
         session->send(error_response(request, http::status::method_not_allowed,
                                      "only GET and HEAD serve the page"));
@@ -100,7 +118,7 @@ void page(const std::shared_ptr<HttpSession>& session, const Request& request,
     const auto path = path_of(target_of(request));
     if (path == "/") {
         if (const auto token = form_value(target_of(request), "token")) {
-            session->send(log_in(context, request, token));
+            log_in(session, request, token);
         } else if (!role || !find_asset(kIndexFile)) {
             session->send(login_page(request, http::status::ok));
         } else {
@@ -142,12 +160,15 @@ void route(const std::shared_ptr<HttpSession>& session, Request request) {
         session->send(error_response(request, http::status::forbidden, "foreign Origin"));
         return;
     }
-    if (const auto wait = context.logins.blocked(); wait && bearer_of(request)) {
-        session->send(too_many_logins(request, *wait));
-        return;
-    }
     const auto path = path_of(target_of(request));
     const auto role = authenticate(context, request);
+    if (!role && bearer_of(request)) {
+        refuse_guess(session, request);
+        return;
+    }
+    if (role) {
+        session->slot().authenticate();
+    }
     const bool post = request.method() == http::verb::post;
     if (boost::beast::websocket::is_upgrade(request) && path == "/api/live") {
         if (!role) {
@@ -156,7 +177,7 @@ void route(const std::shared_ptr<HttpSession>& session, Request request) {
             session->upgrade(std::move(request), *role);
         }
     } else if (path == "/login" && post) {
-        session->send(log_in(context, request, form_value(request.body(), "token")));
+        log_in(session, request, form_value(request.body(), "token"));
     } else if (path == "/logout" && post) {
         log_out(session, request);
     } else if (path.starts_with("/api/")) {

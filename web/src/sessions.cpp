@@ -35,24 +35,72 @@ void Sessions::close(const std::string& id) {
     sessions_.erase(id);
 }
 
-void LoginGuard::forget(Clock::time_point now) {
-    while (!failures_.empty() && now - failures_.front() >= kLoginWindow) {
-        failures_.pop_front();
+namespace {
+
+using Clock = LoginGuard::Clock;
+
+void forget(std::deque<Clock::time_point>& times, Clock::time_point now) {
+    while (!times.empty() && now - times.front() >= kLoginWindow) {
+        times.pop_front();
     }
 }
 
-std::optional<int> LoginGuard::blocked(Clock::time_point now) {
-    forget(now);
-    if (failures_.size() < static_cast<std::size_t>(kMaxLoginFailures)) {
+// The seconds until `times` has room for one more of `limit`, if it has none.
+std::optional<int> wait(std::deque<Clock::time_point>& times, std::size_t limit,
+                        Clock::time_point now) {
+    forget(times, now);
+    if (times.size() < limit) {
         return std::nullopt;
     }
-    const auto left = kLoginWindow - (now - failures_.front());
+    const auto left = kLoginWindow - (now - times[times.size() - limit]);
     return static_cast<int>(std::chrono::ceil<std::chrono::seconds>(left).count());
 }
 
-void LoginGuard::failed(Clock::time_point now) {
-    forget(now);
-    failures_.push_back(now);
+void add(std::deque<Clock::time_point>& times, std::size_t limit, Clock::time_point now) {
+    forget(times, now);
+    times.push_back(now);
+    while (times.size() > limit) {
+        times.pop_front();
+    }
+}
+
+}  // namespace
+
+std::optional<int> LoginGuard::blocked(const std::string& address, Clock::time_point now) {
+    auto longest = wait(all_, kMaxLoginFailuresTotal, now);
+    const auto it = addresses_.find(address);
+    if (it == addresses_.end()) {
+        return longest;
+    }
+    const auto mine = wait(it->second.times, kMaxLoginFailures, now);
+    if (it->second.times.empty()) {
+        order_.erase(it->second.order);
+        addresses_.erase(it);
+    }
+    if (mine && (!longest || *mine > *longest)) {
+        longest = mine;
+    }
+    return longest;
+}
+
+void LoginGuard::failed(const std::string& address, Clock::time_point now) {
+    add(all_, kMaxLoginFailuresTotal, now);
+    add(entry(address).times, kMaxLoginFailures, now);
+}
+
+LoginGuard::Failures& LoginGuard::entry(const std::string& address) {
+    if (const auto it = addresses_.find(address); it != addresses_.end()) {
+        order_.splice(order_.end(), order_, it->second.order);
+        return it->second;
+    }
+    while (addresses_.size() >= kMaxLoginAddresses) {
+        addresses_.erase(order_.front());
+        order_.pop_front();
+    }
+    order_.push_back(address);
+    auto& added = addresses_[address];
+    added.order = std::prev(order_.end());
+    return added;
 }
 
 }  // namespace gport::web

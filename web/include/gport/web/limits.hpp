@@ -11,12 +11,18 @@ using namespace std::chrono_literals;
 
 inline constexpr unsigned short kDefaultPort = 8790;
 
-// HTTP: one request's header and body, the connections served at once, and
-// how long a connection may sit between requests or within one.
-inline constexpr std::size_t kMaxHeaderBytes = 8 * 1024;  // beyond: 431
-inline constexpr std::size_t kMaxBodyBytes = 16 * 1024;   // beyond: 413
-inline constexpr std::size_t kMaxConnections = 64;        // beyond: 503
+// HTTP: one request's header and body, the connections served at once (of
+// them, from one peer address, and not yet authenticated: beyond, a new one
+// closes the oldest unauthenticated one), how long an authenticated
+// connection may sit between requests or within one, and how long an
+// unauthenticated one has for each whole request.
+inline constexpr std::size_t kMaxHeaderBytes = 8 * 1024;           // beyond: 431
+inline constexpr std::size_t kMaxBodyBytes = 16 * 1024;            // beyond: 413
+inline constexpr std::size_t kMaxConnections = 64;                 // beyond: 503
+inline constexpr std::size_t kMaxConnectionsPerAddress = 16;       // beyond: 503
+inline constexpr std::size_t kMaxUnauthenticatedConnections = 48;  // beyond: oldest closed
 inline constexpr auto kHttpIdleTimeout = 30s;
+inline constexpr auto kUnauthenticatedRequestTimeout = 5s;
 
 // The live WebSocket: one message from a browser, the messages a browser may
 // send a second (beyond: closed with 1008), and the outbound queue of each
@@ -27,12 +33,18 @@ inline constexpr double kMaxWsMessagesPerSecond = 30;
 inline constexpr std::size_t kMaxQueuedMessages = 64;
 
 // Sessions and logins: the sessions kept (the oldest ends beyond), how long
-// an unused session lives, and the failed logins allowed per window before
-// 429 (Retry-After: the rest of the window).
+// an unused session lives, the failed logins allowed per window from one
+// peer address and from all of them together, the addresses remembered
+// (the least recently failing forgotten beyond), and how long a wrong token
+// beyond those waits for its 429 (Retry-After: until the window has room).
+// A valid token or session is never refused by these.
 inline constexpr std::size_t kMaxSessions = 256;
 inline constexpr auto kSessionIdle = std::chrono::hours(12);
-inline constexpr int kMaxLoginFailures = 5;
+inline constexpr std::size_t kMaxLoginFailures = 5;
+inline constexpr std::size_t kMaxLoginFailuresTotal = 60;
+inline constexpr std::size_t kMaxLoginAddresses = 1024;
 inline constexpr auto kLoginWindow = 60s;
+inline constexpr auto kLoginTarpit = 1s;
 
 // gportd: the reconnect period, the status poll for the live sockets, and
 // the jog's speed lease and longest motion.

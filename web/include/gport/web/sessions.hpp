@@ -1,11 +1,15 @@
 // The logged-in browsers: server-side sessions under random ids (the
 // cookie's value), at most kMaxSessions (the least recently used ends
 // beyond), each ending after kSessionIdle unused; and the failed logins,
-// at most kMaxLoginFailures per kLoginWindow.
+// at most kMaxLoginFailures per kLoginWindow from one peer address and
+// kMaxLoginFailuresTotal from all, for at most kMaxLoginAddresses addresses
+// (the least recently failing one forgotten beyond).
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <deque>
+#include <list>
 #include <map>
 #include <optional>
 #include <string>
@@ -37,13 +41,23 @@ class LoginGuard {
   public:
     using Clock = std::chrono::steady_clock;
 
-    // While the window's failures are used up: the seconds until it ends.
-    std::optional<int> blocked(Clock::time_point now = Clock::now());
-    void failed(Clock::time_point now = Clock::now());
+    // While `address` (or all addresses together) has used up the window's
+    // failures: the seconds until there is room again.
+    std::optional<int> blocked(const std::string& address, Clock::time_point now = Clock::now());
+    // Counts a wrong token from `address`.
+    void failed(const std::string& address, Clock::time_point now = Clock::now());
+    // The addresses remembered (at most kMaxLoginAddresses).
+    std::size_t addresses() const { return addresses_.size(); }
 
   private:
-    void forget(Clock::time_point now);
-    std::deque<Clock::time_point> failures_;
+    struct Failures {
+        std::deque<Clock::time_point> times;
+        std::list<std::string>::iterator order;
+    };
+    Failures& entry(const std::string& address);
+    std::map<std::string, Failures> addresses_;
+    std::list<std::string> order_;  // least recently failing first
+    std::deque<Clock::time_point> all_;
 };
 
 }  // namespace gport::web
