@@ -143,27 +143,38 @@ cmake_files() {  # the CMake files under $1, or of the whole tree without an arg
     \( -name CMakeLists.txt -o -name '*.cmake' \) -type f -print
 }
 # Which folder declares each target: gport::<alias> and the raw gport_<name>.
+# One grep over every CMake file, the lines matched in bash (a sed and a grep
+# per file were most of the script's time): the declarations first, then
+# the aliases of raw names (add_library(gport::alias ALIAS gport_raw)).
 declare -A owner=()
-while IFS= read -r file; do
-  rel=${file#./}
+mapfile -t declarations < <(cmake_files | xargs grep -H 'add_library' || true)
+declarer_of() {  # the folder of a CMake file; . for the top level (usable anywhere)
+  local rel=${1#./}
   if [[ $rel == CMakeLists.txt ]]; then
-    declarer=.  # the top level: usable anywhere
+    echo .
   else
-    declarer=${rel%%/*}
+    echo "${rel%%/*}"
   fi
-  while IFS= read -r decl; do
-    read -r raw alias <<<"$decl"
-    owner[$raw]=$declarer
-    [[ -n $alias ]] && owner["gport::$alias"]=$declarer
-  done < <(sed 's/#.*//' "$file" | grep -oE \
-             '(gport_add_library\([[:space:]]*gport_[a-z0-9_]+[[:space:]]+[a-z0-9_]+|add_library\([[:space:]]*gport_[a-z0-9_]+)' \
-           | sed -E 's/^(gport_)?add_library\([[:space:]]*//')
-  while IFS= read -r decl; do  # add_library(gport::alias ALIAS gport_raw)
-    read -r alias raw <<<"$decl"
-    owner[$alias]=${owner[$raw]:-$declarer}
-  done < <(sed 's/#.*//' "$file" | grep -oE 'add_library\([[:space:]]*gport::[a-z0-9_]+[[:space:]]+ALIAS[[:space:]]+gport_[a-z0-9_]+' \
-           | sed -E 's/add_library\([[:space:]]*//; s/[[:space:]]+ALIAS[[:space:]]+/ /')
-done < <(cmake_files)
+}
+library_re='add_library\([[:space:]]*(gport_[a-z0-9_]+)([[:space:]]+([a-z0-9_]+))?'
+alias_re='add_library\([[:space:]]*gport::([a-z0-9_]+)[[:space:]]+ALIAS[[:space:]]+(gport_[a-z0-9_]+)'
+for hit in "${declarations[@]}"; do
+  code=${hit#*:}
+  code=${code%%#*}
+  if [[ $code =~ gport_$library_re ]]; then  # gport_add_library(gport_raw alias ...)
+    owner[${BASH_REMATCH[1]}]=$(declarer_of "${hit%%:*}")
+    owner["gport::${BASH_REMATCH[3]}"]=${owner[${BASH_REMATCH[1]}]}
+  elif [[ $code =~ $library_re && ${code%%add_library*} != *gport_ ]]; then
+    owner[${BASH_REMATCH[1]}]=$(declarer_of "${hit%%:*}")
+  fi
+done
+for hit in "${declarations[@]}"; do
+  code=${hit#*:}
+  code=${code%%#*}
+  if [[ $code =~ $alias_re ]]; then
+    owner["gport::${BASH_REMATCH[1]}"]=${owner[${BASH_REMATCH[2]}]:-$(declarer_of "${hit%%:*}")}
+  fi
+done
 
 for folder in "${order[@]}"; do
   [[ -d $folder ]] || continue
@@ -175,7 +186,15 @@ for folder in "${order[@]}"; do
       code=${text%%#*}
       [[ $code == *gport* ]] || continue
       [[ $code =~ add_library\([[:space:]]*gport::[a-z0-9_]+[[:space:]]+ALIAS ]] && continue
-      while IFS= read -r name; do
+      # Each gport::/gport_ name of the line once, matched in bash (a
+      # grep and a sort per line made this loop most of the script's time).
+      declare -A named=()
+      rest=$code
+      while [[ $rest =~ gport(::|_)[a-z0-9_]+ ]]; do
+        name=${BASH_REMATCH[0]}
+        rest=${rest#*"$name"}
+        [[ -z ${named[$name]+x} ]] || continue
+        named[$name]=1
         [[ -n ${owner[$name]+x} ]] || continue  # a function or variable, not a target
         part=${owner[$name]}
         [[ $part == . ]] && continue
@@ -184,7 +203,8 @@ for folder in "${order[@]}"; do
         elif ! may_use "$folder" "$part"; then
           fail "$file:$number: links $name: $folder/ may not use $part/ (it may use: $(allowed_text "$folder"))"
         fi
-      done < <(grep -oE 'gport(::|_)[a-z0-9_]+' <<<"$code" | sort -u)
+      done
+      unset named
     done <"$file"
   done < <(cmake_files "$folder")
 done
