@@ -1,12 +1,13 @@
 #include "checks.hpp"
 
 #include <fmt/format.h>
-#include <gport/contract/names.hpp>
 #include <sys/un.h>
 
 #include <algorithm>
 #include <array>
 #include <nlohmann/json.hpp>
+
+#include "gport/contract/names.hpp"
 
 namespace gport::config::detail {
 namespace {
