@@ -22,11 +22,12 @@
 # The builds of stages 2 and 4 run in the background at idle priority from
 # the end of stage 1's interoperability tests, while the tests of the stages
 # before theirs run (see "the later builds" below).
-# What the Release build compiles with is installed first; what waits on the
-# network rather than the CPU then runs beside the Release build, each with
-# its log in build/ci-logs: the rest of the packages (apt; then chromium for
-# gport-web's browser test), the ARM sysroots, the e2e stage's Debian root
-# and the npm installs of the tests (npm ci: node-mavlink, playwright-core).
+# What waits on the network rather than the CPU runs beside the demo's build
+# (once it is configured) and the Release build, each with its log in
+# build/ci-logs: what the Release build compiles with (apt), the rest of the
+# packages (apt; then chromium for gport-web's browser test), the ARM
+# sysroots, the e2e stage's Debian root and the npm installs of the tests
+# (npm ci: node-mavlink, playwright-core).
 # docs/operations.md, "How CI spends its time", has the figures behind these
 # choices.
 # Used word for word by .ci/run. The builds are unity builds (each target's
@@ -66,40 +67,11 @@ trap stage_table EXIT
 logs=build/ci-logs
 mkdir -p "$logs"
 
-# ---- the README's first command, first, as a newcomer runs it --------------
-# scripts/demo.sh on the clean checkout, before anything else is installed:
-# its own package set (gport_install_deps build), its plain build (every
-# source of gportd, gportctl and gport-sim compiled on its own), the daemon
-# on its simulated gimbal, and an output with no warning in it. The one
-# thing added is ccache, through CMake's CMAKE_CXX_COMPILER_LAUNCHER
-# environment variable: the Release build below compiles the programs' sources
-# file by file too, with the same commands (GPORT_PLAIN_PRODUCTION), and gets
-# the demo's objects from the cache instead of compiling them again. The
-# cache is this run's own (build/ccache), so nothing from another run counts.
-stage "README demo (scripts/demo.sh: its own packages, its plain build)"
-command -v ccache >/dev/null || {
-  DEBIAN_FRONTEND=noninteractive apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends ccache
-}
-export CCACHE_DIR=$PWD/build/ccache CCACHE_BASEDIR=$PWD CCACHE_NOHASHDIR=1 CCACHE_MAXSIZE=4G
-CMAKE_CXX_COMPILER_LAUNCHER=ccache scripts/demo.sh 2>&1 | tee "$logs/demo.log"
-if grep -nE "CMake (Warning|Deprecation)|: warning:" "$logs/demo.log"; then
-  echo "error: the README's demo printed the warnings above (log $logs/demo.log)" >&2
-  exit 1
-fi
-echo "(the demo's build: $(ccache --show-stats 2>/dev/null | grep -iE "^ *(cache )?(misses|hits)" | tr -s ' ' | paste -sd';' -))"
-
-stage "Layering"
-scripts/check-layering.sh
-
 source scripts/deps.sh
 arm_arches=()
 # armhf first: it runs more tests, so its build is awaited first.
 [ "${GPORT_ARM:-}" = skip ] || arm_arches=(armhf arm64)
-# What the Release build compiles with, first; the rest (the tests' and ARM
-# stages' packages, in one apt run) beside the build: prepare_rest below.
 mapfile -t cross_packages < <(gport_cross_packages "${arm_arches[@]}")
-gport_install_deps release-build
 
 jobs=$(nproc)
 fuzz_seconds=${GPORT_FUZZ_SECONDS:-30}
@@ -130,10 +102,14 @@ npm_install() { tests/mavlink/peer/run.sh "$1/tests/mavlink/peer/mavlink-peer" -
 # playwright-core for gport-web's browser test (tests/web/browser; the
 # Release stage only runs it).
 npm_install_browser() { tests/web/browser/run.sh "$1/tests/web/browser/web-browser" --install-only; }
-# What waits on the network, beside the Release build: the rest of the
-# packages (apt), then at once chromium (apt), the ARM sysroots, the e2e
-# stage's Debian root (debootstrap) and the npm installs.
+# What waits on the network, beside the demo's build and the Release build:
+# what the Release build compiles with (apt; then the marker
+# installed-release-build), the rest of the packages (apt), then at once
+# chromium (apt), the ARM sysroots, the e2e stage's Debian root
+# (debootstrap) and the npm installs.
 prepare_rest() {
+  gport_install_deps release-build
+  touch "$logs/installed-release-build"
   gport_install_deps all "${cross_packages[@]}"
   beside browser gport_install_deps browser
   for arch in "${arm_arches[@]}"; do
@@ -148,6 +124,46 @@ prepare_rest() {
     await "$name" 77 || true
   done
 }
+
+# ---- the README's first command, first, as a newcomer runs it --------------
+# scripts/demo.sh on the clean checkout, before anything else is installed:
+# its own package set (gport_install_deps build), its plain build (every
+# source of gportd, gportctl and gport-sim compiled on its own), the daemon
+# on its simulated gimbal, and an output with no warning in it. The one
+# thing added is ccache, through CMake's CMAKE_CXX_COMPILER_LAUNCHER
+# environment variable: the Release build below compiles the programs' sources
+# file by file too, with the same commands (GPORT_PLAIN_PRODUCTION), and gets
+# the demo's objects from the cache instead of compiling them again. The
+# cache is this run's own (build/ccache), so nothing from another run counts.
+# Once the demo compiles (its packages installed, its build configured:
+# nothing installed after that changes what it found), what waits on the
+# network starts beside it (prepare_rest).
+stage "README demo (scripts/demo.sh: its own packages, its plain build)"
+rm -f "$logs"/installed-*
+command -v ccache >/dev/null || {
+  DEBIAN_FRONTEND=noninteractive apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends ccache
+}
+export CCACHE_DIR=$PWD/build/ccache CCACHE_BASEDIR=$PWD CCACHE_NOHASHDIR=1 CCACHE_MAXSIZE=4G
+: >"$logs/demo.log"
+(
+  set -o pipefail
+  CMAKE_CXX_COMPILER_LAUNCHER=ccache scripts/demo.sh 2>&1 | tee "$logs/demo.log"
+) &
+demo_pid=$!
+until grep -q "^== building" "$logs/demo.log" || ! kill -0 "$demo_pid" 2>/dev/null; do
+  sleep 1
+done
+beside prepare prepare_rest
+wait "$demo_pid" || { echo "error: the README's demo failed (log $logs/demo.log)" >&2; exit 1; }
+if grep -nE "CMake (Warning|Deprecation)|: warning:" "$logs/demo.log"; then
+  echo "error: the README's demo printed the warnings above (log $logs/demo.log)" >&2
+  exit 1
+fi
+echo "(the demo's build: $(ccache --show-stats 2>/dev/null | grep -iE "^ *(cache )?(misses|hits)" | tr -s ' ' | paste -sd';' -))"
+
+stage "Layering"
+scripts/check-layering.sh
 
 # The Release build runs what tests the programs as they ship: the suites
 # that drive gportd, gport-sim, gportctl, gport-web and the client library
@@ -165,7 +181,11 @@ release_suites='integration_tests;client_tests;client_hostile_tests;web_tests'
 # the demo's, -Werror is not among them; a warning fails the stage all the
 # same (a cached object's warnings are printed again).
 stage "Release build"
-beside prepare prepare_rest
+# What it compiles with, installed beside the demo (prepare_rest).
+until [ -e "$logs/installed-release-build" ]; do
+  kill -0 "${beside_pids[prepare]}" 2>/dev/null || { await prepare; break; }
+  sleep 1
+done
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
   -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_PLAIN_PRODUCTION=ON \
   -DGPORT_GTEST_SUITES="$release_suites"
