@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "clock_offset.hpp"
 #include "exiftool.hpp"
 #include "gport/cli/captures.hpp"
 #include "gport/cli/printable.hpp"

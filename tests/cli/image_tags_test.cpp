@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cstdio>
 
+#include "clock_offset.hpp"
+
 namespace gport::cli {
 namespace {
 
