@@ -65,7 +65,7 @@ TEST_F(WebApi, APostedFormLogsInWithARoleOfItsToken) {
                 "token=" + kViewToken);
     ASSERT_EQ(login.result(), http::status::see_other);
     const auto cookie = cookie_of(login);
-    EXPECT_EQ(request(http::verb::get, "/api/settings", {{"Cookie", cookie}}).result(),
+    EXPECT_EQ(request(http::verb::get, "/api/status", {{"Cookie", cookie}}).result(),
               http::status::ok);
     EXPECT_EQ(request(http::verb::post, "/api/stop", {{"Cookie", cookie}}).result(),
               http::status::forbidden);

@@ -102,6 +102,31 @@ TEST_F(WebLive, GportdGoingAwayAndComingBackIsToldToTheBrowsers) {
     EXPECT_TRUE(next_method(*ws, "attitude"));
 }
 
+// Its log says when gportd goes away and when it is back, in the
+// "time [level] text" lines of gportd's logger (the journal under systemd).
+TEST(WebLog, GportdGoingAwayAndComingBackAreLogged) {
+    TempDir dir;
+    auto daemon = std::make_unique<DaemonProcess>(dir, std::vector<std::string>{"--simulate"});
+    const auto token_file = dir.file("token");
+    write_token_file(token_file, "control:" + kControlToken + "\n", 0600);
+    Process web({"/bin/sh", "-c",
+                 std::string("exec ") + GPORT_WEB_PATH + " --listen 127.0.0.1:0 --socket " +
+                     daemon->socket() + " --token-file " + token_file + " 2>&1"});
+    const auto logged = [&](const std::string& level, const std::string& text) {
+        return web
+            .wait_line([&](const std::string& l) {
+                return l.find("[" + level + "] " + text) != std::string::npos;
+            })
+            .has_value();
+    };
+    EXPECT_TRUE(logged("info", "connected to gportd on " + daemon->socket()));
+    const auto socket = daemon->socket();
+    daemon.reset();
+    EXPECT_TRUE(logged("warning", "gportd not reachable: "));
+    daemon = std::make_unique<DaemonProcess>(dir, std::vector<std::string>{"--simulate"});
+    EXPECT_TRUE(logged("info", "gportd reachable again on " + socket));
+}
+
 TEST_F(WebLive, SigtermClosesTheSocketsAndExitsWithZero) {
     auto ws = live_as();
     ASSERT_TRUE(next_method(*ws, "attitude"));

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 
 #include <boost/beast/websocket.hpp>
+#include <fstream>
 
 #include "web_fixture.hpp"
 
@@ -161,6 +162,15 @@ TEST_F(WebRefusals, WrongTokensBeyondTheFailuresAre429ButTheRightOneGetsIn) {
 
 TEST_F(WebRefusals, AViewLoginCanReadButNeitherPostNorJog) {
     EXPECT_EQ(get("/api/status", kViewToken).result(), http::status::ok);
+    EXPECT_EQ(get("/api/limits", kViewToken).result(), http::status::ok);
+    // Reading the settings is an exchange with the gimbal: gportd refuses it
+    // to its own read-only clients, and so does gport-web to a view login.
+    const auto settings = get("/api/settings", kViewToken);
+    EXPECT_EQ(settings.result(), http::status::forbidden);
+    EXPECT_NE(settings.body().find("a view login cannot read the gimbal's settings"),
+              std::string::npos)
+        << settings.body();
+    EXPECT_EQ(get("/api/settings").result(), http::status::ok) << "a control login reads them";
     for (const char* path : {"/api/stop", "/api/photo", "/api/center", "/api/angle"}) {
         EXPECT_EQ(post(path, "{}", kViewToken).result(), http::status::forbidden) << path;
     }
@@ -215,6 +225,103 @@ TEST_F(WebTokenFile, AMissingFileIsCreatedWithARandomTokenAndTheFirstRunUrl) {
     ASSERT_EQ(::stat(path.c_str(), &st), 0);
     EXPECT_EQ(st.st_mode & 0777, 0600U);
     EXPECT_TRUE(connected(token));
+}
+
+TEST_F(WebTokenFile, AFifoIsRefusedAtOnceInsteadOfWaitedOn) {
+    ASSERT_EQ(::mkfifo(token_file_.c_str(), 0600), 0);
+    Process web({"/bin/sh", "-c",
+                 std::string("exec ") + GPORT_WEB_PATH + " --listen 127.0.0.1:0 --socket " +
+                     daemon_->socket() + " --token-file " + token_file_ + " 2>&1"});
+    const auto line = web.next_line(20s);
+    ASSERT_TRUE(line) << "gport-web hung on the FIFO";
+    EXPECT_NE(line->find(token_file_), std::string::npos) << *line;
+    EXPECT_NE(line->find("must be a regular file"), std::string::npos) << *line;
+    EXPECT_EQ(web.wait(20s), 66);
+}
+
+TEST_F(WebTokenFile, ATokenGivenTwiceIsRefusedNamingTheLine) {
+    write_token_file(token_file_,
+                     "control:" + kControlToken + "\n# the same one\nview:" + kControlToken + "\n",
+                     0600);
+    Process web({"/bin/sh", "-c",
+                 std::string("exec ") + GPORT_WEB_PATH + " --listen 127.0.0.1:0 --socket " +
+                     daemon_->socket() + " --token-file " + token_file_ + " 2>&1"});
+    const auto line = web.next_line();
+    ASSERT_TRUE(line);
+    EXPECT_NE(line->find("line 3: the same token as an earlier line (as control)"),
+              std::string::npos)
+        << *line;
+    EXPECT_EQ(web.wait(), 66);
+}
+
+TEST_F(WebTokenFile, TheDirectoriesMadeForANewFileAreTheUsersAlone) {
+    const auto path = dir_.file("made/for/token");
+    ASSERT_TRUE(start_web({"--token-file", path}));
+    for (const auto& made : {dir_.file("made"), dir_.file("made/for")}) {
+        struct stat st {};
+        ASSERT_EQ(::stat(made.c_str(), &st), 0) << made;
+        EXPECT_EQ(st.st_mode & 0777, 0700U) << made;
+    }
+}
+
+TEST_F(WebRefusals, TheBearerSchemeIsCaseInsensitive) {
+    for (const auto& scheme : {"bearer ", "BEARER ", "Bearer   ", "bEaReR "}) {
+        SCOPED_TRACE(scheme);
+        EXPECT_EQ(request(http::verb::get, "/api/status",
+                          {{"Authorization", std::string(scheme) + kControlToken}})
+                      .result(),
+                  http::status::ok);
+    }
+    EXPECT_EQ(
+        request(http::verb::get, "/api/status", {{"Authorization", "Bearerx " + kControlToken}})
+            .result(),
+        http::status::unauthorized);
+}
+
+class WebListen : public WebTest {};
+
+// The token of a file gport-web created ("control:TOKEN").
+std::string read_token(const std::string& path) {
+    std::ifstream file(path);
+    std::string line;
+    std::getline(file, line);
+    return line.substr(line.find(':') + 1);
+}
+
+// --listen 0.0.0.0: the links printed are the interfaces' real addresses (an
+// http://0.0.0.0:PORT/ link opens nothing), and an IP literal is a Host
+// only when it is one of them.
+TEST_F(WebListen, OnEveryAddressItPrintsRealLinksAndAcceptsOnlyThemAsHost) {
+    web_ = std::make_unique<Process>(
+        std::vector<std::string>{GPORT_WEB_PATH, "--socket", daemon_->socket(), "--listen",
+                                 "0.0.0.0:0", "--token-file", dir_.file("new-token")});
+    std::vector<std::string> lines;
+    while (auto line = web_->next_line(lines.empty() ? 10s : 500ms)) {
+        lines.push_back(*line);
+    }
+    ASSERT_FALSE(lines.empty());
+    std::string all;
+    for (const auto& l : lines) {
+        all += l + "\n";
+        EXPECT_EQ(l.find("0.0.0.0"), std::string::npos) << l;
+    }
+    const std::string loopback = "gport-web: serving http://127.0.0.1:";
+    const auto at = all.find(loopback);
+    ASSERT_NE(at, std::string::npos) << all;
+    port_ = static_cast<unsigned short>(std::stoi(all.substr(at + loopback.size())));
+    EXPECT_NE(all.find("gport-web: open http://127.0.0.1:" + std::to_string(port_) + "/?token="),
+              std::string::npos)
+        << all;
+    const auto token = read_token(dir_.file("new-token"));
+    const auto status_with = [&](const std::string& host) {
+        return request(http::verb::get, "/api/status",
+                       {{"Host", host}, {"Authorization", "Bearer " + token}})
+            .result();
+    };
+    EXPECT_EQ(status_with("127.0.0.1:" + std::to_string(port_)), http::status::ok);
+    EXPECT_EQ(status_with("localhost:" + std::to_string(port_)), http::status::ok);
+    EXPECT_EQ(status_with("203.0.113.9:" + std::to_string(port_)), http::status::forbidden)
+        << "an address this machine does not have";
 }
 
 }  // namespace

@@ -182,6 +182,16 @@ void api(const std::shared_ptr<HttpSession>& session, Request request, Role role
                                          "a view login cannot change the gimbal"));
             return;
         }
+        // Reading the settings is an exchange of frames with the gimbal,
+        // which gportd refuses its own read-only clients, and each one
+        // takes one of the few settings requests gportd queues.
+        if (route.method == std::string_view(method::kGetSettings) && role != Role::kControl) {
+            session->send(error_response(
+                request, http::status::forbidden,
+                "a view login cannot read the gimbal's settings (reading them is an exchange "
+                "with the gimbal, a control login's)"));
+            return;
+        }
         auto params = params_of(request.body(), route.fields);
         if (auto* problem = std::get_if<std::string>(&params)) {
             session->send(error_response(request, http::status::bad_request, *problem));

@@ -15,6 +15,7 @@
 #include "gport/web/sessions.hpp"
 #include "gport/web/tokens.hpp"
 #include "hub.hpp"
+#include "served_addresses.hpp"
 
 namespace gport::web {
 
@@ -37,12 +38,21 @@ struct Context {
         : io(context),
           options(std::move(opts)),
           tokens(std::move(secrets)),
+          served(listen_address(options.address)),
           gateway(context, options.socket, hub) {}
+
+    // The address to listen on (checked by parse_options; loopback if not).
+    static boost::asio::ip::address listen_address(const std::string& text) {
+        boost::system::error_code ec;
+        const auto address = boost::asio::ip::make_address(text, ec);
+        return ec ? boost::asio::ip::address(boost::asio::ip::address_v4::loopback()) : address;
+    }
 
     boost::asio::io_context& io;
     Options options;
     unsigned short port = 0;  // the port bound (options.port may be 0)
     std::vector<Token> tokens;
+    ServedAddresses served;  // the Host names accepted as IP literals
     Sessions sessions;
     LoginGuard logins;
     Hub hub;

@@ -1,7 +1,8 @@
 #include "gateway.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <boost/asio/post.hpp>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "gport/contract/names.hpp"
@@ -65,6 +66,11 @@ void Gateway::subscribe() {
                                     return;
                                 }
                                 connected_ = true;
+                                if (announced_down_) {
+                                    spdlog::info("gportd reachable again on {}", socket_);
+                                } else {
+                                    spdlog::info("connected to gportd on {}", socket_);
+                                }
                                 announced_down_ = false;
                                 hub_.broadcast(gportd_message(true, "connected"), false);
                             });
@@ -76,8 +82,7 @@ void Gateway::lost(const std::string& reason, const std::string& detail) {
     state_ = gportd_message(false, reason);
     if (was || !announced_down_) {
         announced_down_ = true;
-        std::fprintf(stderr, "gport-web: %s: %s (retrying every second)\n", reason.c_str(),
-                     detail.c_str());
+        spdlog::warn("gportd not reachable: {}: {} (retrying every second)", reason, detail);
         hub_.broadcast(state_, false);
     }
     retry();

@@ -2,17 +2,19 @@
 
 #include <boost/asio/ip/address.hpp>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 namespace gport::web {
 namespace {
 
-bool is_ip(std::string_view name) {
+// The address a Host names, when it is an IP literal ([...] for IPv6).
+std::optional<boost::asio::ip::address> ip_of(std::string_view name) {
     if (name.size() >= 2 && name.front() == '[' && name.back() == ']') {
         name = name.substr(1, name.size() - 2);
     }
     boost::system::error_code ec;
-    boost::asio::ip::make_address(std::string(name), ec);
-    return !ec;
+    const auto address = boost::asio::ip::make_address(std::string(name), ec);
+    return ec ? std::nullopt : std::optional(address);
 }
 
 std::string lower(std::string_view text) {
@@ -49,7 +51,7 @@ std::string url_decode(std::string_view text) {
 
 }  // namespace
 
-bool host_allowed(const Context& context, std::string_view host) {
+bool host_allowed(Context& context, std::string_view host) {
     std::string_view name = host;
     std::string_view port;
     const auto bracket = host.rfind(']');
@@ -64,11 +66,17 @@ bool host_allowed(const Context& context, std::string_view host) {
             return true;
         }
     }
-    const bool local = lowered == "localhost" || is_ip(lowered);
-    return local && port == std::to_string(context.port);
+    if (port != std::to_string(context.port)) {
+        return false;
+    }
+    if (lowered == "localhost") {
+        return context.served.has_loopback();
+    }
+    const auto address = ip_of(lowered);
+    return address && context.served.contains(*address);
 }
 
-bool origin_allowed(const Context& context, std::string_view origin) {
+bool origin_allowed(Context& context, std::string_view origin) {
     if (origin.empty()) {
         return true;
     }
@@ -98,11 +106,28 @@ std::string session_of(const Request& request) {
     return {};
 }
 
-std::optional<Role> authenticate(Context& context, const Request& request) {
+namespace {
+
+// The token of an `Authorization: Bearer <token>` header. The scheme's name
+// is case-insensitive (RFC 9110, 11.1: "bearer" is Bearer), and one or more
+// spaces follow it.
+std::optional<std::string_view> bearer_token(const Request& request) {
     const auto header = request[http::field::authorization];
     const std::string_view authorization(header.data(), header.size());
-    if (authorization.starts_with("Bearer ")) {
-        return role_of(context.tokens, authorization.substr(7));
+    const auto space = authorization.find(' ');
+    if (space == std::string_view::npos || lower(authorization.substr(0, space)) != "bearer") {
+        return std::nullopt;
+    }
+    auto token = authorization.substr(space);
+    token.remove_prefix(std::min(token.find_first_not_of(' '), token.size()));
+    return token;
+}
+
+}  // namespace
+
+std::optional<Role> authenticate(Context& context, const Request& request) {
+    if (const auto token = bearer_token(request)) {
+        return role_of(context.tokens, *token);
     }
     if (const auto id = session_of(request); !id.empty()) {
         return context.sessions.find(id);
@@ -117,8 +142,7 @@ bool cross_site(const Request& request) {
 }
 
 bool bearer_of(const Request& request) {
-    const auto header = request[http::field::authorization];
-    return std::string_view(header.data(), header.size()).starts_with("Bearer ");
+    return bearer_token(request).has_value();
 }
 
 std::string path_of(std::string_view target) {

@@ -22,12 +22,13 @@ inline constexpr std::string_view kContentSecurityPolicy =
     "default-src 'self'; connect-src 'self'; base-uri 'none'; form-action 'self'; "
     "frame-ancestors 'none'";
 
-// A Host header naming this server: localhost or an IP address with the
-// port served, or an --allow-host name (any port).
-bool host_allowed(const Context& context, std::string_view host);
+// A Host header naming this server: with the port served, one of the
+// addresses it is reached at (served_addresses.hpp) or localhost when one of
+// them is a loopback address; or an --allow-host name (any port).
+bool host_allowed(Context& context, std::string_view host);
 // An Origin header of this server (http:// or https:// and an allowed
 // host), or none at all (a script, not a browser).
-bool origin_allowed(const Context& context, std::string_view origin);
+bool origin_allowed(Context& context, std::string_view origin);
 
 // True when the request carries an Authorization: Bearer token.
 bool bearer_of(const Request& request);

@@ -5,19 +5,37 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "acceptor.hpp"
 #include "context.hpp"
 #include "gport/base/exit_status.hpp"
 #include "gport/web/options.hpp"
+#include "served_addresses.hpp"
 
 namespace gport::web {
 namespace {
 
-std::string url_of(const boost::asio::ip::tcp::endpoint& endpoint) {
-    const auto address = endpoint.address();
+std::string url_of(const boost::asio::ip::address& address, unsigned short port) {
     const auto host = address.is_v6() ? "[" + address.to_string() + "]" : address.to_string();
-    return "http://" + host + ":" + std::to_string(endpoint.port()) + "/";
+    return "http://" + host + ":" + std::to_string(port) + "/";
+}
+
+// The links to print: one per address gport-web is reached at (listening on
+// 0.0.0.0 or ::, the interfaces' addresses, loopback last: an
+// http://0.0.0.0:PORT/ link opens nothing in a phone's browser).
+std::vector<std::string> urls_of(const boost::asio::ip::tcp::endpoint& endpoint) {
+    std::vector<std::string> urls;
+    for (const auto& address : served_addresses(endpoint.address())) {
+        if (!(address.is_v6() && address.to_v6().is_link_local())) {  // needs a zone in a URL
+            urls.push_back(url_of(address, endpoint.port()));
+        }
+    }
+    if (urls.empty()) {
+        urls.push_back(url_of(endpoint.address(), endpoint.port()));
+    }
+    return urls;
 }
 
 // True when stdout goes to systemd's journal (a service).
@@ -40,14 +58,19 @@ int serve(Options options, TokenFile tokens) {
         return kExitOsError;
     }
     context.port = listener->local().port();
-    const auto url = url_of(listener->local());
-    std::cout << "gport-web: serving " << url << "\n";
-    if (tokens.created && under_journal()) {  // no token in the journal
-        std::cout << "gport-web: created " << options.token_file << ": open " << url
-                  << "?token=TOKEN to log in, TOKEN from the file (sudo cat " << options.token_file
-                  << ")\n";
-    } else if (tokens.created) {
-        std::cout << "gport-web: open " << url << "?token=" << *tokens.created << " to log in\n";
+    const auto urls = urls_of(listener->local());
+    for (const auto& url : urls) {
+        std::cout << "gport-web: serving " << url << "\n";
+    }
+    for (const auto& url : urls) {
+        if (tokens.created && under_journal()) {  // no token in the journal
+            std::cout << "gport-web: created " << options.token_file << ": open " << url
+                      << "?token=TOKEN to log in, TOKEN from the file (sudo cat "
+                      << options.token_file << ")\n";
+        } else if (tokens.created) {
+            std::cout << "gport-web: open " << url << "?token=" << *tokens.created
+                      << " to log in\n";
+        }
     }
     std::cout.flush();
     // A signal closes everything; io.run() returns once nothing is pending,

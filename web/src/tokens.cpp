@@ -54,6 +54,20 @@ Token token_of(std::string_view line, int number) {
     return token;
 }
 
+// A token given twice (as control: and as view:, or twice alike) is
+// refused: which role it grants would depend on the order of the lines.
+void refuse_repeated(const std::vector<Token>& tokens, int number) {
+    const auto& added = tokens.back();
+    for (std::size_t i = 0; i + 1 < tokens.size(); ++i) {
+        if (tokens[i].secret == added.secret) {
+            throw std::runtime_error("line " + std::to_string(number) +
+                                     ": the same token as an earlier line (as " +
+                                     std::string(role_name(tokens[i].role)) +
+                                     "): each token appears once, with one role");
+        }
+    }
+}
+
 std::string mode_text(mode_t mode) {
     char text[8];
     std::snprintf(text, sizeof(text), "%04o", static_cast<unsigned>(mode & 07777));
@@ -64,13 +78,21 @@ std::string errno_text() {
     return std::strerror(errno);
 }
 
+// Makes the missing directories above the file, each 0700 (gport-web's
+// alone: a directory made for a secret is no one else's to list).
+void make_parents(const std::filesystem::path& dir) {
+    if (dir.empty() || std::filesystem::exists(dir)) {
+        return;
+    }
+    make_parents(dir.parent_path());
+    if (::mkdir(dir.c_str(), 0700) != 0 && errno != EEXIST) {
+        throw std::runtime_error("cannot create " + dir.string() + ": " + errno_text());
+    }
+}
+
 // Creates the file with a new control token; false when it appeared meanwhile.
 bool create(const std::string& path, const std::string& secret) {
-    const auto dir = std::filesystem::path(path).parent_path();
-    if (!dir.empty() && !std::filesystem::exists(dir)) {
-        std::filesystem::create_directories(dir);
-        std::filesystem::permissions(dir, std::filesystem::perms::owner_all);
-    }
+    make_parents(std::filesystem::path(path).parent_path());
     const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
     if (fd < 0) {
         if (errno == EEXIST) {
@@ -88,7 +110,9 @@ bool create(const std::string& path, const std::string& secret) {
 }
 
 std::string read_checked(const std::string& path) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+    // O_NONBLOCK: a FIFO put in its place opens at once (and is refused
+    // below as no regular file) instead of waiting for a writer forever.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
     if (fd < 0) {
         throw std::runtime_error("cannot open it: " + errno_text());
     }
@@ -127,6 +151,7 @@ std::vector<Token> parse_tokens(std::string_view text) {
         ++number;
         if (!line.empty() && line.front() != '#') {
             tokens.push_back(token_of(line, number));
+            refuse_repeated(tokens, number);
         }
     }
     if (tokens.empty()) {

@@ -63,6 +63,19 @@ async function showPage(from) {
     ? `#${first}–#${result.captures[result.captures.length - 1].index}` : 'no captures yet';
 }
 
+// A capture's position as its meta gives it: both coordinates when they are
+// numbers; whatever is there otherwise (a client's meta is its own: lat
+// without lon, a string, null), never an exception that would end the table.
+function coordinate(value) {
+  if (typeof value === 'number' && Number.isFinite(value)) return value.toFixed(6);
+  return value === undefined ? '?' : JSON.stringify(value);
+}
+
+function position(meta) {
+  if (meta.lat === undefined && meta.lon === undefined) return '–';
+  return `${coordinate(meta.lat)}, ${coordinate(meta.lon)}`;
+}
+
 function render(captures) {
   const body = $('captures-table').tBodies[0];
   body.replaceChildren();
@@ -72,14 +85,14 @@ function render(captures) {
     row.dataset.index = c.index;
     row.dataset.kind = c.kind;
     const hall = c.attitude && c.attitude.hall ? c.attitude.hall : {};
-    const meta = c.meta || {};
+    const meta = c.meta && typeof c.meta === 'object' ? c.meta : {};
     const cells = [
       c.index,
       typeof c.utc_us === 'number' ? new Date(c.utc_us / 1000).toISOString().slice(11, 23) : '–',
       c.kind,
       fixed(hall.pitch),
       fixed(hall.yaw),
-      typeof meta.lat === 'number' ? `${meta.lat.toFixed(6)}, ${meta.lon.toFixed(6)}` : '–',
+      position(meta),
       c.client ? `${c.client.name || ''} (pid ${c.client.pid})` : '–',
     ];
     for (const text of cells) row.insertCell().textContent = String(text);

@@ -29,7 +29,16 @@ const describe = (s) => `dead zone ${s.dead_zone}, follow speed ${s.follow_speed
 
 async function loadSettings() {
   $('settings-readback').textContent = 'reading from the gimbal…';
-  const settings = await attempt('settings', () => api('GET', '/api/settings'));
+  let viewOnly = false;
+  const settings = await attempt('settings', () => api('GET', '/api/settings').catch((e) => {
+    if (e.status !== 403) throw e;
+    viewOnly = true; // reading them is a control login's (docs/web.md, "Roles")
+    return undefined;
+  }));
+  if (viewOnly) {
+    $('settings-readback').textContent = 'a control login reads the gimbal\'s settings';
+    return;
+  }
   if (!settings) {
     $('settings-readback').textContent = 'could not read the settings';
     return;

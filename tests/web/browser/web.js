@@ -282,6 +282,20 @@ async function positionsAndPose(page, sock) {
   await h.rpc(sock, 'angle', { roll: 8, pitch: -20, yaw: 35, wait: true });
 }
 
+// ---- 6b. captures whose meta is odd (a client's own): shown as they are,
+// the table never broken (lat with no numeric lon threw in every browser)
+async function oddMetaInTable(page, sock) {
+  const rows = await page.locator(id('capture-row')).count();
+  const odd = [{ lat: 47.3 }, { lat: 'north', lon: null }, { lon: 8.5, note: 'no lat' }];
+  for (const meta of odd) await h.rpc(sock, 'photo', { meta });
+  await until(async () => (await page.locator(id('capture-row')).count()) === rows + odd.length, 10000,
+    'the captures with an odd meta in the table');
+  const cells = await page.locator(id('capture-row')).evaluateAll((trs) => trs.slice(0, 3).map((tr) => tr.cells[5].textContent));
+  check(JSON.stringify(cells) === JSON.stringify(['?, 8.500000', '"north", null', '47.300000, ?']),
+    `captures with lat and no lon (and other odd metas) shown as they are: ${JSON.stringify(cells)}`);
+  check(page.problems.length === 0, `no script error from them (${page.problems.join('; ') || 'none'})`);
+}
+
 // ---- 7. screenshots
 async function screenshots(page) {
   const shots = [];
@@ -364,6 +378,7 @@ async function main() {
     await settingReadsBack(page, sock);
     await photoInTable(page);
     await positionsAndPose(page, sock);
+    await oddMetaInTable(page, sock);
     await screenshots(page);
     check(page.problems.length === 0, `no script errors in the page (${page.problems.join('; ') || 'none'})`);
     await viewOnly(browser, url, tokens.view);
