@@ -107,6 +107,7 @@ TEST_F(WebLive, GportdGoingAwayAndComingBackIsToldToTheBrowsers) {
 TEST(WebLog, GportdGoingAwayAndComingBackAreLogged) {
     TempDir dir;
     auto daemon = std::make_unique<DaemonProcess>(dir, std::vector<std::string>{"--simulate"});
+    ASSERT_TRUE(Client(daemon->socket()).connected()) << "gportd listening before gport-web starts";
     const auto token_file = dir.file("token");
     write_token_file(token_file, "control:" + kControlToken + "\n", 0600);
     Process web({"/bin/sh", "-c",

@@ -3,6 +3,7 @@
 // the failures allowed, a view login that tries to move the gimbal, too
 // many connections from one address (lockout_test.cpp has the rest).
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <boost/beast/websocket.hpp>
 #include <fstream>
@@ -228,6 +229,7 @@ TEST_F(WebTokenFile, AMissingFileIsCreatedWithARandomTokenAndTheFirstRunUrl) {
 }
 
 TEST_F(WebTokenFile, AFifoIsRefusedAtOnceInsteadOfWaitedOn) {
+    ASSERT_EQ(::unlink(token_file_.c_str()), 0);  // the fixture's file, replaced by a FIFO
     ASSERT_EQ(::mkfifo(token_file_.c_str(), 0600), 0);
     Process web({"/bin/sh", "-c",
                  std::string("exec ") + GPORT_WEB_PATH + " --listen 127.0.0.1:0 --socket " +
