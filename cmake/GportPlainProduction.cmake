@@ -16,23 +16,12 @@ option(GPORT_PLAIN_PRODUCTION
        "In a unity build, compile everything but tests/, bench/ and fuzz/ file by file" OFF)
 option(GPORT_PLAIN_TESTS "In a unity build, compile tests/, bench/ and fuzz/ file by file" OFF)
 
-# The targets defined in DIR and below, into OUT.
-function(gport_targets_in dir out)
-  get_property(targets DIRECTORY "${dir}" PROPERTY BUILDSYSTEM_TARGETS)
-  get_property(subdirs DIRECTORY "${dir}" PROPERTY SUBDIRECTORIES)
-  foreach(sub IN LISTS subdirs)
-    gport_targets_in("${sub}" more)
-    list(APPEND targets ${more})
-  endforeach()
-  set(${out} ${targets} PARENT_SCOPE)
-endfunction()
-
 # Called once, at the end of the top-level CMakeLists.txt.
 function(gport_plain_builds)
   if(NOT CMAKE_UNITY_BUILD OR NOT (GPORT_PLAIN_PRODUCTION OR GPORT_PLAIN_TESTS))
     return()
   endif()
-  gport_targets_in("${CMAKE_SOURCE_DIR}" targets)
+  gport_targets_below("${CMAKE_SOURCE_DIR}" targets)  # cmake/GportPch.cmake
   foreach(target IN LISTS targets)
     get_target_property(type ${target} TYPE)
     if(type STREQUAL "INTERFACE_LIBRARY" OR type STREQUAL "UTILITY")
