@@ -108,10 +108,14 @@ client::Handler<std::string> answer(const std::shared_ptr<HttpSession>& session,
             return;
         }
         const bool params = error->is(client::ErrorCode::kInvalidParams);
+        const bool busy = error->is(client::ErrorCode::kTooManyRequests);
         const bool gone =
             error->is(client::ErrorCode::kTransport) || error->is(client::ErrorCode::kTimeout);
         session->send(
-            error_response(request, params ? http::status::bad_request : http::status::bad_gateway,
+            error_response(request,
+                           params ? http::status::bad_request
+                           : busy ? http::status::service_unavailable
+                                  : http::status::bad_gateway,
                            gone ? "gportd is not reachable: " + error->message() : error->message(),
                            error->code()));
     };
@@ -136,6 +140,18 @@ std::optional<std::uint64_t> number_of(const std::optional<std::string>& text) {
                                                                    : std::nullopt;
 }
 
+// Reads without params from the shared snapshot, a stop ahead of
+// everything, other commands in order (docs/web.md, "The stop comes first").
+void pass_on(Gateway& gateway, const std::string& name, std::string params, Reply reply) {
+    if (name == method::kStop) {
+        gateway.stop(std::move(reply));
+    } else if (name == method::kStatus || name == method::kLimits || name == method::kGetSettings) {
+        gateway.snapshot(name, std::move(reply));
+    } else {
+        gateway.command(name, std::move(params), std::move(reply));
+    }
+}
+
 void captures_page(const std::shared_ptr<HttpSession>& session, const Request& request) {
     const auto since_text = form_value(target_of(request), "since");
     const auto limit_text = form_value(target_of(request), "limit");
@@ -151,7 +167,7 @@ void captures_page(const std::shared_ptr<HttpSession>& session, const Request& r
     if (limit) {
         params["limit"] = *limit;
     }
-    session->context().gateway.call(method::kCaptures, json_text(params), answer(session, request));
+    session->context().gateway.read(method::kCaptures, json_text(params), answer(session, request));
 }
 
 }  // namespace
@@ -160,7 +176,7 @@ void api(const std::shared_ptr<HttpSession>& session, Request request, Role role
     const auto path = path_of(target_of(request));
     const bool get = request.method() == http::verb::get;
     if (path == "/api/version" && get) {
-        session->context().gateway.call(method::kStatus, "", answer(session, request, version_of));
+        session->context().gateway.snapshot(method::kStatus, answer(session, request, version_of));
         return;
     }
     if (path == "/api/captures" && get) {
@@ -197,8 +213,8 @@ void api(const std::shared_ptr<HttpSession>& session, Request request, Role role
             session->send(error_response(request, http::status::bad_request, *problem));
             return;
         }
-        session->context().gateway.call(route.method, json_text(std::get<json>(params)),
-                                        answer(session, request));
+        pass_on(session->context().gateway, route.method, json_text(std::get<json>(params)),
+                answer(session, request));
         return;
     }
     const bool other = path == "/api/version" || path.starts_with("/api/captures");

@@ -43,7 +43,7 @@ class Download : public std::enable_shared_from_this<Download> {
 
     void fetch() {
         const json params = {{"since", since_}, {"limit", kCapturesPageSize}};
-        session_->context().gateway.call(
+        session_->context().gateway.read(
             contract::method::kCaptures, params.dump(),
             [self = shared_from_this()](std::optional<client::Error> error,
                                         const std::string& result) {

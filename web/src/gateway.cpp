@@ -29,12 +29,22 @@ Message gportd_message(bool connected, const std::string& reason) {
 }
 
 Gateway::Gateway(boost::asio::io_context& io, std::string socket, Hub& hub)
-    : io_(io), socket_(std::move(socket)), hub_(hub), client_(io), reconnect_(io), status_(io) {
+    : io_(io),
+      socket_(std::move(socket)),
+      hub_(hub),
+      client_(io),
+      commands_(io),
+      command_lane_(io, commands_),
+      read_lane_(io, client_),
+      reconnect_(io),
+      status_(io) {
     state_ = gportd_message(false, "connecting to gportd");
     client_.on_notification_json([this](const std::string& line) {
         hub_.broadcast(std::make_shared<const std::string>(line), is_attitude(line));
     });
     client_.on_disconnect(
+        [this](const client::Error& error) { lost("lost gportd", error.message()); });
+    commands_.on_disconnect(
         [this](const client::Error& error) { lost("lost gportd", error.message()); });
 }
 
@@ -46,6 +56,17 @@ void Gateway::start() {
 void Gateway::connect() {
     client_.async_connect(socket_, [this](std::optional<client::Error> error) {
         if (error) {
+            lost("cannot reach gportd", error->message());
+            return;
+        }
+        connect_commands();
+    });
+}
+
+void Gateway::connect_commands() {
+    commands_.async_connect(socket_, [this](std::optional<client::Error> error) {
+        if (error) {
+            client_.close();
             lost("cannot reach gportd", error->message());
             return;
         }
@@ -62,6 +83,7 @@ void Gateway::subscribe() {
                             [this](std::optional<client::Error> error, const std::string&) {
                                 if (error) {
                                     client_.close();
+                                    commands_.close();
                                     lost("gportd refused the subscription", error->message());
                                     return;
                                 }
@@ -79,6 +101,12 @@ void Gateway::subscribe() {
 void Gateway::lost(const std::string& reason, const std::string& detail) {
     const bool was = connected_;
     connected_ = false;
+    // Either connection broke: both start again together.
+    client_.close();
+    commands_.close();
+    const client::Error gone(client::ErrorCode::kTransport, "gportd is not connected");
+    command_lane_.fail_all(gone);
+    read_lane_.fail_all(gone);
     state_ = gportd_message(false, reason);
     if (was || !announced_down_) {
         announced_down_ = true;
@@ -88,12 +116,13 @@ void Gateway::lost(const std::string& reason, const std::string& detail) {
     retry();
 }
 
-void Gateway::stop() {
+void Gateway::close() {
     stopped_ = true;
     connected_ = false;
     reconnect_.cancel();
     status_.cancel();
     client_.close();
+    commands_.close();
 }
 
 void Gateway::retry() {
@@ -115,8 +144,8 @@ void Gateway::poll_status() {
             return;
         }
         if (connected_ && hub_.size() > 0) {
-            client_.async_call_json(
-                contract::method::kStatus, "",
+            read_lane_.snapshot(
+                contract::method::kStatus,
                 [this](std::optional<client::Error> error, const std::string& result) {
                     if (!error) {
                         hub_.broadcast(std::make_shared<const std::string>(
@@ -129,15 +158,53 @@ void Gateway::poll_status() {
     });
 }
 
-void Gateway::call(const std::string& method, const std::string& params,
-                   client::Handler<std::string> handler) {
-    if (!connected_) {
-        boost::asio::post(io_, [handler = std::move(handler)] {
-            handler(client::Error(client::ErrorCode::kTransport, "gportd is not connected"), "");
-        });
+bool Gateway::refused_offline(Reply& reply) {
+    if (connected_) {
+        return false;
+    }
+    boost::asio::post(io_, [reply = std::move(reply)] {
+        reply(client::Error(client::ErrorCode::kTransport, "gportd is not connected"), "");
+    });
+    return true;
+}
+
+void Gateway::stop(Reply reply) {
+    if (!refused_offline(reply)) {
+        command_lane_.stop(std::move(reply));
+    }
+}
+
+void Gateway::jog(std::string params, Reply reply) {
+    if (!refused_offline(reply)) {
+        command_lane_.jog(std::move(params), std::move(reply));
+    }
+}
+
+void Gateway::command(const std::string& method, std::string params, Reply reply) {
+    if (refused_offline(reply)) {
         return;
     }
-    client_.async_call_json(method, params, std::move(handler));
+    if (method == contract::method::kSetSettings) {
+        // The settings changed (or may have): the next read fetches them.
+        reply = [this, reply = std::move(reply)](std::optional<client::Error> error,
+                                                 const std::string& result) {
+            read_lane_.invalidate(contract::method::kGetSettings);
+            reply(error, result);
+        };
+    }
+    command_lane_.call(method, std::move(params), std::move(reply));
+}
+
+void Gateway::snapshot(const std::string& method, Reply reply) {
+    if (!refused_offline(reply)) {
+        read_lane_.snapshot(method, std::move(reply));
+    }
+}
+
+void Gateway::read(const std::string& method, std::string params, Reply reply) {
+    if (!refused_offline(reply)) {
+        read_lane_.call(method, std::move(params), std::move(reply));
+    }
 }
 
 }  // namespace gport::web

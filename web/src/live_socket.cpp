@@ -38,8 +38,7 @@ LiveSocket::~LiveSocket() {
     context_.closers.erase(this);
     context_.hub.remove(this);
     if (jogging_) {
-        context_.gateway.call(contract::method::kStop, "",
-                              [](std::optional<client::Error>, const std::string&) {});
+        context_.gateway.stop([](std::optional<client::Error>, const std::string&) {});
     }
 }
 
@@ -143,23 +142,22 @@ void LiveSocket::jog(const std::string& text) {
     }
     jogging_ = true;
     std::weak_ptr<LiveSocket> weak = shared_from_this();
-    context_.gateway.call(contract::method::kSpeed, json_text(params),
-                          [weak](std::optional<client::Error> error, const std::string&) {
-                              if (const auto self = weak.lock(); self && error) {
-                                  self->reply_error("jog refused: " + error->message());
-                              }
-                          });
+    context_.gateway.jog(json_text(params),
+                         [weak](std::optional<client::Error> error, const std::string&) {
+                             if (const auto self = weak.lock(); self && error) {
+                                 self->reply_error("jog refused: " + error->message());
+                             }
+                         });
 }
 
 void LiveSocket::stop() {
     jogging_ = false;
     std::weak_ptr<LiveSocket> weak = shared_from_this();
-    context_.gateway.call(contract::method::kStop, "",
-                          [weak](std::optional<client::Error> error, const std::string&) {
-                              if (const auto self = weak.lock(); self && error) {
-                                  self->reply_error("stop refused: " + error->message());
-                              }
-                          });
+    context_.gateway.stop([weak](std::optional<client::Error> error, const std::string&) {
+        if (const auto self = weak.lock(); self && error) {
+            self->reply_error("stop refused: " + error->message());
+        }
+    });
 }
 
 void LiveSocket::reply_error(const std::string& message) {

@@ -78,7 +78,7 @@ int serve(Options options, TokenFile tokens) {
     boost::asio::signal_set signals(io, SIGINT, SIGTERM);
     signals.async_wait([&](boost::system::error_code, int) {
         listener->stop();
-        context.gateway.stop();
+        context.gateway.close();
         const auto closers = context.closers;
         for (const auto& [connection, close] : closers) {
             close();

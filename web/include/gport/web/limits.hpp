@@ -54,6 +54,24 @@ inline constexpr int kJogLeaseMs = 400;
 inline constexpr int kJogDurationMs = 10000;
 inline constexpr double kAttitudeMaxRateHz = 50;
 
+// gportd's two connections (docs/web.md, "The stop comes first"). The
+// commands' one: the requests a second it spends of gportd's budget (its
+// socket.max_requests_per_s, 200 by default, must stay above) and its
+// burst, the requests of it only a stop may spend, the commands other than
+// stops and jogs that may wait (beyond: refused as busy) and be at gportd
+// at once. The reads' one: how old a status, limits or settings snapshot
+// may be before a browser's request fetches a new one (one fetch for all
+// browsers asking meanwhile), and the other reads (capture pages) that may
+// be at gportd at once and wait (beyond: refused as busy).
+inline constexpr double kCommandsPerSecond = 100;
+inline constexpr double kCommandBurst = 20;
+inline constexpr double kStopReserve = 5;
+inline constexpr std::size_t kMaxCommandsWaiting = 64;
+inline constexpr std::size_t kMaxCommandsInFlight = 4;
+inline constexpr auto kSnapshotMaxAge = 1s;
+inline constexpr std::size_t kMaxReadsInFlight = 8;
+inline constexpr std::size_t kMaxReadsWaiting = 128;
+
 // The capture log's downloads: entries asked for per page.
 inline constexpr unsigned kCapturesPageSize = 200;
 
