@@ -50,13 +50,15 @@ Bridge::Bridge(asio::io_context& io, Options options, std::unique_ptr<SigningSes
       signing_(std::move(signing)),
       log_(log),
       gportd_(io),
+      motion_(io),
       trust_(policy_of(options_)),
       reconnect_timer_(io),
       heartbeat_timer_(io),
       attitude_timer_(io),
       rate_lease_(std::chrono::milliseconds(options_.lease_ms)),
       streams_(wanted_streams(options_.camera)),
-      camera_(io, options_, log_, *this) {}
+      camera_(io, options_, log_, *this),
+      motion_timer_(io) {}
 
 void Bridge::start() {
     transport_ = open_transport(io_, options_.mavlink);
@@ -65,6 +67,7 @@ void Bridge::start() {
     });
     gportd_.on_notification([this](const client::Notification& n) { on_notification(n); });
     gportd_.on_disconnect([this](const client::Error& e) { on_disconnected(e.message()); });
+    motion_.on_disconnect([this](const client::Error& e) { on_disconnected(e.message()); });
     spdlog::info(
         "gport-mavlink: MAVLink on {}, gportd at {}, compid {}{}; vehicle system {}, ground "
         "stations {}; signing {}",
@@ -98,38 +101,51 @@ void Bridge::finish() {
         "mavlink: {} frames taken, {} refused by the trust rules, {} ground-station heartbeats "
         "(not used), {} signed without a key, {} undecodable, {} positions dropped; decoder: {} "
         "bad CRC, {} bad length, {} unknown flags, {} MAVLink 1, {} of messages not decoded here "
-        "(not errors); signing: {}; {} frames unsent (no peer yet), {} send failures",
+        "(not errors); signing: {}; {} frames unsent (no peer yet), {} send failures; {} "
+        "ground-station GIMBAL_DEVICE_SET_ATTITUDE overruled by the vehicle's",
         counters_.accepted, counters_.untrusted, counters_.gcs_heartbeats, counters_.signed_no_key,
         counters_.undecodable, counters_.bad_positions, d.crc_errors, d.length_errors,
         d.header_errors, d.v1_frames, d.unknown_ids, signing, transport_ ? transport_->unsent() : 0,
-        transport_ ? transport_->send_failures() : 0);
+        transport_ ? transport_->send_failures() : 0, counters_.overruled);
 }
 
 // ---- gportd ---------------------------------------------------------------------
 
+// Both connections, the motion one second; either failing, both again.
 void Bridge::connect() {
     gportd_.async_connect(options_.socket, [this](std::optional<client::Error> error) {
         if (!error) {
-            on_connected();
+            motion_.async_connect(options_.socket, [this](std::optional<client::Error> failed) {
+                if (!failed) {
+                    on_connected();
+                    return;
+                }
+                gportd_.close();
+                retry_connect(*failed);
+            });
             return;
         }
-        // The library's message names the socket already ("cannot connect
-        // to PATH: ..."); others get it added.
-        const auto& why = error->message();
-        log_.warn("gportd: cannot connect",
-                  "gportd: " +
-                      (why.find(options_.socket) != std::string::npos
-                           ? why
-                           : "cannot connect to " + options_.socket + ": " + why) +
-                      "; retrying with backoff");
-        reconnect_timer_.expires_after(backoff_);
-        reconnect_timer_.async_wait([this](boost::system::error_code ec) {
-            if (!ec) {
-                connect();
-            }
-        });
-        backoff_ = std::min<std::chrono::milliseconds>(backoff_ * 2, kBackoffMax);
+        retry_connect(*error);
     });
+}
+
+void Bridge::retry_connect(const client::Error& error) {
+    // The library's message names the socket already ("cannot connect
+    // to PATH: ..."); others get it added.
+    const auto& why = error.message();
+    log_.warn("gportd: cannot connect",
+              "gportd: " +
+                  (why.find(options_.socket) != std::string::npos
+                       ? why
+                       : "cannot connect to " + options_.socket + ": " + why) +
+                  "; retrying with backoff");
+    reconnect_timer_.expires_after(backoff_);
+    reconnect_timer_.async_wait([this](boost::system::error_code ec) {
+        if (!ec) {
+            connect();
+        }
+    });
+    backoff_ = std::min<std::chrono::milliseconds>(backoff_ * 2, kBackoffMax);
 }
 
 void Bridge::on_connected() {
@@ -165,6 +181,8 @@ void Bridge::on_disconnected(const std::string& why) {
         return;
     }
     connected_ = false;
+    gportd_.close();  // either broke: both start again together
+    motion_.close();
     link_state_.clear();
     sample_.reset();
     log_.warn("gportd: connection lost", "gportd: connection lost (" + why + "); reconnecting");
@@ -180,106 +198,6 @@ void Bridge::on_notification(const client::Notification& notification) {
             spdlog::info("gportd: link {} ({})", link->state, link->reason);
         }
         link_state_ = link->state;
-    }
-}
-
-void Bridge::dispatch(Command command) {
-    if (std::holds_alternative<IdleCommand>(command)) {
-        if (!idle_logged_) {
-            spdlog::info(
-                "mavlink: the gimbal manager sends no target yet (GIMBAL_DEVICE_SET_ATTITUDE all "
-                "NaN, as PX4 does before its first one); holding still");
-            idle_logged_ = true;
-        }
-        return;
-    }
-    idle_logged_ = false;
-    if (const auto* none = std::get_if<NoCommand>(&command)) {
-        log_.warn(
-            fmt::format("GIMBAL_DEVICE_SET_ATTITUDE ignored: {}", none->kind),
-            fmt::format("GIMBAL_DEVICE_SET_ATTITUDE ignored: {}: {}", none->kind, none->reason));
-        return;
-    }
-    if (const auto* angle = std::get_if<AngleCommand>(&command)) {
-        if (!filter_.pass(angle->target)) {
-            return;
-        }
-    } else {
-        filter_.reset();
-    }
-    if (std::holds_alternative<CenterCommand>(command)) {
-        mode_flags_ = gimbal_flags_default() | gimbal_flags::kNeutral;
-    } else {
-        mode_flags_ = gimbal_flags_default();
-    }
-    if (!connected_) {
-        filter_.reset();
-        log_.warn("gportd not connected: command dropped",
-                  "gportd is not connected; the command is dropped");
-        return;
-    }
-    if (motion_in_flight_) {
-        motion_pending_ = std::move(command);
-        return;
-    }
-    send_motion(command);
-}
-
-void Bridge::send_motion(const Command& command) {
-    motion_in_flight_ = true;
-    if (const auto* angle = std::get_if<AngleCommand>(&command)) {
-        spdlog::debug("angle {:.2f} {:.2f} {:.2f}", angle->target.roll, angle->target.pitch,
-                      angle->target.yaw);
-        gportd_.async_angle(angle->target, client::AngleOptions{},
-                            [this](std::optional<client::Error> e, client::AngleResult) {
-                                motion_done(e, "angle");
-                            });
-    } else if (const auto* speed = std::get_if<SpeedCommand>(&command)) {
-        gportd_.async_speed(speed->speed, speed_options(rate_lease_.current()),
-                            [this, command](std::optional<client::Error> e, client::SpeedResult) {
-                                if (e && lease_refused(*e)) {
-                                    motion_pending_ = motion_pending_.value_or(command);
-                                    e.reset();
-                                }
-                                motion_done(e, "speed");
-                            });
-    } else {
-        gportd_.async_center(client::CenterOptions{},
-                             [this](std::optional<client::Error> e, client::CenterResult) {
-                                 motion_done(e, "center");
-                             });
-    }
-}
-
-// gportd refused the lease (or the duration, the same value) as longer
-// than its keepalive.max_duration_ms (the message names it): the ceiling
-// becomes that, and the speed is sent again.
-bool Bridge::lease_refused(const client::Error& error) {
-    const auto max = max_lease_in(error.message());
-    if (!error.is(client::ErrorCode::kInvalidParams) || !max || *max >= rate_lease_.ceiling()) {
-        return false;
-    }
-    spdlog::info(
-        "gportd allows leases up to {} ms (keepalive.max_duration_ms); rate leases are "
-        "capped there",
-        max->count());
-    rate_lease_.set_ceiling(*max);
-    return true;
-}
-
-void Bridge::motion_done(const std::optional<client::Error>& error, const char* what) {
-    motion_in_flight_ = false;
-    if (error) {
-        filter_.reset();
-        log_.warn(std::string("gportd refused ") + what,
-                  std::string("gportd refused ") + what + ": " + error->message());
-    }
-    if (motion_pending_ && connected_) {
-        auto next = std::move(*motion_pending_);
-        motion_pending_.reset();
-        send_motion(next);
-    } else {
-        motion_pending_.reset();
     }
 }
 

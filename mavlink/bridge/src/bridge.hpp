@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "camera_component.hpp"
+#include "gport/base/token_bucket.hpp"
 #include "gport/client/async_client.hpp"
 #include "gport/mavlink/bridge/log_limit.hpp"
 #include "gport/mavlink/bridge/mapping.hpp"
@@ -46,6 +47,14 @@ class Bridge : private CameraHost {
     // with no lifetime cap. (Untrusted senders: one named a minute, the
     // rest counted: a sender repeats itself, a peer change does not.)
     static constexpr std::uint32_t kPeerLinesPerMinute = 10;
+    // The motion connection's share of gportd's request budget (its
+    // socket.max_requests_per_s, 200 by default, must stay above), its
+    // burst and what of it only a stop (a zero rate) may spend; how long the
+    // vehicle's last GIMBAL_DEVICE_SET_ATTITUDE overrules a ground station's.
+    static constexpr double kMotionPerSecond = 100;
+    static constexpr double kMotionBurst = 20;
+    static constexpr double kStopReserve = 5;
+    static constexpr auto kManagerPrecedence = std::chrono::seconds(5);  // the longest lease
 
     // `signing`: the session of --signing-key, or null without a key.
     Bridge(boost::asio::io_context& io, Options options, std::unique_ptr<SigningSession> signing,
@@ -62,10 +71,12 @@ class Bridge : private CameraHost {
 
     // gportd (bridge.cpp)
     void connect();
+    void retry_connect(const client::Error& error);
     void on_connected();
     void on_disconnected(const std::string& why);
     void on_notification(const client::Notification& notification);
     void dispatch(Command command);
+    void send_pending();
     void send_motion(const Command& command);
     bool lease_refused(const client::Error& error);
     void motion_done(const std::optional<client::Error>& error, const char* what);
@@ -79,7 +90,7 @@ class Bridge : private CameraHost {
     void handle(const Header& from, const Message& message);
     void on_heartbeat(const Header& header, const Heartbeat& heartbeat);
     void on_command(const Requester& from, const CommandLong& command);
-    void on_set_attitude(const GimbalDeviceSetAttitude& message);
+    void on_set_attitude(const Header& from, const GimbalDeviceSetAttitude& message);
     void on_autopilot_state(const AutopilotStateForGimbalDevice& message);
     void request_message(const Requester& from, const CommandLong& command);
     void on_attitude(const Header& from, const Attitude& message);
@@ -124,7 +135,8 @@ class Bridge : private CameraHost {
     std::unique_ptr<SigningSession> signing_;
     Logbook& log_;
     std::unique_ptr<Transport> transport_;
-    client::AsyncClient gportd_;
+    client::AsyncClient gportd_;  // subscription, limits, the camera
+    client::AsyncClient motion_;  // angle, speed, centre only (bridge_motion.cpp)
     Decoder decoder_;
     Trust trust_;
     AngleFilter filter_;
@@ -150,10 +162,19 @@ class Bridge : private CameraHost {
     std::uint8_t seq_ = 0;         // the gimbal's frames
     std::uint8_t camera_seq_ = 0;  // the camera's: a sequence per component
 
-    // One motion request to gportd at a time; the newest waiting one replaces
-    // an older one (a 50 Hz stream never queues up).
-    bool motion_in_flight_ = false;
+    // One motion request to gportd at a time (a stop may go beside it); the
+    // newest waiting one replaces an older one (a 50 Hz stream never queues
+    // up); within the motion budget (bridge_motion.cpp).
+    std::size_t motion_in_flight_ = 0;
+    std::uint64_t motion_sent_ = 0;
     std::optional<Command> motion_pending_;
+    base::TokenBucket motion_budget_{kMotionPerSecond, kMotionBurst};
+    boost::asio::steady_timer motion_timer_;
+    bool motion_timer_armed_ = false;
+    std::uint64_t motion_timer_generation_ = 0;
+    // The vehicle's last GIMBAL_DEVICE_SET_ATTITUDE: a ground station's are
+    // overruled within kManagerPrecedence of it.
+    std::optional<Clock::time_point> manager_commands_at_;
 
     // What was refused, for the log at exit.
     struct Counters {
@@ -163,6 +184,7 @@ class Bridge : private CameraHost {
         std::uint64_t untrusted = 0;       // refused by the trust rules
         std::uint64_t gcs_heartbeats = 0;  // a ground station's: normal, not used
         std::uint64_t bad_positions = 0;   // not the autopilot's, or out of bounds (position.hpp)
+        std::uint64_t overruled = 0;       // a ground station's motion while the manager commands
     } counters_;
 
     static std::uint16_t gimbal_flags_default();

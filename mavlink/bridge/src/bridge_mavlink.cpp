@@ -134,7 +134,7 @@ void Bridge::handle(const Header& from, const Message& message) {
         }
     } else if (const auto* set = std::get_if<GimbalDeviceSetAttitude>(&message)) {
         if (addressed_to(set->target_system, set->target_component, us, options_.compid)) {
-            on_set_attitude(*set);
+            on_set_attitude(from, *set);
         }
     } else if (const auto* state = std::get_if<AutopilotStateForGimbalDevice>(&message)) {
         if (addressed_to(state->target_system, state->target_component, us, options_.compid)) {
@@ -193,12 +193,6 @@ void Bridge::request_message(const Requester& from, const CommandLong& command) 
     } else {
         ack(from, command.command, mav_result::kDenied);
     }
-}
-
-void Bridge::on_set_attitude(const GimbalDeviceSetAttitude& message) {
-    // Every message times the manager's pace, the rate's lease (rate_lease.hpp).
-    rate_lease_.on_message(Clock::now());
-    dispatch(map_set_attitude(message, options_.invert, vehicle_yaw_deg()));
 }
 
 void Bridge::on_autopilot_state(const AutopilotStateForGimbalDevice& message) {

@@ -281,7 +281,7 @@ function setParam(gcs, name, value, type) {
 
 module.exports = {
   REGISTRY, check, failures, figures, finish, sleep, until, deg, rad, toQuaternion, toEuler, wrap, start, children,
-  rpc, trace, controlFrames, cameraFrames, sameAxes, angleFrames, startGimbal, freeUdpPort, udpSocket,
+  rpc, trace, sentAt, controlFrames, cameraFrames, sameAxes, angleFrames, startGimbal, freeUdpPort, udpSocket,
   nowTimestamp, signBuffer, Peer, heartbeat, setAttitude, commandLong, minimal, common,
   MavLinkPacketSignature, readParam, setParam,
 };

@@ -125,6 +125,44 @@ async function main() {
   check(await until(() => h.angleFrames(t0, [0, -30, 0]).length > 0, 5000, 'the angle after the flood').catch(() => false),
     "after the flood the vehicle's angle still reaches the gimbal");
 
+  // 4c. The vehicle is the gimbal manager (docs/mavlink.md, "Who moves the
+  //     gimbal, and the stop"): a ground station streaming angles at 200/s
+  //     is overruled while the vehicle commands; each of the vehicle's rates
+  //     and each of its stops reaches the gimbal, the station's target never.
+  //     Five seconds after the vehicle's last message the station moves it.
+  t0 = Date.now();
+  const gcsTarget = [0, 25, -40];
+  let streaming = true;
+  const gcsStream = (async () => {
+    while (streaming) { gcs.send(setAttitude({ q: toQuaternion(...gcsTarget) })); await sleep(5); }
+  })();
+  const stopsSent = [];
+  for (let i = 0; i < 5; i += 1) {
+    await flood(vehicle, 50, 200, () => setAttitude({ rates: [0, 0, h.rad(10)] }));
+    stopsSent.push(Date.now());
+    vehicle.send(setAttitude({ rates: [0, 0, 0] }));
+    await sleep(150);
+  }
+  streaming = false;
+  await gcsStream;
+  await sleep(300);
+  const speeds = h.controlFrames(t0).filter((f) => f.j.mode === 'speed');
+  const zeroAfter = (t) => speeds.some((f) => h.sameAxes(f.j.speed, [0, 0, 0]) && h.sentAt(f) >= t - 5 &&
+    h.sentAt(f) < t + 150);
+  const stopsSeen = stopsSent.filter(zeroAfter).length;
+  const overruled = h.angleFrames(stopsSent[0] - 200, gcsTarget, 0.5).length;
+  figures.push(`ground station streaming angles at 200/s while the vehicle sends 5 rates and 5 stops: ` +
+    `${stopsSeen} stops and ${overruled} of the station's angles at the gimbal`);
+  check(stopsSeen === 5 && overruled === 0,
+    `the vehicle's stops all reach the gimbal (${stopsSeen} of 5) and the station's angles none (${overruled})`);
+  check(linesMatching(bridge, /is the gimbal manager and commands it/).length === 1,
+    'the overruled station is logged once (then counted)');
+  await sleep(5200);
+  t0 = Date.now();
+  await flood(gcs, 50, 400, () => setAttitude({ q: toQuaternion(...gcsTarget) }));
+  check(await until(() => h.angleFrames(t0, gcsTarget, 0.5).length > 0, 5000, "the station's angle").catch(() => false),
+    '5 s after the vehicle\'s last command the ground station moves the gimbal again');
+
   // 5. Bounded logs: 40 rogue system ids make no new line (one a minute,
   //    then a count; section 1 wrote this minute's), 1,000
   //    bad quaternions from the vehicle make one warning.
