@@ -470,6 +470,17 @@ check "without a login /api/status answers 401" answers 401 error /api/status
 check "without a login no status is given" no_status
 check "with the token from the file /api/status is gportd's status" \
     answers 200 daemon_version /api/status "Authorization: Bearer $web_token"
+web_link=$(runuser -u gport-web -- gport-web --print-url --listen 127.0.0.1:8790 \
+    --token-file /var/lib/gport-web/token 2>&1 | head -n 1)
+link_works_once() {
+    local target=${web_link#http://127.0.0.1:8790}
+    [ "$target" != "$web_link" ] || { echo "no link: $web_link"; return 1; }
+    answers 303 gport_session= "$target" && answers 401 error "$target"
+}
+check "gport-web --print-url, as gport-web, prints a one-time link that logs in once" link_works_once
+check "the journal says how to get a login link, and holds no code" \
+    sh -c "journalctl -q -u gport-web.service -o cat | grep -q 'gport-web --print-url' \
+           && ! journalctl -q -u gport-web.service -o cat | grep -q 'code='"
 systemctl stop gportd.service
 check "stopping gportd stops gport-web with it" \
     eventually 10 sh -c "! systemctl is-active -q gport-web.service"

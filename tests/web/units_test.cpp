@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "gport/web/limits.hpp"
+#include "gport/web/login_codes.hpp"
 #include "gport/web/options.hpp"
 #include "gport/web/outbox.hpp"
 #include "gport/web/sessions.hpp"
@@ -48,6 +49,33 @@ TEST(Sessions, AreBoundedAndExpire) {
     EXPECT_FALSE(sessions.find(first, t0 + std::chrono::seconds(2)));  // the oldest went
     const auto late = sessions.open(Role::kControl, t0);
     EXPECT_FALSE(sessions.find(late, t0 + kSessionIdle + std::chrono::seconds(1)));
+}
+
+// A one-time code logs in once, with its token's role, until it expires;
+// a changed digit, a code of another token file, or one claiming a longer
+// life is refused.
+TEST(LoginCodes, WorkOnceWithTheirTokensRoleUntilTheyExpire) {
+    const std::vector<Token> tokens = {{"control-token-0123456789", Role::kControl},
+                                       {"view-token-0123456789abc", Role::kView}};
+    const auto now = WallClock::now();
+    LoginCodes codes;
+    const auto control = make_login_code(tokens[0], now);
+    EXPECT_EQ(codes.redeem(tokens, control, now), Role::kControl);
+    EXPECT_EQ(codes.redeem(tokens, control, now), std::nullopt) << "used";
+    EXPECT_EQ(codes.redeem(tokens, make_login_code(tokens[1], now), now), Role::kView);
+    const auto later = make_login_code(tokens[0], now);
+    EXPECT_EQ(codes.redeem(tokens, later, now + kLoginCodeLifetime), std::nullopt) << "expired";
+    auto changed = make_login_code(tokens[0], now);
+    changed.back() = changed.back() == '0' ? '1' : '0';
+    EXPECT_EQ(codes.redeem(tokens, changed, now), std::nullopt);
+    const std::vector<Token> other = {{"another-token-0123456789", Role::kControl}};
+    EXPECT_EQ(codes.redeem(tokens, make_login_code(other[0], now), now), std::nullopt);
+    // Made for an hour: its MAC is right, its life is not ours.
+    const auto long_lived = make_login_code(tokens[0], now + std::chrono::hours(1));
+    EXPECT_EQ(codes.redeem(tokens, long_lived, now), std::nullopt);
+    for (const auto* bad : {"", "x", "1.2.3", "..", "99999999999999999999.aa.bb"}) {
+        EXPECT_EQ(codes.redeem(tokens, bad, now), std::nullopt) << bad;
+    }
 }
 
 TEST(LoginGuard, BlocksAnAddressAfterItsFailuresUntilTheWindowEnds) {

@@ -6,7 +6,7 @@
 _gport_web() {
     local cur=${COMP_WORDS[COMP_CWORD]}
     local prev=${COMP_WORDS[COMP_CWORD - 1]}
-    local options="--socket --listen --token-file --allow-host --help --version"
+    local options="--socket --listen --token-file --allow-host --print-url --help --version"
     COMPREPLY=()
 
     case $prev in

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "gateway.hpp"
+#include "gport/web/login_codes.hpp"
 #include "gport/web/options.hpp"
 #include "gport/web/sessions.hpp"
 #include "gport/web/tokens.hpp"
@@ -54,6 +55,7 @@ struct Context {
     std::vector<Token> tokens;
     ServedAddresses served;  // the Host names accepted as IP literals
     Sessions sessions;
+    LoginCodes codes;
     LoginGuard logins;
     Hub hub;
     Gateway gateway;

@@ -14,8 +14,8 @@ namespace gport::web {
 namespace {
 
 constexpr char kFooter[] =
-    "Exit status: 0 stopped by a signal, 64 bad command line, 66 token file refused, "
-    "71 cannot listen.";
+    "Exit status: 0 stopped by a signal (or --print-url done), 64 bad command line, 66 token "
+    "file refused (or, with --print-url, missing), 71 cannot listen.";
 
 std::string getenv_text(const char* name) {
     const char* value = std::getenv(name);
@@ -92,6 +92,9 @@ Parsed parse_options(std::span<const std::string> argv, std::string (*env)(const
         ->type_name("NAME")
         ->check(args::check_with(check_host))
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    app.add_flag("--print-url", options.print_url,
+                 "print a one-time login link (10 minutes, once) for the gport-web serving "
+                 "--listen with --token-file, and exit");
     std::vector<std::string> reversed(argv.rbegin(), argv.rend());
     try {
         app.parse(reversed);
@@ -108,6 +111,10 @@ Parsed parse_options(std::span<const std::string> argv, std::string (*env)(const
     const auto where = parse_listen(listen);
     options.address = where->first;
     options.port = where->second;
+    if (options.print_url && options.port == 0) {
+        throw std::invalid_argument(
+            "--print-url needs the port gport-web serves (--listen ADDR:PORT, not port 0)");
+    }
     if (options.token_file.empty()) {
         options.token_file = default_token_file(env);
     }

@@ -41,8 +41,10 @@ std::string base64_of_hex(std::string_view hex) {
     return out;
 }
 
-Response asset_response(const Request& request, const Asset& asset, http::status status) {
-    auto response = text_response(request, status, asset.content_type, std::string(asset.bytes));
+Response asset_response(const Request& request, const Asset& asset, http::status status,
+                        std::optional<std::string> body = std::nullopt) {
+    auto response = text_response(request, status, asset.content_type,
+                                  body ? std::move(*body) : std::string(asset.bytes));
     if (!asset.style_sha256.empty()) {  // its inline <style>, by its hash
         response.set("Content-Security-Policy", std::string(kContentSecurityPolicy) +
                                                     "; style-src 'self' 'sha256-" +
@@ -54,10 +56,39 @@ Response asset_response(const Request& request, const Asset& asset, http::status
     return response;
 }
 
-// The login page (or a plain one when web/www has none), with `status`.
-Response login_page(const Request& request, http::status status) {
+std::string html_escaped(std::string_view text) {
+    std::string out;
+    for (const char c : text) {
+        switch (c) {
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            default:
+                out += c;
+        }
+    }
+    return out;
+}
+
+// The login page (or a plain one when web/www has none), with `status`,
+// naming the token file.
+Response login_page(const Context& context, const Request& request, http::status status) {
     if (const auto* asset = find_asset(kLoginFile)) {
-        return asset_response(request, *asset, status);
+        std::string body(asset->bytes);
+        static constexpr std::string_view kMarker = "<!--token-file-->";
+        if (const auto at = body.find(kMarker); at != std::string::npos) {
+            body.replace(at, kMarker.size(), html_escaped(context.options.token_file));
+        }
+        return asset_response(request, *asset, status, std::move(body));
     }
     return text_response(request, status, "text/html; charset=utf-8",
                          "<!doctype html><title>gport-web</title>"
@@ -86,10 +117,11 @@ void refuse_guess(const std::shared_ptr<HttpSession>& session, const Request& re
     session->send(error_response(request, http::status::unauthorized, "wrong or missing token"));
 }
 
-// A login with `secret`: the cookie and 303 to /, or 401/429; 403 when a
-// browser says another site's page sent it (login CSRF; counts nothing).
+// A login with a token (`secret`) or a one-time code: the cookie and 303
+// to /, or 401/429; 403 when a browser says another site's page sent it
+// (login CSRF; counts nothing).
 void log_in(const std::shared_ptr<HttpSession>& session, const Request& request,
-            const std::optional<std::string>& secret) {
+            const std::optional<std::string>& secret, const std::optional<std::string>& code = {}) {
     if (cross_site(request)) {
         session->send(error_response(
             request, http::status::forbidden,
@@ -97,7 +129,9 @@ void log_in(const std::shared_ptr<HttpSession>& session, const Request& request,
         return;
     }
     auto& context = session->context();
-    const auto role = secret ? role_of(context.tokens, *secret) : std::nullopt;
+    const auto role = secret ? role_of(context.tokens, *secret)
+                      : code ? context.codes.redeem(context.tokens, *code)
+                             : std::nullopt;
     if (!role) {
         refuse_guess(session, request);
         return;
@@ -119,8 +153,10 @@ void page(const std::shared_ptr<HttpSession>& session, const Request& request,
     if (path == "/") {
         if (const auto token = form_value(target_of(request), "token")) {
             log_in(session, request, token);
+        } else if (const auto code = form_value(target_of(request), "code")) {
+            log_in(session, request, std::nullopt, code);
         } else if (!role || !find_asset(kIndexFile)) {
-            session->send(login_page(request, http::status::ok));
+            session->send(login_page(session->context(), request, http::status::ok));
         } else {
             session->send(asset_response(request, *find_asset(kIndexFile), http::status::ok));
         }
@@ -128,7 +164,7 @@ void page(const std::shared_ptr<HttpSession>& session, const Request& request,
     }
     const auto* asset = find_asset(std::string_view(path).substr(1));
     if (asset && asset->path == kLoginFile) {
-        session->send(asset_response(request, *asset, http::status::ok));
+        session->send(login_page(session->context(), request, http::status::ok));
     } else if (!role) {
         session->send(error_response(request, http::status::unauthorized, "log in first"));
     } else if (!asset) {

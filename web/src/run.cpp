@@ -1,9 +1,13 @@
 #include "gport/web/run.hpp"
 
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
 #include <boost/asio/signal_set.hpp>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -11,6 +15,7 @@
 #include "acceptor.hpp"
 #include "context.hpp"
 #include "gport/base/exit_status.hpp"
+#include "gport/web/login_codes.hpp"
 #include "gport/web/options.hpp"
 #include "served_addresses.hpp"
 
@@ -38,15 +43,55 @@ std::vector<std::string> urls_of(const boost::asio::ip::tcp::endpoint& endpoint)
     return urls;
 }
 
+std::string listen_text(const Options& options) {
+    const auto address = boost::asio::ip::make_address(options.address);
+    return (address.is_v6() ? "[" + options.address + "]" : options.address) + ":" +
+           std::to_string(options.port);
+}
+
 // True when stdout goes to systemd's journal (a service).
 bool under_journal() {
     const char* stream = std::getenv("JOURNAL_STREAM");
     return stream && *stream;
 }
 
+// How to log in, at every start: a one-time link for each address (a code
+// that works once, for kLoginCodeLifetime: the address left in the
+// browser's history logs no one in), and where the token is. Under the
+// journal no code or token is written: the command that prints a link is.
+void print_login(const Options& options, const std::vector<std::string>& urls,
+                 const TokenFile& tokens) {
+    const auto& file = options.token_file;
+    if (tokens.created) {
+        std::cout << "gport-web: created " << file << " with a control token\n";
+    }
+    if (under_journal()) {
+        std::cout << "gport-web: to log in, run `gport-web --print-url --listen "
+                  << listen_text(options) << " --token-file " << file << "` as a user who may read "
+                  << file << " (a one-time link), or use a token "
+                  << "from that file\n";
+        return;
+    }
+    for (const auto& url : urls) {
+        std::cout << "gport-web: open " << url << "?code=" << make_login_code(tokens.tokens.front())
+                  << " to log in (works once, for 10 minutes; the tokens are in " << file << ")\n";
+    }
+}
+
+void persist(Context& context) {
+    const auto dir = std::filesystem::path(context.options.token_file).parent_path();
+    for (const auto& problem : {context.sessions.persist(dir / "sessions"),
+                                context.codes.persist(dir / "login-codes-used")}) {
+        if (!problem.empty()) {
+            spdlog::warn("{}; starting without it (replaced at the next login)", problem);
+        }
+    }
+}
+
 int serve(Options options, TokenFile tokens) {
     boost::asio::io_context io;
-    Context context(io, options, std::move(tokens.tokens));
+    Context context(io, options, tokens.tokens);
+    persist(context);
     std::shared_ptr<Acceptor> listener;
     try {
         const boost::asio::ip::tcp::endpoint endpoint(
@@ -62,16 +107,7 @@ int serve(Options options, TokenFile tokens) {
     for (const auto& url : urls) {
         std::cout << "gport-web: serving " << url << "\n";
     }
-    for (const auto& url : urls) {
-        if (tokens.created && under_journal()) {  // no token in the journal
-            std::cout << "gport-web: created " << options.token_file << ": open " << url
-                      << "?token=TOKEN to log in, TOKEN from the file (sudo cat "
-                      << options.token_file << ")\n";
-        } else if (tokens.created) {
-            std::cout << "gport-web: open " << url << "?token=" << *tokens.created
-                      << " to log in\n";
-        }
-    }
+    print_login(options, urls, tokens);
     std::cout.flush();
     // A signal closes everything; io.run() returns once nothing is pending,
     // before any object the handlers use is destroyed.
@@ -87,6 +123,26 @@ int serve(Options options, TokenFile tokens) {
     listener->start();
     context.gateway.start();
     io.run();
+    if (const auto problem = context.sessions.save(); !problem.empty()) {
+        spdlog::warn("sessions not kept: {}", problem);
+    }
+    return kExitOk;
+}
+
+// --print-url: the links of a running gport-web, from its token file
+// (never created here).
+int print_urls(const Options& options) {
+    if (::access(options.token_file.c_str(), F_OK) != 0) {
+        std::cerr << "gport-web: no token file " << options.token_file
+                  << ": gport-web makes it at its first start (or give --token-file)\n";
+        return kExitNoInput;
+    }
+    const auto tokens = load_tokens(options.token_file);
+    const boost::asio::ip::tcp::endpoint endpoint(boost::asio::ip::make_address(options.address),
+                                                  options.port);
+    for (const auto& url : urls_of(endpoint)) {
+        std::cout << url << "?code=" << make_login_code(tokens.tokens.front()) << "\n";
+    }
     return kExitOk;
 }
 
@@ -107,6 +163,9 @@ int run(std::span<const std::string> args) {
     }
     TokenFile tokens;
     try {
+        if (parsed.options->print_url) {
+            return print_urls(*parsed.options);
+        }
         tokens = load_tokens(parsed.options->token_file);
     } catch (const std::exception& e) {
         std::cerr << "gport-web: " << e.what() << "\n";

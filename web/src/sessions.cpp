@@ -1,8 +1,11 @@
 #include "gport/web/sessions.hpp"
 
 #include <algorithm>
+#include <sstream>
 
+#include "crypto.hpp"
 #include "gport/web/limits.hpp"
+#include "state_file.hpp"
 
 namespace gport::web {
 
@@ -14,12 +17,13 @@ std::string Sessions::open(Role role, Clock::time_point now) {
         sessions_.erase(oldest);
     }
     auto id = random_hex(32);
-    sessions_[id] = Session{role, now};
+    sessions_[sha256_hex(id)] = Session{role, now};
+    save();
     return id;
 }
 
 std::optional<Role> Sessions::find(const std::string& id, Clock::time_point now) {
-    const auto it = sessions_.find(id);
+    const auto it = sessions_.find(sha256_hex(id));
     if (it == sessions_.end()) {
         return std::nullopt;
     }
@@ -32,7 +36,56 @@ std::optional<Role> Sessions::find(const std::string& id, Clock::time_point now)
 }
 
 void Sessions::close(const std::string& id) {
-    sessions_.erase(id);
+    if (sessions_.erase(sha256_hex(id)) > 0) {
+        save();
+    }
+}
+
+// One line a session: HASH ROLE LAST-USE (Unix seconds).
+std::string Sessions::persist(const std::string& path) {
+    path_ = path;
+    std::string problem;
+    const auto lines = read_state_file(path, problem);
+    const auto now = Clock::now();
+    const auto wall = std::chrono::system_clock::now();
+    for (const auto& line : lines.value_or(std::vector<std::string>{})) {
+        std::istringstream in(line);
+        std::string hash;
+        std::string role;
+        long long used = 0;
+        if (!(in >> hash >> role >> used) || hash.size() != 64 ||
+            (role != "control" && role != "view")) {
+            continue;
+        }
+        const auto age = wall - std::chrono::system_clock::time_point(std::chrono::seconds(used));
+        if (age < std::chrono::seconds(0) || age > kSessionIdle ||
+            sessions_.size() >= kMaxSessions) {
+            continue;
+        }
+        sessions_[hash] = Session{role == "control" ? Role::kControl : Role::kView,
+                                  now - std::chrono::duration_cast<Clock::duration>(age)};
+    }
+    return problem;
+}
+
+std::string Sessions::save() const {
+    if (path_.empty()) {
+        return "";
+    }
+    const auto now = Clock::now();
+    const auto wall = std::chrono::system_clock::now();
+    std::vector<std::string> lines;
+    for (const auto& [hash, session] : sessions_) {
+        const auto used = wall - std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                                     now - session.used);
+        lines.push_back(
+            hash + " " + std::string(role_name(session.role)) + " " +
+            std::to_string(
+                std::chrono::duration_cast<std::chrono::seconds>(used.time_since_epoch()).count()));
+    }
+    std::string problem;
+    write_state_file(path_, lines, problem);
+    return problem;
 }
 
 namespace {

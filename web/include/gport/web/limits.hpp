@@ -46,6 +46,12 @@ inline constexpr std::size_t kMaxLoginAddresses = 1024;
 inline constexpr auto kLoginWindow = 60s;
 inline constexpr auto kLoginTarpit = 1s;
 
+// One-time login codes (login_codes.hpp): how long one works, and how many
+// used ones are remembered until they expire (beyond: no new one works
+// until some expire; only token holders make codes).
+inline constexpr auto kLoginCodeLifetime = std::chrono::minutes(10);
+inline constexpr std::size_t kMaxLoginCodesRemembered = 4096;
+
 // gportd: the reconnect period, the status poll for the live sockets, and
 // the jog's speed lease and longest motion.
 inline constexpr auto kReconnectPeriod = 1s;

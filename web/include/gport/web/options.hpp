@@ -17,6 +17,7 @@ struct Options {
     unsigned short port = 8790;  // 0: any free port (printed)
     std::string token_file;
     std::vector<std::string> allow_hosts;
+    bool print_url = false;  // print one-time login links for the server and exit
 };
 
 struct Parsed {

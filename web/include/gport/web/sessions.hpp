@@ -1,6 +1,7 @@
 // The logged-in browsers: server-side sessions under random ids (the
-// cookie's value), at most kMaxSessions (the least recently used ends
-// beyond), each ending after kSessionIdle unused; and the failed logins,
+// cookie's value; only its SHA-256 is kept), at most kMaxSessions (the
+// least recently used ends beyond), each ending after kSessionIdle unused,
+// kept in a file across restarts when asked (persist); and the failed logins,
 // at most kMaxLoginFailures per kLoginWindow from one peer address and
 // kMaxLoginFailuresTotal from all, for at most kMaxLoginAddresses addresses
 // (the least recently failing one forgotten beyond).
@@ -29,12 +30,21 @@ class Sessions {
     void close(const std::string& id);
     std::size_t size() const { return sessions_.size(); }
 
+    // From now on the sessions live in `path` too: read now (those unused
+    // for kSessionIdle dropped), written at every login and logout and by
+    // save(). The problem when the file cannot be read or trusted (the
+    // sessions then start empty and the file is replaced), else "".
+    std::string persist(const std::string& path);
+    // Writes the file (with the times of last use); the problem, or "".
+    std::string save() const;
+
   private:
     struct Session {
         Role role;
         Clock::time_point used;
     };
-    std::map<std::string, Session> sessions_;
+    std::map<std::string, Session> sessions_;  // by the SHA-256 of the id
+    std::string path_;
 };
 
 class LoginGuard {
