@@ -266,11 +266,18 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     void handle(const json& message, std::string_view text) {
         const auto id = message.find("id");
         if (id == message.end()) {
+            if (!text.empty() && text.back() == '\r') {
+                text.remove_suffix(1);
+            }
             if (on_notification_json) {
-                if (!text.empty() && text.back() == '\r') {
-                    text.remove_suffix(1);
-                }
                 on_notification_json(std::string(text));
+            }
+            if (on_notification_text) {
+                const auto method = message.find("method");
+                on_notification_text(method != message.end() && method->is_string()
+                                         ? method->get<std::string>()
+                                         : std::string(),
+                                     std::string(text));
             }
             notify(message);
             return;
@@ -361,6 +368,8 @@ struct AsyncClient::Impl : std::enable_shared_from_this<Impl> {
     bool open = false;
     std::function<void(const Notification&)> on_notification;
     std::function<void(const std::string&)> on_notification_json;  // each line as read
+    // Each line with its method (topic) named (1.9.0).
+    std::function<void(const std::string&, const std::string&)> on_notification_text;
     std::function<void(const CaptureEntry&)> on_capture;
     std::function<void(const Error&)> on_disconnect;
     ChannelClaims claims;  // received descriptors, attitude_channel requests, the channel
@@ -435,6 +444,7 @@ AsyncClient::AsyncClient(asio::io_context& io) : impl_(std::make_shared<Impl>(io
 AsyncClient::~AsyncClient() {
     impl_->on_notification = nullptr;
     impl_->on_notification_json = nullptr;
+    impl_->on_notification_text = nullptr;
     impl_->on_capture = nullptr;
     impl_->on_disconnect = nullptr;
     impl_->shut("the client was destroyed");
@@ -624,6 +634,11 @@ void AsyncClient::on_notification(std::function<void(const Notification&)> callb
 
 void AsyncClient::on_notification_json(std::function<void(const std::string& line)> callback) {
     impl_->on_notification_json = std::move(callback);
+}
+
+void AsyncClient::on_notification_text(
+    std::function<void(const std::string& method, const std::string& line)> callback) {
+    impl_->on_notification_text = std::move(callback);
 }
 
 void AsyncClient::on_capture(std::function<void(const CaptureEntry&)> callback) {

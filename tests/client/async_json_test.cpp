@@ -1,6 +1,7 @@
-// AsyncClient's JSON-text interface (async_call_json, on_notification_json)
-// against gportd --simulate: results and refusals as text, the checks made
-// before sending, and the notification lines as gportd wrote them.
+// AsyncClient's JSON-text interface (async_call_json, on_notification_json,
+// on_notification_text) against gportd --simulate: results and refusals as
+// text, the checks made before sending, and the notification lines as
+// gportd wrote them.
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <nlohmann/json.hpp>
@@ -118,6 +119,22 @@ TEST_F(AsyncJsonTest, NotificationLinesComeWholeInOrderBesideTheTypedOnes) {
         EXPECT_GT(seq, last);
         last = seq;
     }
+}
+
+// on_notification_text (1.9.0): each line with its topic, read by the
+// library: a relay routes it without searching the text.
+TEST_F(AsyncJsonTest, NotificationLinesComeWithTheirTopic) {
+    std::vector<std::pair<std::string, std::string>> lines;
+    client_json_.on_notification_text([&](const std::string& topic, const std::string& line) {
+        lines.emplace_back(topic, line);
+    });
+    auto [error, result] = call("subscribe", R"({"topics":["attitude","link"],"max_rate_hz":20})");
+    ASSERT_FALSE(error) << error->what();
+    ASSERT_TRUE(run_until([&] { return lines.size() >= 3; }));
+    for (const auto& [topic, line] : lines) {
+        EXPECT_EQ(json::parse(line).at("method"), topic) << line;
+    }
+    EXPECT_EQ(lines.back().first, "attitude");
 }
 
 }  // namespace

@@ -10,12 +10,13 @@ namespace gport::web {
 namespace asio = boost::asio;
 using asio::ip::tcp;
 
-Acceptor::Acceptor(Context& context, const tcp::endpoint& endpoint)
-    : context_(context), acceptor_(context.io) {
-    acceptor_.open(endpoint.protocol());
-    acceptor_.set_option(asio::socket_base::reuse_address(true));
-    acceptor_.bind(endpoint);
-    acceptor_.listen(asio::socket_base::max_listen_connections);
+tcp::acceptor listen_on(asio::io_context& io, const tcp::endpoint& endpoint) {
+    tcp::acceptor acceptor(io);
+    acceptor.open(endpoint.protocol());
+    acceptor.set_option(asio::socket_base::reuse_address(true));
+    acceptor.bind(endpoint);
+    acceptor.listen(asio::socket_base::max_listen_connections);
+    return acceptor;
 }
 
 void Acceptor::accept() {

@@ -10,10 +10,16 @@
 
 namespace gport::web {
 
+// A socket bound to `endpoint` and listening; throws
+// boost::system::system_error when it cannot. (Bound before the Context is
+// built, which needs the port served.)
+boost::asio::ip::tcp::acceptor listen_on(boost::asio::io_context& io,
+                                         const boost::asio::ip::tcp::endpoint& endpoint);
+
 class Acceptor : public std::enable_shared_from_this<Acceptor> {
   public:
-    // Binds; throws boost::system::system_error when it cannot.
-    Acceptor(Context& context, const boost::asio::ip::tcp::endpoint& endpoint);
+    Acceptor(Context& context, boost::asio::ip::tcp::acceptor listening)
+        : context_(context), acceptor_(std::move(listening)) {}
     boost::asio::ip::tcp::endpoint local() const { return acceptor_.local_endpoint(); }
     void start() { accept(); }
     void stop() {

@@ -35,9 +35,12 @@ struct Connections {
 std::string peer_key(const boost::asio::ip::address& address);
 
 struct Context {
-    Context(boost::asio::io_context& context, Options opts, std::vector<Token> secrets)
+    // `bound`: the port served (options.port may be 0: any free port).
+    Context(boost::asio::io_context& context, Options opts, std::vector<Token> secrets,
+            unsigned short bound)
         : io(context),
           options(std::move(opts)),
+          port(bound),
           tokens(std::move(secrets)),
           served(listen_address(options.address)),
           gateway(context, options.socket, hub) {}
@@ -51,7 +54,7 @@ struct Context {
 
     boost::asio::io_context& io;
     Options options;
-    unsigned short port = 0;  // the port bound (options.port may be 0)
+    const unsigned short port;  // the port served
     std::vector<Token> tokens;
     ServedAddresses served;  // the Host names accepted as IP literals
     Sessions sessions;

@@ -9,17 +9,8 @@
 #include "gport/web/limits.hpp"
 
 namespace gport::web {
-namespace {
 
 using nlohmann::json;
-
-// True for an attitude notification line ({"jsonrpc":..,"method":"attitude",..}).
-bool is_attitude(const std::string& line) {
-    static const std::string kMethod = "\"method\":\"attitude\"";
-    return line.find(kMethod) != std::string::npos && line.find(kMethod) < line.find("\"params\"");
-}
-
-}  // namespace
 
 Message gportd_message(bool connected, const std::string& reason) {
     const json message = {{"method", "gportd"},
@@ -39,8 +30,9 @@ Gateway::Gateway(boost::asio::io_context& io, std::string socket, Hub& hub)
       reconnect_(io),
       status_(io) {
     state_ = gportd_message(false, "connecting to gportd");
-    client_.on_notification_json([this](const std::string& line) {
-        hub_.broadcast(std::make_shared<const std::string>(line), is_attitude(line));
+    client_.on_notification_text([this](const std::string& topic, const std::string& line) {
+        hub_.broadcast(std::make_shared<const std::string>(line),
+                       topic == contract::kTopicAttitude);
     });
     client_.on_disconnect(
         [this](const client::Error& error) { lost("lost gportd", error.message()); });

@@ -120,7 +120,7 @@ void LiveSocket::on_message() {
     if (role_ != Role::kControl && (type == "jog" || type == "stop")) {
         reply_error("a view login cannot move the gimbal");
     } else if (type == "jog") {
-        jog(text);
+        jog(message);
     } else if (type == "stop") {
         stop();
     } else {
@@ -129,8 +129,7 @@ void LiveSocket::on_message() {
     read();
 }
 
-void LiveSocket::jog(const std::string& text) {
-    const auto message = json::parse(text, nullptr, false);
+void LiveSocket::jog(const json& message) {
     json params = {{"lease_ms", kJogLeaseMs}, {"duration_ms", kJogDurationMs}};
     for (const char* axis : {"pitch", "yaw", "roll"}) {
         const auto value = message.value(axis, json(0));

@@ -8,6 +8,7 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/websocket.hpp>
 #include <memory>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 
 #include "context.hpp"
@@ -31,7 +32,7 @@ class LiveSocket : public Listener, public std::enable_shared_from_this<LiveSock
     void accept(Request request);
     void read();
     void on_message();
-    void jog(const std::string& text);
+    void jog(const nlohmann::json& message);  // parsed once, by on_message
     void stop();
     void write();
     void reply_error(const std::string& message);

@@ -90,19 +90,19 @@ void persist(Context& context) {
 
 int serve(Options options, TokenFile tokens) {
     boost::asio::io_context io;
-    Context context(io, options, tokens.tokens);
-    persist(context);
-    std::shared_ptr<Acceptor> listener;
+    std::optional<boost::asio::ip::tcp::acceptor> listening;
     try {
-        const boost::asio::ip::tcp::endpoint endpoint(
-            boost::asio::ip::make_address(options.address), options.port);
-        listener = std::make_shared<Acceptor>(context, endpoint);
+        listening =
+            listen_on(io, boost::asio::ip::tcp::endpoint(
+                              boost::asio::ip::make_address(options.address), options.port));
     } catch (const boost::system::system_error& e) {
         std::cerr << "gport-web: cannot listen on " << options.address << ":" << options.port
                   << ": " << e.code().message() << "\n";
         return kExitOsError;
     }
-    context.port = listener->local().port();
+    Context context(io, options, tokens.tokens, listening->local_endpoint().port());
+    persist(context);
+    auto listener = std::make_shared<Acceptor>(context, std::move(*listening));
     const auto urls = urls_of(listener->local());
     for (const auto& url : urls) {
         std::cout << "gport-web: serving " << url << "\n";

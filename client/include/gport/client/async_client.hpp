@@ -113,6 +113,11 @@ class GPORT_CLIENT_API AsyncClient {
     // the shared-memory channel are not lines: they come to on_notification
     // only.
     void on_notification_json(std::function<void(const std::string& line)> callback);
+    // The same lines with their method (the topic: "attitude", "link",
+    // "motion", "capture", ...), read once by the library, so that a relay
+    // routes a line without searching its text (1.9.0).
+    void on_notification_text(
+        std::function<void(const std::string& method, const std::string& line)> callback);
     // Each capture after subscribing to "capture" (1.5.0): the topic's
     // notifications come here, not to on_notification (whose Notification
     // keeps its three kinds); without a callback they are skipped.
