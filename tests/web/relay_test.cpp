@@ -122,5 +122,32 @@ TEST_F(WebRelay, BrowsersStatusReadsShareOneSnapshot) {
     EXPECT_LE(bodies.size(), static_cast<std::size_t>(seconds) + 2);
 }
 
+// One address polling past its rate (50 a second, a burst of 100) gets 429
+// with Retry-After, as all its logins together; its stop still goes, and
+// another address is served.
+TEST_F(WebRelay, AnAddressPastItsRateGets429ButItsStopStillGoes) {
+    const Headers bearer = {{"Authorization", "Bearer " + kViewToken}};
+    const Headers control = {{"Authorization", "Bearer " + kControlToken},
+                             {"Content-Type", "application/json"}};
+    int refused = 0;
+    std::string retry_after;
+    for (int i = 0; i < 200 && refused == 0; ++i) {
+        const auto response = request_from("127.0.0.7", http::verb::get, "/api/status", bearer);
+        if (response.result() == http::status::too_many_requests) {
+            ++refused;
+            retry_after = std::string(response[http::field::retry_after]);
+            EXPECT_NE(response.body().find("too many requests from your address"),
+                      std::string::npos)
+                << response.body();
+        }
+    }
+    EXPECT_EQ(refused, 1);
+    EXPECT_FALSE(retry_after.empty());
+    EXPECT_EQ(request_from("127.0.0.7", http::verb::post, "/api/stop", control, "").result(),
+              http::status::ok);
+    EXPECT_EQ(request_from("127.0.0.8", http::verb::get, "/api/status", bearer).result(),
+              http::status::ok);
+}
+
 }  // namespace
 }  // namespace gport::testing

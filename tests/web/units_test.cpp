@@ -8,6 +8,7 @@
 #include "gport/web/login_codes.hpp"
 #include "gport/web/options.hpp"
 #include "gport/web/outbox.hpp"
+#include "gport/web/request_rates.hpp"
 #include "gport/web/sessions.hpp"
 #include "gport/web/tokens.hpp"
 
@@ -76,6 +77,21 @@ TEST(LoginCodes, WorkOnceWithTheirTokensRoleUntilTheyExpire) {
     for (const auto* bad : {"", "x", "1.2.3", "..", "99999999999999999999.aa.bb"}) {
         EXPECT_EQ(codes.redeem(tokens, bad, now), std::nullopt) << bad;
     }
+}
+
+TEST(RequestRates, ABurstThenTheRateForEachAddressWithinItsCap) {
+    RequestRates rates;
+    const auto t0 = RequestRates::Clock::now();
+    for (int i = 0; i < static_cast<int>(kApiRequestBurst); ++i) {
+        ASSERT_FALSE(rates.take("10.0.0.1", t0)) << i;
+    }
+    EXPECT_EQ(rates.take("10.0.0.1", t0), 1);
+    EXPECT_FALSE(rates.take("10.0.0.2", t0)) << "another address has its own";
+    EXPECT_FALSE(rates.take("10.0.0.1", t0 + std::chrono::milliseconds(40)));
+    for (std::size_t i = 0; i < kMaxRateAddresses + 10; ++i) {
+        rates.take("192.0.2." + std::to_string(i), t0);
+    }
+    EXPECT_EQ(rates.addresses(), kMaxRateAddresses);
 }
 
 TEST(LoginGuard, BlocksAnAddressAfterItsFailuresUntilTheWindowEnds) {

@@ -13,6 +13,7 @@
 #include "gateway.hpp"
 #include "gport/web/login_codes.hpp"
 #include "gport/web/options.hpp"
+#include "gport/web/request_rates.hpp"
 #include "gport/web/sessions.hpp"
 #include "gport/web/tokens.hpp"
 #include "hub.hpp"
@@ -60,6 +61,7 @@ struct Context {
     Sessions sessions;
     LoginCodes codes;
     LoginGuard logins;
+    RequestRates api_rates;
     Hub hub;
     Gateway gateway;
     Connections connections;

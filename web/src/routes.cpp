@@ -174,6 +174,29 @@ void page(const std::shared_ptr<HttpSession>& session, const Request& request,
     }
 }
 
+// The API within its peer address's rate (a stop always goes); beyond it,
+// 429 with Retry-After, sent after the tarpit.
+void api_within_rate(const std::shared_ptr<HttpSession>& session, Request request, Role role) {
+    const bool stop =
+        request.method() == http::verb::post && path_of(target_of(request)) == "/api/stop";
+    if (!stop) {
+        if (const auto wait = session->context().api_rates.take(session->slot().peer())) {
+            auto response =
+                error_response(request, http::status::too_many_requests,
+                               "too many requests from your address: at most " +
+                                   std::to_string(static_cast<int>(kApiRequestsPerSecond)) +
+                                   " a second; try again in " + std::to_string(*wait) + " s");
+            response.set(http::field::retry_after, std::to_string(*wait));
+            // After the tarpit (a timer; the loop goes on): a connection
+            // past its rate asks at most once a second, however fast it
+            // sends, so a flood costs gport-web little CPU.
+            session->send_after(std::move(response), kLoginTarpit);
+            return;
+        }
+    }
+    api(session, std::move(request), role);
+}
+
 void log_out(const std::shared_ptr<HttpSession>& session, const Request& request) {
     if (const auto id = session_of(request); !id.empty()) {
         session->context().sessions.close(id);
@@ -220,7 +243,7 @@ void route(const std::shared_ptr<HttpSession>& session, Request request) {
         if (!role) {
             session->send(error_response(request, http::status::unauthorized, "log in first"));
         } else {
-            api(session, std::move(request), *role);
+            api_within_rate(session, std::move(request), *role);
         }
     } else {
         page(session, request, role);

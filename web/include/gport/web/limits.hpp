@@ -46,6 +46,13 @@ inline constexpr std::size_t kMaxLoginAddresses = 1024;
 inline constexpr auto kLoginWindow = 60s;
 inline constexpr auto kLoginTarpit = 1s;
 
+// API requests from one peer address (the key of connections.hpp: an IPv4
+// address, an IPv6 /64), all its logins together, a stop never counted
+// (beyond: 429 with Retry-After), for at most this many addresses.
+inline constexpr double kApiRequestsPerSecond = 50;
+inline constexpr double kApiRequestBurst = 100;
+inline constexpr std::size_t kMaxRateAddresses = 1024;
+
 // One-time login codes (login_codes.hpp): how long one works, and how many
 // used ones are remembered until they expire (beyond: no new one works
 // until some expire; only token holders make codes).
