@@ -289,9 +289,11 @@ await_built asan
 # how the code was built. So did the browser test: a chromium beside an
 # instrumented gport-web on two cores measures the machine, not the page;
 # gport-web's own suites (every request and WebSocket path, the attacks) run
-# here under the sanitizers.
+# here under the sanitizers. So did the Python suites (label python): their
+# code is Python, not instrumented, and gportd under them is driven here by
+# the C++ client's suites (35 s of the stage's tests for nothing new).
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE '^(layering|man|typecheck|install|browser)$'
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE '^(layering|man|typecheck|install|browser|python)$'
 
 # One fuzzer per corpus folder: fuzz/corpus/<name>/ seeds <name>_fuzz.
 fuzzers=()
