@@ -11,6 +11,7 @@
 
 #include "geotag.hpp"
 #include "gport/base/args.hpp"
+#include "gport/client/client.hpp"
 #include "gport/contract/limits.hpp"
 #include "gport/contract/names.hpp"
 #include "suggest.hpp"
@@ -524,9 +525,8 @@ class Parser {
         if (inv.command == "call") {
             call(inv);
         }
-        inv.socket = app_.count("--socket") > 0                     ? v_.socket
-                     : env_socket != nullptr && *env_socket != '\0' ? env_socket
-                                                                    : std::string(kDefaultSocket);
+        inv.socket =
+            app_.count("--socket") > 0 ? v_.socket : client::Client::default_socket(env_socket);
         if (inv.command == "help") {
             return help_of(v_.help_topic);
         }

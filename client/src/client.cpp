@@ -225,8 +225,12 @@ struct Client::Impl {
 };
 
 std::string Client::default_socket() {
-    const char* env = std::getenv(kSocketEnv);
-    return env != nullptr && *env != '\0' ? std::string(env) : std::string(kDefaultSocket);
+    return default_socket(std::getenv(kSocketEnv));
+}
+
+std::string Client::default_socket(const char* env_value) {
+    return env_value != nullptr && *env_value != '\0' ? std::string(env_value)
+                                                      : std::string(kDefaultSocket);
 }
 
 Client Client::connect(const std::string& path) {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "gport/base/args.hpp"
+#include "gport/client/client.hpp"
 #include "gport/contract/names.hpp"
 #include "gport/version.hpp"
 #include "gport/web/limits.hpp"
@@ -70,8 +71,7 @@ std::string default_token_file(std::string (*env)(const char* name)) {
 Parsed parse_options(std::span<const std::string> argv, std::string (*env)(const char* name)) {
     env = env ? env : getenv_text;
     Options options;
-    const auto socket_env = env(contract::kSocketEnv);
-    options.socket = socket_env.empty() ? contract::kDefaultSocket : socket_env;
+    options.socket = client::Client::default_socket(env(contract::kSocketEnv).c_str());
     std::string listen = "127.0.0.1:" + std::to_string(kDefaultPort);
     CLI::App app("gport-web: the gimbal in a browser (docs/web.md)", "gport-web");
     args::configure(app, kFooter);

@@ -6,6 +6,7 @@
 
 #include "gport/base/args.hpp"
 #include "gport/base/exit_status.hpp"
+#include "gport/client/client.hpp"
 #include "options_internal.hpp"
 
 namespace gport::mavlink::bridge {
@@ -295,9 +296,7 @@ void apply_given(const Given& given, Options& o) {
 
 ParseOutcome finish(const Given& given, const Environment& env) {
     Options o;
-    if (!env.socket.empty()) {
-        o.socket = env.socket;
-    }
+    o.socket = client::Client::default_socket(env.socket.c_str());
     // systemd sets STATE_DIRECTORY to the StateDirectory= paths, ':'-separated.
     o.state_dir = env.state_directory.substr(0, env.state_directory.find(':'));
     if (given.config) {

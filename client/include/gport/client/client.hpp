@@ -52,6 +52,9 @@ class GPORT_CLIENT_API Client {
 
     // $GPORT_SOCKET when set and not empty, else kDefaultSocket.
     static std::string default_socket();
+    // The same rule for a value of $GPORT_SOCKET the caller read (null:
+    // unset), so that every program says it once (1.9.0).
+    static std::string default_socket(const char* env_value);
     // Connects to gportd's socket; throws Error (kTransport) when it cannot.
     static Client connect(const std::string& path = default_socket());
 
