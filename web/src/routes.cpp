@@ -13,6 +13,7 @@ namespace {
 
 constexpr char kLoginFile[] = "login.html";
 constexpr char kIndexFile[] = "index.html";
+constexpr std::string_view kMessageMark = "<!--message-->";  // in login.html
 
 std::string_view header(const Request& request, http::field field) {
     const auto value = request[field];
@@ -65,10 +66,38 @@ Response login_page(const Request& request, http::status status) {
                          "<button>Log in</button></form>\n");
 }
 
+// A browser's own navigation (the login form's POST, /?token= opened): it
+// shows what it gets, so a refused login is the login page with a line of
+// text in it rather than JSON (scripts, which ask for no HTML, get JSON).
+bool navigation(const Request& request) {
+    return header(request, http::field::accept).find("text/html") != std::string_view::npos;
+}
+
+// The login page with `line` (a fixed text of ours, no markup) above the form.
+Response login_page(const Request& request, http::status status, std::string_view line) {
+    auto response = login_page(request, status);
+    auto& body = response.body();
+    if (const auto at = body.find(kMessageMark); at != std::string::npos) {
+        body.replace(at, kMessageMark.size(),
+                     R"(<p class="error" role="alert" data-testid="login-error">)" +
+                         std::string(line) + "</p>");
+        response.prepare_payload();
+    }
+    return response;
+}
+
+// A refused login: JSON `message`, or for a browser the login page with `line`.
+Response login_refusal(const Request& request, http::status status, std::string_view message,
+                       std::string_view line) {
+    return navigation(request) ? login_page(request, status, line)
+                               : error_response(request, status, message);
+}
+
 // While the failed logins of the window are used up: 429 with Retry-After.
 Response too_many_logins(const Request& request, int wait) {
-    auto response = error_response(request, http::status::too_many_requests,
-                                   "too many failed logins from your address: try again later");
+    auto response = login_refusal(request, http::status::too_many_requests,
+                                  "too many failed logins from your address: try again later",
+                                  "too many tries: try again in " + std::to_string(wait) + " s");
     response.set(http::field::retry_after, std::to_string(wait));
     return response;
 }
@@ -83,7 +112,8 @@ void refuse_guess(const std::shared_ptr<HttpSession>& session, const Request& re
         return;
     }
     context.logins.failed(peer);
-    session->send(error_response(request, http::status::unauthorized, "wrong or missing token"));
+    session->send(login_refusal(request, http::status::unauthorized, "wrong or missing token",
+                                "wrong token"));
 }
 
 // A login with `secret`: the cookie and 303 to /, or 401/429; 403 when a
@@ -91,9 +121,10 @@ void refuse_guess(const std::shared_ptr<HttpSession>& session, const Request& re
 void log_in(const std::shared_ptr<HttpSession>& session, const Request& request,
             const std::optional<std::string>& secret) {
     if (cross_site(request)) {
-        session->send(error_response(
+        session->send(login_refusal(
             request, http::status::forbidden,
-            "login from another site's page refused (Sec-Fetch-Site): open this server's page"));
+            "login from another site's page refused (Sec-Fetch-Site): open this server's page",
+            "a login from another site's page is refused: log in here"));
         return;
     }
     auto& context = session->context();
@@ -119,6 +150,10 @@ void page(const std::shared_ptr<HttpSession>& session, const Request& request,
     if (path == "/") {
         if (const auto token = form_value(target_of(request), "token")) {
             log_in(session, request, token);
+        } else if (!role && !session_of(request).empty()) {
+            session->send(login_page(request, http::status::ok,
+                                     "your session has ended (gport-web restarted, or it went "
+                                     "unused): log in again"));
         } else if (!role || !find_asset(kIndexFile)) {
             session->send(login_page(request, http::status::ok));
         } else {
