@@ -49,7 +49,10 @@ const std::vector<Route>& routes() {
         {"/api/center", http::verb::post, method::kCenter, {{"wait", Kind::kBool}}},
         {"/api/stop", http::verb::post, method::kStop, {}},
         {"/api/photo", http::verb::post, method::kPhoto, {}},
-        {"/api/record", http::verb::post, method::kRecord, {{"on", Kind::kBool}}},
+        {"/api/record",
+         http::verb::post,
+         method::kRecord,
+         {{"on", Kind::kBool}, {"force", Kind::kBool}}},
     };
     return kRoutes;
 }

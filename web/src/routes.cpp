@@ -13,6 +13,7 @@ namespace {
 
 constexpr char kLoginFile[] = "login.html";
 constexpr char kIndexFile[] = "index.html";
+constexpr std::string_view kMessageMark = "<!--message-->";  // in login.html
 
 std::string_view header(const Request& request, http::field field) {
     const auto value = request[field];
@@ -96,25 +97,57 @@ Response login_page(const Context& context, const Request& request, http::status
                          "<button>Log in</button></form>\n");
 }
 
+// A browser's own navigation (the login form's POST, /?token= opened): it
+// shows what it gets, so a refused login is the login page with a line of
+// text in it rather than JSON (scripts, which ask for no HTML, get JSON).
+bool navigation(const Request& request) {
+    return header(request, http::field::accept).find("text/html") != std::string_view::npos;
+}
+
+// The login page with `line` (a fixed text of ours, no markup) above the form.
+Response login_page(const Context& context, const Request& request, http::status status,
+                    std::string_view line) {
+    auto response = login_page(context, request, status);
+    auto& body = response.body();
+    if (const auto at = body.find(kMessageMark); at != std::string::npos) {
+        body.replace(at, kMessageMark.size(),
+                     R"(<p class="error" role="alert" data-testid="login-error">)" +
+                         std::string(line) + "</p>");
+        response.prepare_payload();
+    }
+    return response;
+}
+
+// A refused login: JSON `message`, or for a browser the login page with `line`.
+Response login_refusal(const Context& context, const Request& request, http::status status,
+                       std::string_view message, std::string_view line) {
+    return navigation(request) ? login_page(context, request, status, line)
+                               : error_response(request, status, message);
+}
+
 // While the failed logins of the window are used up: 429 with Retry-After.
-Response too_many_logins(const Request& request, int wait) {
-    auto response = error_response(request, http::status::too_many_requests,
-                                   "too many failed logins from your address: try again later");
+Response too_many_logins(const Context& context, const Request& request, int wait) {
+    auto response = login_refusal(context, request, http::status::too_many_requests,
+                                  "too many failed logins from your address: try again later",
+                                  "too many tries: try again in " + std::to_string(wait) + " s");
     response.set(http::field::retry_after, std::to_string(wait));
     return response;
 }
 
-// A wrong or missing token: 401 and one failure of the peer's, or, beyond
-// its failures, 429 after the tarpit delay (counting nothing more).
-void refuse_guess(const std::shared_ptr<HttpSession>& session, const Request& request) {
+// A wrong or missing token (or login code: `line` says which for a
+// browser): 401 and one failure of the peer's, or, beyond its failures,
+// 429 after the tarpit delay (counting nothing more).
+void refuse_guess(const std::shared_ptr<HttpSession>& session, const Request& request,
+                  std::string_view line = "wrong token") {
     auto& context = session->context();
     const auto& peer = session->slot().peer();
     if (const auto wait = context.logins.blocked(peer)) {
-        session->send_after(too_many_logins(request, *wait), kLoginTarpit);
+        session->send_after(too_many_logins(context, request, *wait), kLoginTarpit);
         return;
     }
     context.logins.failed(peer);
-    session->send(error_response(request, http::status::unauthorized, "wrong or missing token"));
+    session->send(login_refusal(context, request, http::status::unauthorized,
+                                "wrong or missing token", line));
 }
 
 // A login with a token (`secret`) or a one-time code: the cookie and 303
@@ -123,9 +156,10 @@ void refuse_guess(const std::shared_ptr<HttpSession>& session, const Request& re
 void log_in(const std::shared_ptr<HttpSession>& session, const Request& request,
             const std::optional<std::string>& secret, const std::optional<std::string>& code = {}) {
     if (cross_site(request)) {
-        session->send(error_response(
-            request, http::status::forbidden,
-            "login from another site's page refused (Sec-Fetch-Site): open this server's page"));
+        session->send(login_refusal(
+            session->context(), request, http::status::forbidden,
+            "login from another site's page refused (Sec-Fetch-Site): open this server's page",
+            "a login from another site's page is refused: log in here"));
         return;
     }
     auto& context = session->context();
@@ -133,7 +167,10 @@ void log_in(const std::shared_ptr<HttpSession>& session, const Request& request,
                       : code ? context.codes.redeem(context.tokens, *code)
                              : std::nullopt;
     if (!role) {
-        refuse_guess(session, request);
+        refuse_guess(session, request,
+                     code ? "this login link was used already or has expired: run gport-web "
+                            "--print-url for a new one, or log in with a token"
+                          : "wrong token");
         return;
     }
     session->slot().authenticate();
@@ -155,6 +192,10 @@ void page(const std::shared_ptr<HttpSession>& session, const Request& request,
             log_in(session, request, token);
         } else if (const auto code = form_value(target_of(request), "code")) {
             log_in(session, request, std::nullopt, code);
+        } else if (!role && !session_of(request).empty()) {
+            session->send(login_page(session->context(), request, http::status::ok,
+                                     "your session has ended (it went unused, or you logged "
+                                     "out): log in again"));
         } else if (!role || !find_asset(kIndexFile)) {
             session->send(login_page(session->context(), request, http::status::ok));
         } else {

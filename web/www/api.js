@@ -15,6 +15,14 @@ export function say(text, kind = 'info') {
   if (kind !== 'error') messageTimer = setTimeout(() => { el.hidden = true; }, 4000);
 }
 
+// Hides the message line when it shows an error: called when what failed
+// works again (gport-web or gportd reachable again), so that no error stays
+// that is no longer so.
+export function clearError() {
+  const el = $('message');
+  if (el.dataset.kind === 'error') el.hidden = true;
+}
+
 export class ApiError extends Error {
   constructor(status, message, code) {
     super(message);
@@ -34,7 +42,7 @@ export async function api(method, path, body) {
   try {
     response = await fetch(path, init);
   } catch (e) {
-    throw new ApiError(0, `gport-web unreachable (${e.message})`);
+    throw new ApiError(0, `gport-web is not reachable (${e.message})`);
   }
   if (response.status === 401) {
     location.assign('/');

@@ -1,38 +1,58 @@
 // gport-web's page: wires the live socket to the views and the controls.
-import { $, api, attempt, say, fixed } from './api.js';
+import { $, api, attempt, clearError, say, fixed } from './api.js';
 import { Live } from './live.js';
+import { Health } from './health.js';
 import { Plot } from './plot.js';
 import { Horizon } from './horizon.js';
 import { Jog } from './jog.js';
-import { setupControl } from './control.js';
+import { setupControl, lastOwnMotion, showRecording } from './control.js';
 import { setupSetup, loadSetup } from './setup.js';
 import { setupCaptures, loadCaptures, noteStatus, onCapture } from './captures.js';
 
 const live = new Live();
+const health = new Health(live);
 const plot = new Plot($('plot'));
 const horizon = new Horizon($('horizon'));
 const jog = new Jog(live, document.querySelector('.jog'), $('jog-speed'));
 let role = null; // from hello: "control" or "view"
+let webPid = null; // gport-web's pid at gportd (status.client): a motion by it is a browser's
+let motionMine = false; // the running motion was started by this page
 
-// ---- controls: enabled only for a control login (and the jog only with the socket open)
+// ---- controls: a control login's, and only while gport-web and gportd are reachable
 function updateControls() {
-  const control = role === 'control';
+  const on = role === 'control' && health.up;
   for (const el of document.querySelectorAll('.control')) {
-    const jogButton = el.classList.contains('jog-btn');
-    el.disabled = !control || (jogButton && !live.open) || el.dataset.outside === 'yes';
+    el.disabled = !on || el.dataset.outside === 'yes';
   }
-  jog.setEnabled(control && live.open);
+  jog.setEnabled(on);
 }
 
-function setBadge(testid, state, text) {
-  const el = $(testid);
-  el.dataset.state = state;
-  el.textContent = text;
+// Everything read from gportd, read again: once gport-web and gportd are
+// reachable, and each time they are again (gportd may be a new one, with
+// another capture log and other settings). What failed meanwhile is past.
+async function reload() {
+  clearError();
+  showStatus(await attempt('status', () => api('GET', '/api/status')));
+  await Promise.all([loadSetup(), loadCaptures()]);
+}
+
+let wasUp = false;
+let reloadTimer = 0;
+function refresh() {
+  health.render();
+  updateControls();
+  // After a hello, a `gportd` message says at once when gportd is away.
+  if (health.up && !wasUp) {
+    clearTimeout(reloadTimer);
+    reloadTimer = setTimeout(() => { if (health.up) reload(); }, 100);
+  }
+  wasUp = health.up;
 }
 
 // ---- live values
 function showAttitude(a) {
   if (!a || !a.imu || !a.hall) return;
+  health.noteValues();
   for (const axis of ['roll', 'pitch', 'yaw']) {
     $(`imu-${axis}`).textContent = fixed(a.imu[axis]);
     $(`hall-${axis}`).textContent = fixed(a.hall[axis]);
@@ -41,20 +61,40 @@ function showAttitude(a) {
   horizon.set(a.imu);
 }
 
-function showLink(link) {
-  if (!link) return;
-  setBadge('link', link.state, `link ${link.state}`);
-  $('link-reason').textContent = `${link.state}: ${link.reason || ''}`;
+// This page's own motions: a jog while held, an angle or the centre just asked for.
+const ownMotionNow = () => jog.held !== null || Date.now() - lastOwnMotion() < 1500;
+
+// Who moves the gimbal: every browser's motion is gport-web's at gportd.
+function who(owner) {
+  if (!owner) return '';
+  if (owner.pid !== webPid) return ` by pid ${owner.pid}`;
+  return motionMine || jog.held !== null ? ' by this browser' : ' by another browser (through gport-web)';
 }
 
 function describeMotion(m) {
   if (!m) return 'none';
-  const who = m.owner ? ` by pid ${m.owner.pid}` : '';
+  const by = who(m.owner);
   if (m.mode === 'speed' && m.speed) {
-    return `speed${who}: roll ${fixed(m.speed.roll)} pitch ${fixed(m.speed.pitch)} yaw ${fixed(m.speed.yaw)} °/s`;
+    return `speed${by}: roll ${fixed(m.speed.roll)} pitch ${fixed(m.speed.pitch)} yaw ${fixed(m.speed.yaw)} °/s`;
   }
-  if (m.target) return `${m.mode}${who} to pitch ${fixed(m.target.pitch)} yaw ${fixed(m.target.yaw)} roll ${fixed(m.target.roll)}`;
-  return `${m.mode}${who}`;
+  if (m.target) return `${m.mode}${by} to pitch ${fixed(m.target.pitch)} yaw ${fixed(m.target.yaw)} roll ${fixed(m.target.roll)}`;
+  return `${m.mode}${by}`;
+}
+
+function describeController(c) {
+  if (!c) return 'nobody (no client holds exclusive control)';
+  if (c.pid === webPid) return 'gport-web (for its browsers)';
+  return `pid ${c.pid} (uid ${c.uid}), another client of gportd: this page's moves are refused`;
+}
+
+function showMotion(m) {
+  if (m.change === 'started' || m.change === 'replaced') motionMine = ownMotionNow();
+  if (m.change !== 'ended') {
+    $('motion').textContent = describeMotion(m);
+    return;
+  }
+  $('motion').textContent = `none (last: ${m.mode}${who(m.owner)}, ${m.reason})`;
+  motionMine = false;
 }
 
 function showCounters(counters) {
@@ -72,44 +112,49 @@ function showCounters(counters) {
 
 function showStatus(s) {
   if (!s) return;
-  showLink(s.link);
+  health.noteValues();
+  if (s.client && typeof s.client.pid === 'number') webPid = s.client.pid;
+  health.setLink(s.link);
   $('frame-age').textContent = s.attitude_age_ms === null ? '–' : String(s.attitude_age_ms);
   $('motion').textContent = describeMotion(s.motion);
-  $('controller').textContent = s.controller ? `pid ${s.controller.pid} (uid ${s.controller.uid})` : 'nobody';
-  $('recording').textContent = s.recording || 'unknown';
-  $('record').dataset.recording = s.recording || 'unknown';
-  $('record').textContent = s.recording === 'on' ? 'Stop recording' : 'Record';
+  $('controller').textContent = describeController(s.controller);
+  showRecording(s.recording);
   $('clients').textContent = String(s.clients);
   showCounters(s.counters);
   noteStatus(s);
 }
 
 // ---- the socket
-live.on('state', (state) => {
-  setBadge('conn', state, state === 'open' ? 'live' : state);
-  updateControls();
-});
+live.on('state', refresh);
 live.on('closed', ({ opened }) => {
-  // Refused before it opened: perhaps the session ended (api() then goes to the login).
-  if (!opened) attempt('status', () => api('GET', '/api/status'));
+  health.lostSocket();
+  refresh();
+  // Refused before it opened: perhaps the session ended (unused for 12 h, or
+  // a logout elsewhere); api() then goes to the login form. Unreachable: the banner says so.
+  if (!opened) api('GET', '/api/status').catch(() => {});
 });
 live.on('hello', (params) => {
   role = params && params.role === 'control' ? 'control' : 'view';
-  setBadge('role', role, role === 'control' ? 'control' : 'view only');
-  updateControls();
+  $('role').dataset.state = role;
+  $('role').textContent = role === 'control' ? 'control' : 'view only';
+  health.setGportd(true, 'connected'); // else a `gportd` message follows at once
+  refresh();
+});
+live.on('gportd', (params) => {
+  health.setGportd(Boolean(params && params.connected), params && params.reason);
+  refresh();
 });
 live.on('attitude', showAttitude);
-live.on('link', showLink);
+live.on('link', (link) => health.setLink(link));
 live.on('status', showStatus);
-live.on('motion', (m) => {
-  $('motion').textContent = m.change === 'ended' ? `none (last: ${m.mode} ${m.reason})` : describeMotion(m);
-});
+live.on('motion', showMotion);
 live.on('capture', onCapture);
 live.on('error', (params) => {
   jog.release('refused');
   say(params && params.message ? params.message : 'refused', 'error');
 });
 
+$('retry').addEventListener('click', () => live.retryNow());
 $('jog-speed').addEventListener('input', (event) => {
   $('jog-speed-value').textContent = event.target.value;
 });
@@ -121,9 +166,5 @@ $('logout').addEventListener('click', async () => {
 setupControl();
 setupSetup();
 setupCaptures();
-updateControls();
+refresh();
 live.start();
-
-const status = await attempt('status', () => api('GET', '/api/status'));
-showStatus(status);
-await Promise.all([loadSetup(), loadCaptures()]);

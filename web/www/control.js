@@ -1,4 +1,5 @@
-// Center, photo, record, stop, and angles (presets and typed) over the HTTP API.
+// Center, photo, recording on and off, stop, and angles (presets and typed)
+// over the HTTP API.
 import { $, api, attempt, say, fixed } from './api.js';
 
 // Joint angles (pitch, yaw, roll in degrees).
@@ -11,10 +12,18 @@ const PRESETS = [
   { id: 'right-90', label: 'Right 90°', pitch: 0, yaw: 90 },
 ];
 
+let ownMotionAt = 0; // when this page last asked for an angle or the centre
+export const lastOwnMotion = () => ownMotionAt;
+
+let recording = 'unknown'; // gportd's assumed state: on, off or unknown
+let recordedAt = 0; // when this page last set it (a status read before may still say otherwise)
+const STATUS_AGE_MS = 2000; // a status is at most a second old, plus its second's period
+
 export function setupControl() {
   $('center').addEventListener('click', () => center());
   $('photo').addEventListener('click', () => photo());
-  $('record').addEventListener('click', () => record());
+  $('record-on').addEventListener('click', () => record(true));
+  $('record-off').addEventListener('click', () => record(false));
   $('stop').addEventListener('click', () => attempt('stop', () => api('POST', '/api/stop', {})));
   presetButtons();
   $('angle-form').addEventListener('submit', (event) => {
@@ -62,6 +71,7 @@ export function applyLimits(limits) {
 async function angle(target, wait) {
   const out = $('angle-result');
   out.textContent = wait ? 'moving…' : '';
+  ownMotionAt = Date.now();
   const result = await attempt('angle', () => api('POST', '/api/angle', { ...target, wait }));
   if (!result) {
     out.textContent = 'refused';
@@ -75,6 +85,7 @@ async function angle(target, wait) {
 }
 
 async function center() {
+  ownMotionAt = Date.now();
   const result = await attempt('center', () => api('POST', '/api/center', { wait: false }));
   if (result) say('centering');
 }
@@ -84,7 +95,31 @@ async function photo() {
   if (result) say(result.capture ? `photo: capture ${result.capture.index}` : 'photo sent');
 }
 
-async function record() {
-  const result = await attempt('record', () => api('POST', '/api/record', {}));
-  if (result) say(`record: toggled; assumed ${result.recording || 'unknown'}`);
+// gportd's assumed recording state (the gimbal never reports it): `unknown`
+// at start and whenever the gimbal's line reopens.
+export function showRecording(state, fromStatus = true) {
+  if (fromStatus && Date.now() - recordedAt < STATUS_AGE_MS) return;
+  recording = state === 'on' || state === 'off' ? state : 'unknown';
+  for (const testid of ['recording', 'record-state']) $(testid).dataset.state = recording;
+  $('record-state').textContent = recording;
+  $('recording').textContent = recording === 'unknown' ? 'unknown (the gimbal never says)' : recording;
+}
+
+// Recording on or off: gportd sends a toggle only when its assumed state
+// differs. While it is unknown (or with "force") one toggle is sent and
+// taken as the new state: the page asks first, unless "force" is ticked.
+async function record(on) {
+  let force = $('record-force').checked;
+  if (recording === 'unknown' && !force) {
+    force = window.confirm('gportd does not know whether the camera is recording (the gimbal never ' +
+      `says). Send one record toggle and take recording as ${on ? 'ON' : 'OFF'} from now? If the ` +
+      `camera was already ${on ? 'recording, this stops it' : 'stopped, this starts it'}: check the camera.`);
+    if (!force) return;
+  }
+  const result = await attempt('record', () => api('POST', '/api/record', force ? { on, force } : { on }));
+  if (!result) return;
+  $('record-force').checked = false;
+  recordedAt = Date.now();
+  showRecording(result.recording, false);
+  say(result.sent ? `record: toggle sent, recording ${result.recording}` : `recording is already ${result.recording}: nothing sent`);
 }

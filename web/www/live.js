@@ -2,7 +2,8 @@
 // exponential backoff and jitter, messages dispatched by method.
 
 const BACKOFF_MIN_MS = 500;
-const BACKOFF_MAX_MS = 10000;
+// At most this long between tries: gport-web back is live again within it.
+const BACKOFF_MAX_MS = 5000;
 
 export class Live extends EventTarget {
   constructor(path = '/api/live') {
@@ -12,12 +13,15 @@ export class Live extends EventTarget {
     this.socket = null;
     this.backoff = BACKOFF_MIN_MS;
     this.timer = 0;
+    this.failures = 0; // closes (or failed tries) since the socket was last open
+    this.nextTry = 0; // when the next try starts (Date.now()), 0 while none is due
   }
 
   get open() { return this.socket !== null && this.socket.readyState === WebSocket.OPEN; }
 
   start() {
     clearTimeout(this.timer);
+    this.nextTry = 0;
     const socket = new WebSocket(this.url);
     this.socket = socket;
     let opened = false;
@@ -25,15 +29,17 @@ export class Live extends EventTarget {
     socket.addEventListener('open', () => {
       opened = true;
       this.backoff = BACKOFF_MIN_MS;
+      this.failures = 0;
       this.emit('state', 'open');
     });
     socket.addEventListener('message', (event) => this.dispatch(event.data));
     socket.addEventListener('close', () => {
       if (this.socket !== socket) return;
       this.socket = null;
+      this.failures += 1;
+      this.retry();
       this.emit('state', 'closed');
       this.emit('closed', { opened });
-      this.retry();
     });
   }
 
@@ -41,7 +47,13 @@ export class Live extends EventTarget {
     // Jitter, so that browsers that lost gport-web together do not return together.
     const delay = this.backoff * (0.75 + Math.random() * 0.5);
     this.backoff = Math.min(this.backoff * 2, BACKOFF_MAX_MS);
+    this.nextTry = Date.now() + delay;
     this.timer = setTimeout(() => this.start(), delay);
+  }
+
+  // Tries again now (the banner's "retry now") unless a socket is open or opening.
+  retryNow() {
+    if (this.socket === null) this.start();
   }
 
   dispatch(text) {

@@ -96,9 +96,9 @@ function rpc(socketPath, method, params) {
 }
 
 // ---- the programs
+// gport-sim, then gportd on its link. Resolves once gportd says the link is up.
 async function startGimbal(workRoot, gportdPath, simPath) {
   const link = path.join(workRoot, 'gimbal');
-  const sock = path.join(workRoot, 'gportd.sock');
   const config = path.join(workRoot, 'gportd.json');
   fs.writeFileSync(config, JSON.stringify({
     link: { stale_ms: 300, reconnect_initial_ms: 50, reconnect_max_ms: 200 },
@@ -107,27 +107,48 @@ async function startGimbal(workRoot, gportdPath, simPath) {
   }));
   const sim = start(workRoot, 'gport-sim', simPath, ['--link', link, '--trace'], onTrace);
   await until(() => fs.existsSync(link), 10000, 'the simulator link');
-  const gportd = start(workRoot, 'gportd', gportdPath,
-    ['--config', config, '--socket', sock, '--device', link, '--log-level', 'info']);
-  await until(() => fs.existsSync(sock), 10000, "gportd's socket");
-  await until(async () => (await rpc(sock, 'status')).result.link.state === 'up', 10000, 'the link up');
+  const { gportd, sock } = await startGportd(workRoot, gportdPath);
   return { sim, gportd, sock };
 }
 
+// gportd on gport-sim's link (again, after startGimbal: a new gportd on the
+// same socket path, configuration and link; a stale socket file it removes).
+async function startGportd(workRoot, gportdPath) {
+  const sock = path.join(workRoot, 'gportd.sock');
+  const gportd = start(workRoot, 'gportd', gportdPath, ['--config', path.join(workRoot, 'gportd.json'),
+    '--socket', sock, '--device', path.join(workRoot, 'gimbal'), '--log-level', 'info']);
+  const up = async () => {
+    try { return (await rpc(sock, 'status')).result.link.state === 'up'; } catch (e) { return false; }
+  };
+  await until(up, 10000, 'gportd answering with the link up');
+  return { gportd, sock };
+}
+
 // gport-web with a token file of one control and one view token (mode 0600,
-// as gport-web demands). Resolves with the URL it prints.
-async function startWeb(workRoot, webPath, sock) {
-  const tokens = { control: crypto.randomBytes(16).toString('hex'), view: crypto.randomBytes(16).toString('hex') };
+// as gport-web demands). Resolves with the URL it prints. With `again`
+// (a previous start's {url, tokens}): the same address and token file.
+async function startWeb(workRoot, webPath, sock, again) {
   const tokenFile = path.join(workRoot, 'token');
-  fs.rmSync(tokenFile, { force: true });
-  fs.writeFileSync(tokenFile, `control:${tokens.control}\nview:${tokens.view}\n`, { mode: 0o600 });
+  let tokens = again && again.tokens;
+  if (!tokens) {
+    tokens = { control: crypto.randomBytes(16).toString('hex'), view: crypto.randomBytes(16).toString('hex') };
+    fs.rmSync(tokenFile, { force: true });
+    fs.writeFileSync(tokenFile, `control:${tokens.control}\nview:${tokens.view}\n`, { mode: 0o600 });
+  }
+  const listen = again ? new URL(again.url).host : '127.0.0.1:0';
   const web = start(workRoot, 'gport-web', webPath,
-    ['--socket', sock, '--listen', '127.0.0.1:0', '--token-file', tokenFile]);
+    ['--socket', sock, '--listen', listen, '--token-file', tokenFile]);
   const line = await until(() => web.lines.find((l) => /serving https?:\/\/\S+/.test(l)) ||
     (web.exitCode !== null && 'exited'), 20000, 'gport-web: serving ...');
   if (line === 'exited') throw new Error('gport-web exited: ' + web.lines.join('\n'));
   const url = line.match(/serving (https?:\/\/\S+?)\/?$/)[1];
   return { web, url, tokens };
+}
+
+// SIGKILL to one child; resolves once it is gone.
+async function kill(child) {
+  child.kill('SIGKILL');
+  await child.exited;
 }
 
 // SIGTERM to every child still running (gport-web, gportd, gport-sim, in
@@ -144,5 +165,5 @@ async function stopAll() {
 
 module.exports = {
   check, figure, failures, figures, sleep, until, start, trace, wireTime, speedFrames, isZero,
-  cameraFrames, rpc, startGimbal, startWeb, stopAll,
+  cameraFrames, rpc, startGimbal, startGportd, startWeb, kill, stopAll,
 };

@@ -112,6 +112,12 @@ async function openPage(context, url) {
 }
 
 const number = async (page, testid) => Number(await page.textContent(id(testid)));
+// An element's text or attribute now (null when there is none), without
+// waiting for it as page.textContent and page.getAttribute do.
+const textOf = (page, testid) => page.evaluate((sel) => document.querySelector(sel)?.textContent ?? null, id(testid))
+  .catch(() => null);
+const stateOf = (page, testid) => page.evaluate((sel) => document.querySelector(sel)?.dataset.state ?? null, id(testid))
+  .catch(() => null);
 
 async function waitLive(page) {
   try {
@@ -142,6 +148,40 @@ async function login(browser, url, token) {
   await waitLive(page);
   await policyInForce(context, url);
   return { context, page };
+}
+
+// ---- 1b. a wrong token, and too many: the login form again with a line
+// of text (and how long to wait), never gport-web's JSON
+async function wrongToken(browser, url) {
+  const context = await newContext(browser, url, { viewport: { width: 390, height: 844 } });
+  const page = await openPage(context, url + '/');
+  const shown = async (response) => ({
+    status: response ? response.status() : 0,
+    form: await page.isVisible(id('login-form')),
+    line: (await textOf(page, 'login-error')) || '',
+    json: /^\s*[{[]/.test(await page.textContent('body')),
+  });
+  const wrong = 'wrong-token-0123456789';
+  let seen = await shown(await page.goto(`${url}/?token=${wrong}`));
+  check(seen.status === 401 && seen.form && seen.line === 'wrong token' && !seen.json,
+    `/?token= with a wrong token: ${seen.status}, the login form with "${seen.line}" (no JSON)`);
+  await page.fill(id('login-token'), wrong);
+  const [posted] = await Promise.all([page.waitForNavigation(), page.click(id('login-submit'))]);
+  seen = await shown(posted);
+  check(seen.status === 401 && seen.form && seen.line === 'wrong token' && !seen.json,
+    `the login form with a wrong token: ${seen.status}, the form again with "${seen.line}"`);
+  await page.screenshot({ path: path.join(workRoot, 'web-login-wrong-token.png') });
+  // 5 wrong tokens a minute from one address; the 6th waits 1 s and gets 429.
+  let response = null;
+  for (let i = 0; i < 8 && (!response || response.status() !== 429); i += 1) {
+    response = await page.goto(`${url}/?token=${wrong}`);
+  }
+  seen = await shown(response);
+  const wait = Number(response.headers()['retry-after']);
+  check(seen.status === 429 && seen.form && seen.line === `too many tries: try again in ${wait} s` && wait > 0,
+    `too many wrong tokens: ${seen.status} (Retry-After ${wait}), the form with "${seen.line}"`);
+  await page.screenshot({ path: path.join(workRoot, 'web-login-too-many.png') });
+  await context.close();
 }
 
 // The policy really applies (else the page's clean run under it proves
@@ -316,6 +356,141 @@ async function screenshots(page) {
   await page.setViewportSize({ width: 1280, height: 800 });
 }
 
+// ---- 7b. recording on and off (gportd's assumed state; a toggle only when it differs)
+async function recordOnOff(page) {
+  const toggles = (since) => h.cameraFrames(since - 50).filter((e) => e.j.action === 'record').length;
+  const recorded = (state) => page.waitForSelector(`${id('record-state')}[data-state="${state}"]`, { timeout: 5000 });
+  check(await page.getAttribute(id('record-state'), 'data-state') === 'unknown', 'recording: unknown at first');
+  let since = Date.now();
+  let dialog = '';
+  page.once('dialog', (d) => { dialog = d.message(); d.accept(); });
+  await page.click(id('record-on'));
+  await recorded('on');
+  check(/does not know/.test(dialog) && toggles(since) === 1,
+    `Start recording while unknown: asked first ("${dialog.slice(0, 60)}…"), one toggle on the wire (${toggles(since)}), on`);
+  since = Date.now();
+  await page.click(id('record-on'));
+  await page.waitForFunction(() => /already on/.test(document.querySelector('[data-testid="message"]').textContent));
+  await sleep(300);
+  check(toggles(since) === 0, `Start recording while on: nothing sent (${toggles(since)} toggles)`);
+  since = Date.now();
+  await page.click(id('record-off'));
+  await recorded('off');
+  await until(() => toggles(since) === 1, 3000, 'the record toggle on the wire');
+  check((await h.rpc(page.sock, 'status')).result.recording === 'off', 'Stop recording: one toggle, gportd says off');
+}
+
+// ---- 7c. a phone (390x844): the jog pad and the angles and horizon on one
+// screen while jogging
+async function phoneJog(page) {
+  await page.setViewportSize({ width: 390, height: 844 });
+  await page.evaluate(() => window.scrollTo(0, 0));
+  const before = await number(page, 'hall-pitch');
+  await holdJog(page, 'jog-pitch-up', 1, 1); // scrolls the button into view if it has to
+  await sleep(600);
+  const inView = await page.evaluate((testids) => testids.filter((t) => {
+    const r = document.querySelector(`[data-testid="${t}"]`).getBoundingClientRect();
+    return r.top < 0 || r.bottom > window.innerHeight || r.height === 0;
+  }), ['imu-pitch', 'hall-pitch', 'horizon', 'jog-pitch-up', 'jog-pitch-down', 'stop']);
+  const moving = await number(page, 'hall-pitch');
+  const file = path.join(workRoot, 'web-390x844-jogging.png');
+  await page.screenshot({ path: file });
+  await page.mouse.up();
+  check(inView.length === 0, `390x844 while jogging: the angles, the horizon and the pad on one screen (outside: ${inView.join(', ') || 'none'})`);
+  check(moving - before > 1, `and the angles move meanwhile (hall pitch ${before} -> ${moving})`);
+  await page.click('a[href="#control"]');
+  await sleep(300);
+  const angles = await page.evaluate(() => document.querySelector('[data-testid="imu-pitch"]').getBoundingClientRect().top);
+  check(angles >= 0, `the Control tab keeps the angles on screen (imu-pitch at ${angles.toFixed(0)} px)`);
+  figure(`phone, jogging: ${file}`);
+  await page.setViewportSize({ width: 1280, height: 800 });
+}
+
+// ---- 7d. "this browser": its own jog is not "pid N"
+async function thisBrowser(page) {
+  await holdJog(page, 'jog-yaw-right', 2, 1);
+  const motion = await page.waitForFunction(() => {
+    const text = document.querySelector('[data-testid="motion"]').textContent;
+    return /^speed/.test(text) && text;
+  }, null, { timeout: 3000 }).then((handle) => handle.jsonValue()).catch(() => 'no speed shown');
+  await page.mouse.up();
+  check(/^speed by this browser/.test(motion), `while this page jogs, motion says "${motion}"`);
+  const controller = await page.textContent(id('controller'));
+  check(/^nobody \(no client holds exclusive control\)/.test(controller), `control held by: "${controller}"`);
+}
+
+const DISABLED_WHILE_DOWN = ['jog-pitch-up', 'stop', 'center', 'photo', 'record-on', 'angle-go', 'settings-save'];
+async function enabledOf(page, testids) {
+  const enabled = [];
+  for (const t of testids) if (await page.isEnabled(id(t))) enabled.push(t);
+  return enabled;
+}
+
+// ---- 7e. gportd killed and started again: a banner, the controls off and
+// the values marked stale; then live again, the error gone and the captures
+// table the new gportd's
+async function gportdRestart(page, gimbal) {
+  await h.kill(gimbal.gportd);
+  await page.waitForSelector(`${id('banner')}[data-state="gportd"]`, { timeout: 5000 });
+  const badges = [await stateOf(page, 'conn'), await stateOf(page, 'gportd'), await stateOf(page, 'link')];
+  check(badges.join() === 'open,down,unknown', `gportd killed: the banner "${await page.textContent(id('banner-text'))}"; badges ${badges.join(', ')}`);
+  const enabled = await enabledOf(page, DISABLED_WHILE_DOWN);
+  check(enabled.length === 0, `gportd away: the controls off (enabled: ${enabled.join(', ') || 'none'})`);
+  check(await page.getAttribute('#live', 'data-stale') === 'yes' && await page.isVisible(id('stale')),
+    `the values marked stale ("${await textOf(page, 'stale')}")`);
+  await page.click(id('settings-reload'));
+  await page.waitForSelector(`${id('message')}[data-kind="error"]`, { timeout: 5000 });
+  const error = await page.textContent(id('message'));
+  await page.evaluate(() => window.scrollTo(0, 0));
+  await page.screenshot({ path: path.join(workRoot, 'web-gportd-down.png') });
+  const again = await h.startGportd(workRoot, gportdPath);
+  gimbal.gportd = again.gportd;
+  await page.waitForSelector(`${id('banner')}[data-state="none"]`, { state: 'attached', timeout: 10000 });
+  await waitLive(page);
+  await page.waitForSelector(id('jog-pitch-up') + ':enabled', { timeout: 5000 });
+  check(!(await page.isVisible(id('message'))) || (await page.getAttribute(id('message'), 'data-kind')) !== 'error',
+    `gportd back: live, the controls on, the error ("${error}") gone`);
+  await page.waitForSelector(`${id('captures-page')}:has-text("no captures yet")`, { timeout: 5000 });
+  await h.rpc(gimbal.sock, 'photo', {});
+  await page.waitForSelector(`${id('capture-row')}[data-index="1"]`, { timeout: 5000 });
+  const rows = await page.locator(id('capture-row')).count();
+  check(rows === 1, `the captures table reloaded: the new gportd's log (${rows} row, #1), not the old one's`);
+  check(await page.getAttribute('#live', 'data-stale') === 'no', 'the values live again (not marked stale)');
+}
+
+// ---- 7f. gport-web killed and started again (same address and tokens):
+// a banner while it is away, then the page live again or the login form
+// (sessions were gport-web's memory), never JSON
+async function webRestart(page, web) {
+  await h.kill(web.web);
+  await page.waitForSelector(`${id('banner')}[data-state="gport-web"]`, { timeout: 5000 });
+  const badges = [await stateOf(page, 'conn'), await stateOf(page, 'gportd'), await stateOf(page, 'link')];
+  check(badges.join() === 'closed,unknown,unknown',
+    `gport-web killed: the banner "${await page.textContent(id('banner-text'))}"; badges ${badges.join(', ')}`);
+  const enabled = await enabledOf(page, DISABLED_WHILE_DOWN);
+  check(enabled.length === 0, `gport-web away: the controls off (enabled: ${enabled.join(', ') || 'none'})`);
+  await page.evaluate(() => window.scrollTo(0, 0));
+  await page.screenshot({ path: path.join(workRoot, 'web-gport-web-down.png') });
+  const again = await h.startWeb(workRoot, webPath, web.sock, web);
+  web.web = again.web;
+  const t0 = Date.now();
+  const back = await until(async () => ((await page.isVisible(id('login-form')).catch(() => false)) && 'login') ||
+    ((await stateOf(page, 'conn').catch(() => null)) === 'open' && 'live'), 15000, 'the page back');
+  figure(`gport-web back: the page ${back === 'login' ? 'shows the login form' : 'is live'} ${Date.now() - t0} ms after the start`);
+  const body = await page.textContent('body');
+  check(!/^\s*[{[]/.test(body), `gport-web back: ${back === 'login' ? 'the login form' : 'live again'}, no JSON`);
+  // Sessions outlive a restart (kept beside the token file): still logged in.
+  check(back === 'live', `gport-web back: still logged in, live again (${back})`);
+  if (back === 'login') {
+    const line = await textOf(page, 'login-error');
+    check(/session has ended/.test(line), `the login form says why: "${line}"`);
+    await page.fill(id('login-token'), web.tokens.control);
+    await Promise.all([page.waitForNavigation(), page.click(id('login-submit'))]);
+  }
+  await waitLive(page);
+  check(await page.isHidden(id('banner')), 'and live again after the login, no banner');
+}
+
 // ---- 8. a read-only login: controls disabled
 async function viewOnly(browser, url, token) {
   const context = await newContext(browser, url);
@@ -324,7 +499,7 @@ async function viewOnly(browser, url, token) {
   check(!page.url().includes('token='), `/?token= leaves the address bar without the token (${page.url()})`);
   await page.waitForSelector(`${id('role')}[data-state="view"]`);
   const enabled = [];
-  for (const t of ['jog-pitch-up', 'jog-yaw-right', 'center', 'photo', 'record', 'settings-save', 'angle-go']) {
+  for (const t of ['jog-pitch-up', 'jog-yaw-right', 'center', 'photo', 'record-on', 'record-off', 'settings-save', 'angle-go']) {
     if (await page.isEnabled(id(t))) enabled.push(t);
   }
   check(enabled.length === 0, `a view login has every control disabled (enabled: ${enabled.join(', ') || 'none'})`);
@@ -367,12 +542,16 @@ async function main() {
   // The test's own folder in the build tree: last run's logs and sockets go.
   fs.rmSync(workRoot, { recursive: true, force: true });
   fs.mkdirSync(workRoot, { recursive: true });
-  const { sock } = await h.startGimbal(workRoot, gportdPath, simPath);
-  const { url, tokens } = await h.startWeb(workRoot, webPath, sock);
+  const gimbal = await h.startGimbal(workRoot, gportdPath, simPath);
+  const { sock } = gimbal;
+  const web = { ...(await h.startWeb(workRoot, webPath, sock)), sock };
+  const { url, tokens } = web;
   console.log(`gport-web at ${url}; logs in ${workRoot}`);
   const browser = await chromium.launch(LAUNCH);
   try {
     const { page } = await login(browser, url, tokens.control);
+    page.sock = sock;
+    await wrongToken(browser, url);
     await liveFollows(page, sock);
     await jogRelease(page, 6);
     await settingReadsBack(page, sock);
@@ -381,6 +560,15 @@ async function main() {
     await oddMetaInTable(page, sock);
     await screenshots(page);
     check(page.problems.length === 0, `no script errors in the page (${page.problems.join('; ') || 'none'})`);
+    await recordOnOff(page);
+    await phoneJog(page);
+    await thisBrowser(page);
+    check(page.problems.length === 0, `no script errors meanwhile (${page.problems.join('; ') || 'none'})`);
+    await gportdRestart(page, gimbal);
+    await webRestart(page, web);
+    // Refused requests and sockets while they were away are console errors; no exception.
+    const thrown = page.problems.filter((p) => p.startsWith('pageerror'));
+    check(thrown.length === 0, `no script exception through both restarts (${thrown.join('; ') || 'none'})`);
     await viewOnly(browser, url, tokens.view);
     await deadman(browser, url, tokens.control, 'closing the page while held', (page) => page.close());
   } finally {
