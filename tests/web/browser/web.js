@@ -506,6 +506,37 @@ async function viewOnly(browser, url, token) {
   await context.close();
 }
 
+// ---- 8b. the one-time link: what chromium's History keeps logs no one in
+// (issue 42): a profile of its own opens gport-web's printed link, closes;
+// every address in its History file that carries a code or token is opened
+// in a fresh context and gets the login form, not the page.
+async function linkInHistory(web) {
+  const line = web.web.lines.find((l) => /gport-web: open \S+\?code=/.test(l));
+  const link = line && line.match(/open (\S+\?code=\S+)/)[1];
+  if (!check(Boolean(link), `gport-web printed a one-time link (${line})`)) return;
+  const profile = fs.mkdtempSync(path.join(workRoot, 'profile-'));
+  const context = await chromium.launchPersistentContext(profile, LAUNCH);
+  const page = await openPage(context, link);
+  await waitLive(page);
+  check(!page.url().includes('code='), `the link leaves the address bar without its code (${page.url()})`);
+  await context.close();
+  const history = fs.readFileSync(path.join(profile, 'Default', 'History')).toString('latin1');
+  const opened = [...new Set(history.match(/http:\/\/127\.0\.0\.1:\d+\/[\x21-\x7e]*/g) || [])];
+  const logins = opened.filter((u) => /[?&](code|token)=/.test(u));
+  check(logins.length > 0, `chromium's History holds the link it opened (${logins.length} address(es) with a code)`);
+  const browser = await chromium.launch(LAUNCH);
+  const fresh = await browser.newContext();
+  for (const address of logins) {
+    const again = await fresh.newPage();
+    await again.goto(address);
+    const form = await again.isVisible(id('login-form'));
+    const why = form ? await again.textContent(id('login-error')).catch(() => '') : '';
+    check(form, `the address from History logs no one in: the login form (${why.trim()})`);
+    await again.close();
+  }
+  await browser.close();
+}
+
 // ---- 9. the deadman: closing the page or killing the browser while held
 async function deadman(browser, url, token, label, end) {
   const context = await newContext(browser, url);
@@ -570,6 +601,7 @@ async function main() {
     const thrown = page.problems.filter((p) => p.startsWith('pageerror'));
     check(thrown.length === 0, `no script exception through both restarts (${thrown.join('; ') || 'none'})`);
     await viewOnly(browser, url, tokens.view);
+    await linkInHistory(web);
     await deadman(browser, url, tokens.control, 'closing the page while held', (page) => page.close());
   } finally {
     await browser.close().catch(() => {});
