@@ -11,6 +11,7 @@
 // own clock at the event, never on how long this script waited.
 const crypto = require('crypto');
 const fs = require('fs');
+const http = require('http');
 const path = require('path');
 const { chromium } = require('playwright-core');
 const h = require('./harness');
@@ -152,6 +153,47 @@ async function login(browser, url, token) {
 
 // ---- 1b. a wrong token, and too many: the login form again with a line
 // of text (and how long to wait), never gport-web's JSON
+// ---- 1b. a page of another site the operator has open (issue 42): six
+// <img> logins with wrong tokens and a form that posts a login with a
+// valid (view) token, as an attacker's page would. Chromium marks them
+// Sec-Fetch-Site: cross-site; gport-web refuses them counting nothing, so
+// the operator's next wrong token is still "wrong token", not "too many
+// tries", and the browser holds no session the attacker chose.
+async function crossSite(browser, url, viewToken) {
+  const attack = `<!doctype html><title>another site</title>
+    ${[0, 1, 2, 3, 4, 5].map((i) => `<img src="${url}/?token=wrong-token-cross-${i}0123456">`).join('')}
+    <form id="f" method="post" action="${url}/login"><input name="token" value="${viewToken}"></form>
+    <script>addEventListener('load', () => document.getElementById('f').submit())</script>`;
+  const server = http.createServer((req, res) => {
+    res.writeHead(200, { 'Content-Type': 'text/html' });
+    res.end(attack);
+  });
+  await new Promise((resolve) => server.listen(0, '127.0.0.2', resolve));
+  const other = `http://127.0.0.2:${server.address().port}/`;
+  const context = await browser.newContext();
+  const page = await context.newPage();
+  // The images' answers never reach the page (Chromium's ORB blocks a JSON
+  // answer to an <img>), but the requests leave the browser: they count.
+  const sent = [];
+  let posted = 0;
+  page.on('request', (r) => { if (r.url().startsWith(url)) sent.push(r.url()); });
+  page.on('response', (r) => { if (r.url() === `${url}/login`) posted = r.status(); });
+  await page.goto(other);
+  await until(() => posted !== 0, 10000, "the other site's login post answered").catch(() => null);
+  const cookies = await context.cookies(url);
+  check(sent.length >= 7 && posted === 403,
+    `a page of another site (${other}) sent ${sent.length - 1} logins with wrong tokens and a form's post ` +
+    `of a valid one: the post refused ${posted}`);
+  check(!cookies.some((c) => c.name === 'gport_session'), 'it left no session in the browser');
+  const mine = await context.newPage();
+  const response = await mine.goto(`${url}/?token=wrong-token-0123456789`);
+  const line = (await textOf(mine, 'login-error')) || '';
+  check(response.status() === 401 && line === 'wrong token',
+    `the operator's next wrong token: ${response.status()} "${line}" (nothing counted for the other site)`);
+  await context.close();
+  server.close();
+}
+
 async function wrongToken(browser, url) {
   const context = await newContext(browser, url, { viewport: { width: 390, height: 844 } });
   const page = await openPage(context, url + '/');
@@ -409,9 +451,10 @@ async function phoneJog(page) {
 // ---- 7d. "this browser": its own jog is not "pid N"
 async function thisBrowser(page) {
   await holdJog(page, 'jog-yaw-right', 2, 1);
+  // This jog's speed (yaw), not a status still showing the jog before it.
   const motion = await page.waitForFunction(() => {
     const text = document.querySelector('[data-testid="motion"]').textContent;
-    return /^speed/.test(text) && text;
+    return /^speed/.test(text) && !/yaw -?0\.00/.test(text) && text;
   }, null, { timeout: 3000 }).then((handle) => handle.jsonValue()).catch(() => 'no speed shown');
   await page.mouse.up();
   check(/^speed by this browser/.test(motion), `while this page jogs, motion says "${motion}"`);
@@ -582,6 +625,7 @@ async function main() {
   try {
     const { page } = await login(browser, url, tokens.control);
     page.sock = sock;
+    await crossSite(browser, url, tokens.view);
     await wrongToken(browser, url);
     await liveFollows(page, sock);
     await jogRelease(page, 6);
