@@ -55,7 +55,9 @@ constexpr const char* kCommandFooter =
 // The options that apply before the command.
 const std::vector<std::string> kGlobalOptions = {"--socket", "--json", "--help", "--version"};
 
-const std::vector<std::string> kTopics = {"attitude", "link", "motion"};
+const std::vector<std::string> kTopics = {std::string(contract::kTopicAttitude),
+                                          std::string(contract::kTopicLink),
+                                          std::string(contract::kTopicMotion)};
 
 // The values CLI11 fills; turned into an Invocation after parsing.
 struct Values {
@@ -194,14 +196,14 @@ class Parser {
 
     void add_commands() {
         add_status();
-        command("attitude", "attitude", "the latest attitude sample");
+        command("attitude", contract::method::kAttitude, "the latest attitude sample");
         add_watch();
         add_speed();
-        command("stop", "stop", "stop any motion now");
+        command("stop", contract::method::kStop, "stop any motion now");
         add_angle();
-        command("center", "center", "centre the gimbal")
+        command("center", contract::method::kCenter, "centre the gimbal")
             ->add_flag("--wait", v_.wait, "wait until centred; exit 2 if it is not");
-        command("lock", "lock", "lock mode (control mode 4)");
+        command("lock", contract::method::kLock, "lock mode (control mode 4)");
         add_photo();
         add_record();
         add_settings();
@@ -210,13 +212,15 @@ class Parser {
         add_captures();
         add_geotag_dir();
         add_wait();
-        command("limits", "limits", "the soft limits gportd enforces (angles, max speed)");
+        command("limits", contract::method::kLimits,
+                "the soft limits gportd enforces (angles, max speed)");
         auto* help = command("help", "", "this text, or a command's");
         help->add_option("command", v_.help_topic, "the command to describe");
     }
 
     void add_status() {
-        auto* sub = command("status", "status", "link, device, counters, clients, current motion");
+        auto* sub = command("status", contract::method::kStatus,
+                            "link, device, counters, clients, current motion");
         footer(sub,
                "A health check: exits 75 while the gimbal's link is not up (down or\n"
                "stale), after printing the status as ever; 0 when it is up. To wait\n"
@@ -269,7 +273,7 @@ class Parser {
     }
 
     void add_captures() {
-        auto* sub = command("captures", "captures",
+        auto* sub = command("captures", contract::method::kCaptures,
                             "the capture log: photos and record toggles with their attitude");
         sub->add_option("--since", v_.since, "from capture INDEX on (default: the oldest kept)")
             ->type_name("INDEX")
@@ -368,7 +372,8 @@ class Parser {
     }
 
     void add_speed() {
-        auto* sub = command("speed", "speed", "move at a speed (until Ctrl-C, or --for DURATION)");
+        auto* sub = command("speed", contract::method::kSpeed,
+                            "move at a speed (until Ctrl-C, or --for DURATION)");
         add_axes(sub, "deg/s");
         sub->add_option("--for", v_.for_text, "the daemon keeps the motion going this long")
             ->type_name("DURATION")
@@ -388,7 +393,8 @@ class Parser {
     }
 
     void add_angle() {
-        auto* sub = command("angle", "angle", "go to an angle (--wait: until it is reached)");
+        auto* sub = command("angle", contract::method::kAngle,
+                            "go to an angle (--wait: until it is reached)");
         add_axes(sub, "degrees");
         sub->add_flag("--wait", v_.wait, "wait for the end; print it; exit 2 unless reached");
         footer(sub,
@@ -422,14 +428,16 @@ class Parser {
         "error). Prints the capture's index; --json prints gportd's result.\n";
 
     void add_photo() {
-        auto* sub = command("photo", "photo", "take a photo (--lat/--lon: geotag it)");
+        auto* sub =
+            command("photo", contract::method::kPhoto, "take a photo (--lat/--lon: geotag it)");
         add_geotag(sub);
         footer(sub, std::string(kGeotagNotes) +
                         "Example: gportctl photo --lat 47.397742 --lon 8.545594 --alt 488.5\n");
     }
 
     void add_record() {
-        auto* sub = command("record", "record", "toggle recording, or switch it on or off");
+        auto* sub = command("record", contract::method::kRecord,
+                            "toggle recording, or switch it on or off");
         add_geotag(sub);
         sub->add_option("state", v_.state, "on or off (default: toggle)")
             ->check(args::one_of({"on", "off"}));
@@ -443,7 +451,8 @@ class Parser {
     }
 
     void add_settings() {
-        auto* sub = command("settings", "get_settings", "read the settings, or change some");
+        auto* sub = command("settings", contract::method::kGetSettings,
+                            "read the settings, or change some");
         const auto byte = args::integer_in(0, std::numeric_limits<std::uint8_t>::max());
         sub->add_option("--dead-zone", v_.dead_zone, "dead zone")->check(byte);
         sub->add_option("--follow-speed", v_.follow_speed, "follow speed")->check(byte);
@@ -766,7 +775,7 @@ class Parser {
                 v_.inverted == "yes" || v_.inverted == "true" || v_.inverted == "on";
         }
         if (!inv.params.empty()) {
-            inv.method = "set_settings";
+            inv.method = contract::method::kSetSettings;
         }
     }
 

@@ -35,7 +35,7 @@ std::chrono::milliseconds until(std::chrono::steady_clock::time_point when) {
 }
 
 bool motion_over(const json& message) {
-    if (message.value("method", "") != "motion") {
+    if (message.value("method", "") != contract::kTopicMotion) {
         return false;
     }
     const auto change = message["params"].value("change", "");
@@ -50,7 +50,7 @@ void Runner::notification(const json& message) {
         return;
     }
     if (inv_.command == "captures") {
-        if (message.value("method", "") == "capture") {
+        if (message.value("method", "") == contract::kTopicCapture) {
             followed_.push_back(message.value("params", json()));
         }
     } else if (inv_.command == "watch") {
@@ -82,7 +82,7 @@ void Runner::speed_progress(const json& message) {
     if (progress_ == nullptr) {
         return;
     }
-    if (message.value("method", "") == "attitude" && !inv_.json) {
+    if (message.value("method", "") == contract::kTopicAttitude && !inv_.json) {
         progress_->show(message["params"]);
     } else if (motion_over(message)) {
         progress_->end(message["params"], inv_.json);
@@ -106,7 +106,8 @@ int Runner::pump(std::chrono::milliseconds duration) {
 int Runner::watch() {
     json result = {{"topics", json::array()}};
     std::vector<std::string> topics = inv_.topics;
-    const bool attitude = std::find(topics.begin(), topics.end(), "attitude") != topics.end();
+    const bool attitude =
+        std::find(topics.begin(), topics.end(), contract::kTopicAttitude) != topics.end();
     if (inv_.shared_memory && attitude) {
         if (const int s = watch_shared_memory(topics, result); s != kExitOk) {
             return s;
@@ -167,7 +168,10 @@ int Runner::speed_for() {
     json result;
     if (const int s =
             call(contract::method::kSubscribe,
-                 {{"topics", {"motion", "attitude"}}, {"max_rate_hz", kProgressHz}}, result);
+                 {{"topics",
+                   {std::string(contract::kTopicMotion), std::string(contract::kTopicAttitude)}},
+                  {"max_rate_hz", kProgressHz}},
+                 result);
         s != kExitOk) {
         return s;
     }
@@ -249,7 +253,8 @@ int Runner::list_captures(std::uint64_t& since) {
 int Runner::captures() {
     json ignored;
     if (inv_.follow) {
-        if (const int s = call(contract::method::kSubscribe, {{"topics", {"capture"}}}, ignored);
+        if (const int s = call(contract::method::kSubscribe,
+                               {{"topics", {std::string(contract::kTopicCapture)}}}, ignored);
             s != kExitOk) {
             return s;
         }

@@ -40,7 +40,7 @@ class LinkWait {
             // The first "up" of a batch is kept: a link that came up and
             // went again between two looks still ends the wait, as it
             // would have read one by one.
-            if (message.is_object() && message.value("method", "") == "link" &&
+            if (message.is_object() && message.value("method", "") == contract::kTopicLink &&
                 !(pending_ && link_up(*pending_))) {
                 pending_ = message.value("params", json::object());
             }
@@ -115,7 +115,8 @@ int wait_link(const Invocation& inv, client::Client& gportd, const CallFn& call,
     LinkWait wait(inv, gportd, out, err);  // the timeout counts from here
     wait.on_interrupt(interrupted);
     json result;
-    if (const int s = call(contract::method::kSubscribe, {{"topics", {"link"}}}, result);
+    if (const int s = call(contract::method::kSubscribe,
+                           {{"topics", {std::string(contract::kTopicLink)}}}, result);
         s != kExitOk) {
         return s;
     }

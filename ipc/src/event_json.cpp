@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "gport/contract/attitude_text.hpp"
+#include "gport/contract/names.hpp"
 #include "json_common.hpp"
 
 namespace gport::ipc {
@@ -67,7 +68,7 @@ Line with_dropped(const AttitudeNotification& notification, std::uint64_t droppe
 }
 
 Line link_line(const daemon::LinkEvent& event) {
-    return notification("link",
+    return notification(contract::kTopicLink,
                         {{"state", daemon::to_string(event.state)}, {"reason", event.reason}});
 }
 
@@ -96,7 +97,7 @@ Line motion_line(const daemon::MotionEvent& event) {
     if (!event.detail.empty()) {
         params["detail"] = event.detail;  // stalled: where the gimbal stopped
     }
-    return notification("motion", std::move(params));
+    return notification(contract::kTopicMotion, std::move(params));
 }
 
 json attitude_json(const daemon::AttitudeSample& sample) {
@@ -108,7 +109,8 @@ json attitude_json(const daemon::AttitudeSample& sample) {
 Line capture_line(std::string_view capture) {
     // The capture's text as the log keeps it, spliced (members in the order
     // nlohmann writes them, as every notification).
-    std::string line = R"({"jsonrpc":"2.0","method":"capture","params":)";
+    std::string line =
+        R"({"jsonrpc":"2.0","method":")" + std::string(contract::kTopicCapture) + R"(","params":)";
     line.append(capture);
     line += "}\n";
     return std::make_shared<const std::string>(std::move(line));

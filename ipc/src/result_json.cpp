@@ -1,6 +1,7 @@
 #include "result_json.hpp"
 
 #include "gport/contract/counters.hpp"
+#include "gport/contract/names.hpp"
 #include "gport/version.hpp"
 #include "json_common.hpp"
 
@@ -95,16 +96,16 @@ json settings_json(const daemon::Settings& settings) {
 json subscriptions_json(const Subscriptions& subscriptions) {
     json topics = json::array();
     if (subscriptions.attitude) {
-        topics.push_back("attitude");
+        topics.push_back(std::string(contract::kTopicAttitude));
     }
     if (subscriptions.link) {
-        topics.push_back("link");
+        topics.push_back(std::string(contract::kTopicLink));
     }
     if (subscriptions.motion) {
-        topics.push_back("motion");
+        topics.push_back(std::string(contract::kTopicMotion));
     }
     if (subscriptions.capture) {
-        topics.push_back("capture");
+        topics.push_back(std::string(contract::kTopicCapture));
     }
     json result = {{"topics", std::move(topics)}};
     result["max_rate_hz"] =

@@ -8,7 +8,6 @@
 namespace gport::web {
 
 namespace method = contract::method;
-using Clock = base::TokenBucket::Clock;
 
 void refuse_busy(boost::asio::io_context& io, Reply reply, const std::string& why) {
     boost::asio::post(io, [reply = std::move(reply), why] {
@@ -134,13 +133,14 @@ bool CommandLane::send_other() {
 }
 
 bool CommandLane::spend(double keep) {
-    const auto now = Clock::now();
+    const auto now = base::TokenBucket::Clock::now();
     return budget_.level(now) >= keep + 1 && budget_.take(now);
 }
 
 // One timer for the earliest wait: a stop's (keep 0) shortens a jog's.
 void CommandLane::wake_after_refill(double keep) {
-    const auto at = Clock::now() + budget_.wait_for(Clock::now(), keep + 1);
+    const auto at = base::TokenBucket::Clock::now() +
+                    budget_.wait_for(base::TokenBucket::Clock::now(), keep + 1);
     if (refill_armed_ && refill_.expiry() <= at) {
         return;
     }

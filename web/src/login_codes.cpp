@@ -21,7 +21,7 @@ std::string mac_of(const Token& token, std::string_view expiry_and_nonce) {
         .substr(0, kMacDigits);
 }
 
-bool hex(std::string_view text) {
+bool all_hex(std::string_view text) {
     return text.find_first_not_of("0123456789abcdef") == std::string_view::npos;
 }
 
@@ -44,7 +44,7 @@ std::optional<Parts> parts_of(std::string_view code) {
     parts.mac = code.substr(second + 1);
     parts.signed_part = code.substr(0, second);
     if (ec != std::errc() || end != code.data() + first || parts.nonce.size() != kNonceDigits ||
-        parts.mac.size() != kMacDigits || !hex(parts.nonce) || !hex(parts.mac)) {
+        parts.mac.size() != kMacDigits || !all_hex(parts.nonce) || !all_hex(parts.mac)) {
         return std::nullopt;
     }
     return parts;
@@ -102,7 +102,7 @@ std::string LoginCodes::persist(const std::string& path) {
     for (const auto& line : read_state_file(path, problem).value_or(std::vector<std::string>{})) {
         const auto space = line.find(' ');
         std::int64_t expiry = 0;
-        if (space != kNonceDigits || !hex(line.substr(0, space)) ||
+        if (space != kNonceDigits || !all_hex(line.substr(0, space)) ||
             std::from_chars(line.data() + space + 1, line.data() + line.size(), expiry).ec !=
                 std::errc() ||
             used_.size() >= kMaxLoginCodesRemembered) {

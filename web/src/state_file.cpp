@@ -11,7 +11,7 @@
 namespace gport::web {
 namespace {
 
-std::string why(const std::string& what, const std::string& path) {
+std::string failure_text(const std::string& what, const std::string& path) {
     return what + " " + path + ": " + std::strerror(errno);
 }
 
@@ -24,7 +24,7 @@ std::optional<std::vector<std::string>> read_state_file(const std::string& path,
         if (errno == ENOENT) {
             return std::vector<std::string>{};
         }
-        problem = why("cannot open", path);
+        problem = failure_text("cannot open", path);
         return std::nullopt;
     }
     struct stat st {};
@@ -56,7 +56,7 @@ bool write_state_file(const std::string& path, const std::vector<std::string>& l
     const int fd =
         ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0600);
     if (fd < 0) {
-        problem = why("cannot write", temporary);
+        problem = failure_text("cannot write", temporary);
         return false;
     }
     std::string text;
@@ -66,7 +66,7 @@ bool write_state_file(const std::string& path, const std::vector<std::string>& l
     bool ok = ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
     ok = ::close(fd) == 0 && ok;
     if (!ok || ::rename(temporary.c_str(), path.c_str()) != 0) {
-        problem = why("cannot write", path);
+        problem = failure_text("cannot write", path);
         ::unlink(temporary.c_str());
         return false;
     }

@@ -5,6 +5,8 @@
 #include <ctime>
 #include <thread>
 
+#include "gport/contract/names.hpp"
+
 namespace gport::cli::monitor {
 
 using std::chrono::steady_clock;
@@ -33,7 +35,9 @@ void Feed::connect() {
         const auto control = client.acquire();
         state_.on_control(control.you_hold_control, current_time());
     }
-    client.subscribe({"attitude", "link", "motion"}, kAttitudeRateHz);
+    client.subscribe({std::string(contract::kTopicAttitude), std::string(contract::kTopicLink),
+                      std::string(contract::kTopicMotion)},
+                     kAttitudeRateHz);
     client_.emplace(std::move(client));
     state_.on_connected(current_time());
     poll_status();
