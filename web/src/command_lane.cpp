@@ -65,19 +65,18 @@ void CommandLane::pump() {
     if (!client_.connected()) {
         return;
     }
-    while (send_stop()) {
-    }
+    send_stop();
     while (send_jog() || send_other()) {
     }
 }
 
-bool CommandLane::send_stop() {
+void CommandLane::send_stop() {
     if (stop_waiting_.empty()) {
-        return false;
+        return;
     }
     if (!spend(0)) {
         wake_after_refill(0);
-        return false;
+        return;
     }
     // Every stop that waited is answered by the one that goes.
     client_.async_call_json(method::kStop, "",
@@ -87,7 +86,6 @@ bool CommandLane::send_stop() {
                                     reply(error, result);
                                 }
                             });
-    return false;
 }
 
 bool CommandLane::send_jog() {

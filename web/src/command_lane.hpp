@@ -57,7 +57,7 @@ class CommandLane {
     };
 
     void pump();
-    bool send_stop();
+    void send_stop();  // every stop waiting, as one
     bool send_jog();
     bool send_other();
     // Takes a token when the budget has more than `keep` left.
