@@ -52,6 +52,7 @@ const std::vector<Key>& keys() {
         key<&Config::requests, &RequestConfig::retries>("requests.retries", false),
         key<&Config::access, &AccessConfig::control_uids>("access.control_uids", true),
         key<&Config::access, &AccessConfig::control_gids>("access.control_gids", true),
+        key<&Config::access, &AccessConfig::vehicle_uids>("access.vehicle_uids", true),
         key<&Config::log, &LogConfig::level>("log.level", true),
         key<&Config::realtime, &RealtimeConfig::priority>("realtime.priority", false),
         key<&Config::realtime, &RealtimeConfig::lock_memory>("realtime.lock_memory", false),
@@ -68,6 +69,9 @@ const std::vector<Key>& keys() {
         key<&Config::motion, &MotionConfig::stall>("motion.stall_ms", true),
         // Core::reload hands it to the camera limit's token bucket.
         key<&Config::camera, &CameraConfig::max_commands_per_s>("camera.max_commands_per_s", true),
+        // Read by Core for each capture's stamp.
+        key<&Config::camera, &CameraConfig::shutter_delay>("camera.shutter_delay_ms", true),
+        key<&Config::camera, &CameraConfig::max_position_age>("camera.max_position_age_ms", true),
         // The writer thread holds its file open: a new place or rotation needs a restart.
         key<&Config::captures, &CapturesConfig::dir>("captures.dir", false),
         key<&Config::captures, &CapturesConfig::max_file_bytes>("captures.max_file_bytes", false),

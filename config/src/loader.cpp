@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "accounts.hpp"
 #include "checks.hpp"
 #include "parse.hpp"
 #include "reader.hpp"
@@ -107,7 +108,21 @@ Errors file_errors(const std::string& path, const FileText& file) {
 // Applies --device, --socket, --log-level and --simulate. parse_command_line()
 // has already checked them; they are checked again because a CommandLine may
 // also be built by code.
+// access.vehicle_uids when the file does not set it: the packaged
+// gport-mavlink's user where it exists, else nobody (but root and gportd's
+// own user, who always may).
+void resolve_vehicle_uids(Config& config) {
+    if (config.access.vehicle_uids) {
+        return;
+    }
+    config.access.vehicle_uids.emplace();
+    if (auto uid = detail::lookup_user(kVehicleUser)) {
+        config.access.vehicle_uids->push_back(*uid);
+    }
+}
+
 Result<Config> apply_command_line(Config config, const CommandLine& command_line) {
+    resolve_vehicle_uids(config);
     std::vector<std::string> errors;
     const auto apply = [&](const std::optional<std::string>& value, std::string_view option,
                            auto check, std::string& target) {

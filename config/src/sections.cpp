@@ -346,6 +346,12 @@ const std::vector<Section>& sections() {
           {"control_gids",
            [](Reader& r, const Json& v, const std::string& p, Config& c) {
                read_ids<gid_t>(r, v, p, "group", lookup_group, c.access.control_gids);
+           }},
+          {"vehicle_uids",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               std::vector<uid_t> uids;
+               read_ids<uid_t>(r, v, p, "user", lookup_user, uids);
+               c.access.vehicle_uids = std::move(uids);
            }}}},
         {"log",
          {{"level",
@@ -464,6 +470,16 @@ const std::vector<Section>& sections() {
                if (auto n = r.number(v, p, 0.1, 1000.0)) {
                    c.camera.max_commands_per_s = *n;
                }
+           }},
+          {"shutter_delay_ms",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               c.camera.shutter_delay =
+                   r.millis(v, p, 0, kMaxShutterDelayMs).value_or(c.camera.shutter_delay);
+           }},
+          {"max_position_age_ms",
+           [](Reader& r, const Json& v, const std::string& p, Config& c) {
+               c.camera.max_position_age =
+                   r.millis(v, p, 100, 10000).value_or(c.camera.max_position_age);
            }}}},
     };
     return kSections;

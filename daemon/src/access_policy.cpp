@@ -7,7 +7,15 @@
 namespace gport::daemon {
 
 AccessPolicy::AccessPolicy(const config::AccessConfig& config)
-    : uids_(config.control_uids), gids_(config.control_gids), self_(::geteuid()) {}
+    : uids_(config.control_uids),
+      gids_(config.control_gids),
+      vehicle_uids_(config.vehicle_uids.value_or(std::vector<uid_t>{})),
+      self_(::geteuid()) {}
+
+bool AccessPolicy::may_publish_vehicle(const ClientInfo& client) const {
+    return client.uid == 0 || client.uid == self_ ||
+           std::find(vehicle_uids_.begin(), vehicle_uids_.end(), client.uid) != vehicle_uids_.end();
+}
 
 bool AccessPolicy::may_command(const ClientInfo& client) const {
     auto [it, inserted] = cache_.try_emplace(client.id, false);

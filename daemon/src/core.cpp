@@ -31,7 +31,8 @@ Core::Core(asio::io_context& io, const config::Config& config, std::shared_ptr<s
       motion_(io, config, link_.port(), log_),
       settings_(
           io, config.requests, [this](const gp::Frame& f) { return link_.send(f); }, log_),
-      camera_(config.camera, log_, [this](const gp::Frame& f) { return link_.send(f); }) {}
+      camera_(config.camera, log_, [this](const gp::Frame& f) { return link_.send(f); }),
+      vehicle_(config.camera) {}
 
 void Core::start() {
     log_->info("gimbal device {} (keepalive {} Hz, stale after {} ms)", config_.serial.device,
@@ -45,6 +46,7 @@ void Core::reload(const config::Config& config) {
     arbiter_.set_policy(AccessPolicy(config.access));
     motion_.reload(config);
     camera_.reload(config.camera);
+    vehicle_.reload(config.camera);
 }
 
 void Core::add_link_listener(std::function<void(const LinkEvent&)> listener) {

@@ -2,12 +2,22 @@
 // control by the Arbiter, then the device), then queues its frame; motion
 // commands go to Motion for both their checks and their frames.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "gport/daemon/core.hpp"
 
 namespace gport::daemon {
 
 namespace gp = gport::protocol;
+
+namespace {
+
+// "1001, 1002", or "none".
+std::string listed(const std::vector<uid_t>& uids) {
+    return uids.empty() ? std::string("none") : fmt::format("{}", fmt::join(uids, ", "));
+}
+
+}  // namespace
 
 // ---- checks and the device -----------------------------------------------------
 
@@ -67,8 +77,21 @@ Outcome<Done> Core::lock(const ClientInfo& client) {
     return admitted(client, [&] { return motion_.lock(client); });
 }
 
-Outcome<Done> Core::photo(const ClientInfo& client) {
-    return admitted(client, [&] { return camera_.photo(client.pid); });
+// The camera frame was queued last: its last byte is due when the line has
+// carried everything queued so far.
+CaptureMoment Core::capture_moment() {
+    CaptureMoment moment;
+    moment.on_wire = link_.port().due_on_wire();
+    moment.instant = moment.on_wire + vehicle_.shutter_delay();
+    moment.vehicle = vehicle_.at(moment.instant);
+    return moment;
+}
+
+Outcome<CaptureMoment> Core::photo(const ClientInfo& client) {
+    if (auto sent = admitted(client, [&] { return camera_.photo(client.pid); }); !sent) {
+        return sent.error();
+    }
+    return capture_moment();
 }
 
 // The recording state is CameraGate's (assumed: the protocol cannot read it).
@@ -76,7 +99,32 @@ Outcome<RecordResult> Core::record(const ClientInfo& client, RecordRequest reque
     if (auto invalid = camera_.check_record(request)) {
         return std::move(*invalid);
     }
-    return admitted(client, [&] { return camera_.record(request, client.pid); });
+    auto result = admitted(client, [&] { return camera_.record(request, client.pid); });
+    if (result && result->sent) {
+        result->moment = capture_moment();
+    }
+    return result;
+}
+
+// Values, then who may publish, then the track's own order and source.
+Outcome<Done> Core::publish_vehicle(const ClientInfo& client, const VehicleReport& report) {
+    if (auto invalid = VehicleTrack::check(report)) {
+        vehicle_.refused();
+        return std::move(*invalid);
+    }
+    if (!arbiter_.policy().may_publish_vehicle(client)) {
+        vehicle_.refused();
+        return CommandError{
+            ErrorCode::kPermission,
+            fmt::format("permission denied: uid {} may not publish the vehicle's state (it stamps "
+                        "every capture); allowed: root, gportd's own user and "
+                        "access.vehicle_uids ({})",
+                        client.uid, listed(arbiter_.policy().vehicle_uids()))};
+    }
+    if (auto refused = vehicle_.publish(client, report, std::chrono::steady_clock::now())) {
+        return std::move(*refused);
+    }
+    return Done{};
 }
 
 // ---- control -------------------------------------------------------------------
@@ -118,6 +166,7 @@ void Core::client_gone(const ClientInfo& client) {
 
 void Core::client_closed(const ClientInfo& client) {
     settings_.forget(client.id);
+    vehicle_.client_closed(client);
     arbiter_.forget(client);
 }
 

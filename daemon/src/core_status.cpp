@@ -20,6 +20,7 @@ Status Core::status() const {
     s.controller = arbiter_.holder();
     s.recording = camera_.recording();
     s.camera = camera_.status();
+    s.vehicle = vehicle_.status(now);
     return s;
 }
 

@@ -171,6 +171,14 @@ bool SerialPort::send(const protocol::Frame& frame, FrameKind kind) {
     return true;
 }
 
+std::chrono::steady_clock::time_point SerialPort::due_on_wire() {
+    const auto now = std::chrono::steady_clock::now();
+    if (!port_.is_open()) {
+        return now;
+    }
+    return now + line_ahead(now) + static_cast<long>(queue_.bytes()) * byte_time_;
+}
+
 std::chrono::steady_clock::duration SerialPort::line_ahead(
     std::chrono::steady_clock::time_point now) {
     auto ahead = std::max(line_free_at_ - now, std::chrono::steady_clock::duration::zero());

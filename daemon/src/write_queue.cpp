@@ -51,6 +51,14 @@ WriteQueue::Entry WriteQueue::pop() {
     return e;
 }
 
+std::size_t WriteQueue::bytes() const {
+    std::size_t total = 0;
+    for (const auto& entry : entries_) {
+        total += entry.frame.bytes().size();
+    }
+    return total;
+}
+
 bool WriteQueue::holds_stop() const {
     return !entries_.empty() && entries_.front().kind == FrameKind::kStop;
 }

@@ -92,6 +92,13 @@ std::variant<CaptureLog::Prepared, std::string> CaptureLog::prepare(const json& 
     return Prepared{std::move(text)};
 }
 
+void CaptureLog::Prepared::append(std::string_view key, const json& value) {
+    body += body.empty() ? "" : ",";
+    body += json_text(json(key));
+    body += ':';
+    body += json_text(value);
+}
+
 CaptureLog::Stored CaptureLog::add(Prepared prepared, std::string_view kind) {
     const auto index = next_index_++;
     // kind is one of gportd's own words: no escaping needed.

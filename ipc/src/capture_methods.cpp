@@ -8,6 +8,7 @@
 
 #include "json_common.hpp"
 #include "params.hpp"
+#include "vehicle_json.hpp"
 
 namespace gport::ipc::detail {
 namespace {
@@ -69,8 +70,18 @@ std::optional<Pending> prepare(MethodContext& c, const json* meta, const Respond
                    {{"utc_us", capture["utc_us"]}, {"attitude", capture["attitude"]}}};
 }
 
+// The frame went: when it is due on the line, the instant stamped (that plus
+// camera.shutter_delay_ms) on the clock of mono_us, and the vehicle then.
+void add_moment(Pending& pending, const daemon::CaptureMoment& moment) {
+    pending.prepared.append("line_mono_us", micros(moment.on_wire.time_since_epoch()));
+    pending.prepared.append("shutter_mono_us", micros(moment.instant.time_since_epoch()));
+    auto vehicle = vehicle_stamp_json(moment.vehicle);
+    pending.summary["vehicle"] = vehicle;
+    pending.prepared.append("vehicle", vehicle);
+}
+
 // Gives the capture its index and returns the summary the reply carries:
-// index, utc_us, kind and the attitude logged with it.
+// index, utc_us, kind, the attitude logged with it and the vehicle.
 json take(MethodContext& c, Pending pending, std::string_view kind) {
     const auto stored = c.captures.add(std::move(pending.prepared), kind);
     json summary = std::move(pending.summary);
@@ -130,6 +141,7 @@ void photo(MethodContext& c, const json& params, Respond respond) {
         respond(Reply::error(outcome.error().code, outcome.error().message));
         return;
     }
+    add_moment(*prepared, *outcome);
     respond(json{{"sent", true}, {"capture", take(c, std::move(*prepared), "photo")}});
 }
 
@@ -153,6 +165,9 @@ void record(MethodContext& c, const json& params, Respond respond) {
     }
     json result{{"sent", outcome->sent}, {"recording", daemon::to_string(outcome->recording)}};
     if (outcome->sent) {
+        if (outcome->moment) {
+            add_moment(*prepared, *outcome->moment);
+        }
         result["capture"] = take(c, std::move(*prepared), record_kind(outcome->recording));
     }
     respond(std::move(result));

@@ -17,6 +17,7 @@
 #include "json_common.hpp"
 #include "params.hpp"
 #include "result_json.hpp"
+#include "vehicle_json.hpp"
 
 namespace gport::ipc::detail {
 namespace {
@@ -339,6 +340,7 @@ constexpr std::array kMethods{
     Entry{"get_settings", get_settings},
     Entry{"set_settings", set_settings},
     Entry{"limits", limits},
+    Entry{"publish_vehicle", publish_vehicle},
 };
 
 // The table is the contract's list of methods, in its order.

@@ -4,6 +4,7 @@
 #include "gport/contract/names.hpp"
 #include "gport/version.hpp"
 #include "json_common.hpp"
+#include "vehicle_json.hpp"
 
 namespace gport::ipc::detail {
 
@@ -74,6 +75,7 @@ json shared_status_json(const daemon::Status& status, const ServerStats& stats) 
             {"camera",
              {{"max_commands_per_s", status.camera.max_commands_per_s},
               {"refused", status.camera.refused}}},
+            {"vehicle", vehicle_status_json(status.vehicle)},
             {"config_file", stats.config_file ? json(*stats.config_file) : json(nullptr)},
             {"loop",
              {{"worst_request_us", stats.worst_request_us},

@@ -128,8 +128,23 @@ class FakeApi final : public daemon::Api {
     daemon::Outcome<daemon::Done> lock(const daemon::ClientInfo& c) override {
         return command("lock", c);
     }
-    daemon::Outcome<daemon::Done> photo(const daemon::ClientInfo& c) override {
-        return command("photo", c);
+    // What photo and record stamp their captures with.
+    std::optional<daemon::VehicleStamp> vehicle_stamp;
+    daemon::CaptureMoment moment() const {
+        const auto now = std::chrono::steady_clock::now();
+        return daemon::CaptureMoment{now, now, vehicle_stamp};
+    }
+    daemon::Outcome<daemon::CaptureMoment> photo(const daemon::ClientInfo& c) override {
+        if (auto done = command("photo", c); !done) {
+            return done.error();
+        }
+        return moment();
+    }
+    std::vector<daemon::VehicleReport> vehicle_reports;
+    daemon::Outcome<daemon::Done> publish_vehicle(const daemon::ClientInfo& c,
+                                                  const daemon::VehicleReport& report) override {
+        vehicle_reports.push_back(report);
+        return command("publish_vehicle", c);
     }
     // record answers with this (sent, recording) unless `error` is set.
     daemon::RecordResult record_result{true, daemon::RecordingState::kUnknown};
@@ -141,7 +156,11 @@ class FakeApi final : public daemon::Api {
         if (!done) {
             return done.error();
         }
-        return record_result;
+        auto result = record_result;
+        if (result.sent) {
+            result.moment = moment();
+        }
+        return result;
     }
     daemon::Outcome<std::optional<daemon::ClientInfo>> acquire(
         const daemon::ClientInfo& c) override {

@@ -62,7 +62,15 @@ struct AccessConfig {  // "access"
     // daemon's own uid may always command.
     std::vector<uid_t> control_uids;  // "control_uids"
     std::vector<gid_t> control_gids;  // "control_gids"
+    // Peers allowed to publish the vehicle's state (publish_vehicle), which
+    // stamps every capture: a spoofed position is a wrong map. Root and the
+    // daemon's own uid always may. nullopt (the key absent): the user
+    // kVehicleUser when it exists (the package creates it), resolved when
+    // the configuration is loaded (config::load_config); else nobody else.
+    std::optional<std::vector<uid_t>> vehicle_uids;  // "vehicle_uids"
 };
+// The user the packaged gport-mavlink runs as: access.vehicle_uids' default.
+inline constexpr char kVehicleUser[] = "gport-mavlink";
 
 // Real-time scheduling, applied once at start (like chronyd's -P and -m);
 // refusal is a warning, never fatal (docs/configuration.md, "realtime").
@@ -141,8 +149,15 @@ struct CapturesConfig {                      // "captures"
 // Camera commands (docs/configuration.md, "camera"): photo and record
 // toggles reach the camera through the gimbal, which cannot take more than a
 // few a second; a flood would only fill the serial line ahead of a stop.
+//
+// Each capture is stamped with the vehicle's state at the camera frame's
+// instant on the line plus shutter_delay (docs/api.md, "The vehicle"); a
+// position older than max_position_age at that instant leaves it untagged.
+constexpr int kMaxShutterDelayMs = 5000;
 struct CameraConfig {               // "camera"
     double max_commands_per_s = 5;  // "max_commands_per_s": photos and record toggles
+    Millis shutter_delay{0};        // "shutter_delay_ms": 0 to kMaxShutterDelayMs
+    Millis max_position_age{1000};  // "max_position_age_ms": 100 to 10000
 };
 
 struct Config {

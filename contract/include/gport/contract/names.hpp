@@ -39,14 +39,15 @@ inline constexpr char kRelease[] = "release";
 inline constexpr char kGetSettings[] = "get_settings";
 inline constexpr char kSetSettings[] = "set_settings";
 inline constexpr char kLimits[] = "limits";
+inline constexpr char kPublishVehicle[] = "publish_vehicle";
 }  // namespace method
 
-inline constexpr std::array<std::string_view, 18> kMethods{
-    method::kStatus,          method::kAttitude, method::kSubscribe, method::kUnsubscribe,
-    method::kAttitudeChannel, method::kSpeed,    method::kStop,      method::kAngle,
-    method::kCenter,          method::kLock,     method::kPhoto,     method::kRecord,
-    method::kCaptures,        method::kAcquire,  method::kRelease,   method::kGetSettings,
-    method::kSetSettings,     method::kLimits,
+inline constexpr std::array<std::string_view, 19> kMethods{
+    method::kStatus,          method::kAttitude, method::kSubscribe,      method::kUnsubscribe,
+    method::kAttitudeChannel, method::kSpeed,    method::kStop,           method::kAngle,
+    method::kCenter,          method::kLock,     method::kPhoto,          method::kRecord,
+    method::kCaptures,        method::kAcquire,  method::kRelease,        method::kGetSettings,
+    method::kSetSettings,     method::kLimits,   method::kPublishVehicle,
 };
 
 inline constexpr std::string_view kTopicAttitude = "attitude";

@@ -20,6 +20,7 @@
 #include "gport/contract/counters.hpp"
 #include "gport/daemon/events.hpp"
 #include "gport/daemon/outcome.hpp"
+#include "gport/daemon/vehicle.hpp"
 
 namespace gport::daemon {
 
@@ -62,9 +63,20 @@ struct RecordRequest {
     bool force = false;
 };
 
+// When a photo or record toggle took effect, and where the vehicle was:
+// the instant its frame's last byte is due on the line (SerialPort::
+// due_on_wire), plus camera.shutter_delay_ms; the vehicle's state carried
+// to that instant (nullopt: nothing ever published it).
+struct CaptureMoment {
+    SteadyTime on_wire{};
+    SteadyTime instant{};
+    std::optional<VehicleStamp> vehicle;
+};
+
 struct RecordResult {
     bool sent = false;
     RecordingState recording = RecordingState::kUnknown;
+    std::optional<CaptureMoment> moment{};  // when sent
 };
 
 struct SpeedStarted {
@@ -128,6 +140,7 @@ struct Status {
     std::optional<ClientInfo> controller;                 // holder of acquire(), if any
     RecordingState recording = RecordingState::kUnknown;  // assumed, see RecordingState
     CameraStatus camera;
+    std::optional<VehicleStatus> vehicle;  // nullopt: never published nor refused
 };
 
 class Api {
@@ -180,8 +193,14 @@ class Api {
     // names the axes). A tracked motion of mode kCenter either way.
     virtual Outcome<AngleSent> center(const ClientInfo& client, MotionEndCallback on_end = {}) = 0;
     virtual Outcome<Done> lock(const ClientInfo& client) = 0;
-    virtual Outcome<Done> photo(const ClientInfo& client) = 0;
+    virtual Outcome<CaptureMoment> photo(const ClientInfo& client) = 0;
     virtual Outcome<RecordResult> record(const ClientInfo& client, RecordRequest request) = 0;
+
+    // The vehicle's state from a trusted source (access.vehicle_uids, root,
+    // the daemon's user): values checked first (kInvalidParams), then who
+    // publishes (kPermission), then order and source (VehicleTrack).
+    virtual Outcome<Done> publish_vehicle(const ClientInfo& client,
+                                          const VehicleReport& report) = 0;
 
     // Control arbitration: returns the holder after the call.
     virtual Outcome<std::optional<ClientInfo>> acquire(const ClientInfo& client) = 0;

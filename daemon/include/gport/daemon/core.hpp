@@ -24,6 +24,7 @@
 #include "gport/daemon/core/gimbal_link.hpp"
 #include "gport/daemon/core/motion.hpp"
 #include "gport/daemon/core/settings_exchange.hpp"
+#include "gport/daemon/core/vehicle_track.hpp"
 
 namespace gport::daemon {
 
@@ -71,7 +72,8 @@ class Core final : public Api {
                              MotionEndCallback on_end = {}) override;
     Outcome<AngleSent> center(const ClientInfo& client, MotionEndCallback on_end = {}) override;
     Outcome<Done> lock(const ClientInfo& client) override;
-    Outcome<Done> photo(const ClientInfo& client) override;
+    Outcome<CaptureMoment> photo(const ClientInfo& client) override;
+    Outcome<Done> publish_vehicle(const ClientInfo& client, const VehicleReport& report) override;
     Outcome<RecordResult> record(const ClientInfo& client, RecordRequest request) override;
     Outcome<std::optional<ClientInfo>> acquire(const ClientInfo& client) override;
     Outcome<std::optional<ClientInfo>> release(const ClientInfo& client) override;
@@ -95,6 +97,9 @@ class Core final : public Api {
         return command();
     }
 
+    // The moment of the camera frame just queued (core_commands.cpp).
+    CaptureMoment capture_moment();
+
     // ---- events (core.cpp) ----
     void on_attitude(const protocol::Attitude& attitude, SteadyTime now, WallTime wall);
     void on_link(const LinkEvent& event);
@@ -111,6 +116,7 @@ class Core final : public Api {
     SettingsExchange settings_;
     std::uint64_t seq_ = 0;
     CameraGate camera_;
+    VehicleTrack vehicle_;
 };
 
 }  // namespace gport::daemon

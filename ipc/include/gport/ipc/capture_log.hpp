@@ -73,6 +73,8 @@ class CaptureLog {
     // A capture built but not yet given an index (prepare()).
     struct Prepared {
         std::string body;  // the capture's members, serialized, without braces
+        // Adds a member known only once the frame is sent (its moment).
+        void append(std::string_view key, const nlohmann::json& value);
     };
 
     explicit CaptureLog(std::size_t kept = kKept) : kept_(kept) {}

@@ -22,6 +22,11 @@ class AccessPolicy {
     explicit AccessPolicy(const config::AccessConfig& config);
 
     bool may_command(const ClientInfo& client) const;
+    // Whether the client may publish the vehicle's state: root, the
+    // daemon's own user, or a uid in access.vehicle_uids (no groups: the
+    // source is one service's user).
+    bool may_publish_vehicle(const ClientInfo& client) const;
+    const std::vector<uid_t>& vehicle_uids() const { return vehicle_uids_; }
     void forget(const ClientInfo& client) { cache_.erase(client.id); }
 
   private:
@@ -30,6 +35,7 @@ class AccessPolicy {
 
     std::vector<uid_t> uids_;
     std::vector<gid_t> gids_;
+    std::vector<uid_t> vehicle_uids_;
     uid_t self_;
     mutable std::unordered_map<std::uint64_t, bool> cache_;  // per connection
 };

@@ -42,6 +42,7 @@ class Arbiter {
     void set_policy(AccessPolicy policy) { policy_ = std::move(policy); }
 
     bool may_command(const ClientInfo& client) const { return policy_.may_command(client); }
+    const AccessPolicy& policy() const { return policy_; }
     const std::optional<ClientInfo>& holder() const { return holder_; }
 
     // The checks, in the order above; the first that fails is the answer.

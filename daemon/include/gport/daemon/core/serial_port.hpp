@@ -83,6 +83,12 @@ class SerialPort {
     // port's own), when every queued frame is written, the device is
     // closed, or `limit` passed: a shutdown's bounded wait for its stop.
     void drain(std::chrono::milliseconds limit, std::function<void()> done);
+    // When the last byte of the frames queued so far is due on the wire, by
+    // the account that paces the writes (the kernel's buffer, gportd's
+    // queue, 10 bits a byte): right after send(), the instant that frame's
+    // last byte leaves. A stop sent later goes ahead of a waiting frame and
+    // moves it by one 0x85 frame at most (1.9 ms at 115200 baud).
+    std::chrono::steady_clock::time_point due_on_wire();
 
   private:
     void try_open();

@@ -34,6 +34,8 @@ class WriteQueue {
     // False only for an kOther frame over the cap (counted as refused).
     bool push(const protocol::Frame& frame, FrameKind kind);
     bool empty() const { return entries_.empty(); }
+    // The bytes of every waiting frame.
+    std::size_t bytes() const;
     Entry pop();
     bool holds_stop() const;
     void clear();
