@@ -299,6 +299,44 @@ def test_a_silent_daemon_gives_a_timeout_and_the_connection_stays(
         assert client.call("photo") == {"sent": True}
 
 
+def test_a_result_that_does_not_decode_is_an_error_and_the_connection_stays(
+    hostile: Callable[..., Hostile],
+) -> None:
+    def script(peer: Hostile, request: Any) -> None:
+        results = {"status": {"daemon_version": 1}, "limits": {"roll": 5}, "photo": {"sent": True}}
+        peer.reply(request, results[request["method"]])
+
+    server = hostile(script)
+    with gport.Client(server.path, timeout=PATIENT) as client:
+        with pytest.raises(gport.GportError) as raised:
+            client.status()
+        assert raised.value.code is None
+        assert raised.value.message == (
+            "the daemon sent a status result this client cannot read (KeyError('api_version'))"
+        )
+        with pytest.raises(gport.GportError, match="a limits result this client cannot read"):
+            client.limits()
+        assert client.connected and client.photo().sent
+
+
+def test_async_a_result_that_does_not_decode_is_an_error_and_the_connection_stays(
+    hostile: Callable[..., Hostile],
+) -> None:
+    def script(peer: Hostile, request: Any) -> None:
+        results = {"settings": {"dead_zone": "wide"}, "photo": {"sent": True}}
+        peer.reply(request, results.get(request["method"], results["settings"]))
+
+    server = hostile(script)
+
+    async def main() -> None:
+        async with gport.AsyncClient(server.path, timeout=PATIENT) as client:
+            with pytest.raises(gport.GportError, match="a get_settings result this client cannot"):
+                await client.settings()
+            assert client.connected and (await client.photo()).sent
+
+    asyncio.run(main())
+
+
 def attitude(seq: int) -> dict[str, Any]:
     """An attitude notification as gportd sends it."""
     axes = {"roll": 0.5, "pitch": -2.25, "yaw": 44.75}

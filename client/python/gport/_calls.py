@@ -13,7 +13,7 @@ from typing import Any, Callable, Generic, Iterable, Mapping, TypeVar
 
 from . import _protocol as p
 from . import results as r
-from .errors import ConnectionLost, Timeout
+from .errors import ConnectionLost, GportError, Timeout
 
 T = TypeVar("T")
 
@@ -36,6 +36,18 @@ class Call(Generic[T]):
         """Seconds to wait for the reply: the client's ``timeout``, plus
         WAIT_ALLOWANCE with wait=True; None: no limit."""
         return p.reply_limit(timeout, self.wait)
+
+    def read(self, result: Any) -> T:
+        """The result, parsed. One this client cannot read (a member missing
+        or of the wrong type) raises GportError naming the method and why;
+        the connection stays (the line itself was sound)."""
+        try:
+            return self.parse(result)
+        except (KeyError, TypeError, ValueError, AttributeError, OverflowError) as error:
+            raise GportError(
+                f"the daemon sent a {self.method} result this client cannot read "
+                f"({p.short(repr(error))})"
+            ) from None
 
 
 # The methods without params.

@@ -38,7 +38,7 @@ NESTING_LIMIT = 64
 # Seconds added to the timeout of calls with wait=True, whose reply comes when
 # the motion ends: gportd ends it by motion.timeout_ms, at most 600 s.
 WAIT_ALLOWANCE = 600.0
-# How much of a decoder's message a ConnectionLost quotes.
+# How much of a decoder's message an error quotes (ConnectionLost, a result not read).
 _DETAIL_CHARS = 200
 
 
@@ -51,7 +51,7 @@ class BadLine(Exception):
         super().__init__(self.reason)
 
 
-def _short(detail: object) -> str:
+def short(detail: object) -> str:
     text = str(detail)
     return text if len(text) <= _DETAIL_CHARS else text[:_DETAIL_CHARS] + "..."
 
@@ -232,7 +232,7 @@ def decode(line: bytes) -> Message:
     except RecursionError:
         raise BadLine("a line nested too deeply for the JSON decoder (RecursionError)") from None
     except ValueError as error:
-        raise BadLine(f"a line that is not JSON ({_short(error)})") from None
+        raise BadLine(f"a line that is not JSON ({short(error)})") from None
     if not isinstance(message, dict):
         raise BadLine(f"a line that is not a JSON object ({type(message).__name__})")
     if "method" in message:
@@ -251,7 +251,7 @@ def _notification(message: dict[str, Any], size: int) -> Pushed | None:
     try:
         item = parse_notification(method, params)
     except (KeyError, TypeError, ValueError, AttributeError, OverflowError) as error:
-        raise BadLine(f"a {method} notification this client cannot read ({_short(repr(error))})")
+        raise BadLine(f"a {method} notification this client cannot read ({short(repr(error))})")
     assert item is not None  # every topic of TOPICS parses
     return Pushed(method, item, size)
 

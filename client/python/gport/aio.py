@@ -207,7 +207,7 @@ class AsyncClient:
 
     async def _run(self, call: c.Call[T]) -> T:
         """One method of the API: its request, its result read."""
-        return call.parse(await self.call(call.method, call.params, call.limit(self.timeout)))
+        return call.read(await self.call(call.method, call.params, call.limit(self.timeout)))
 
     async def _request(
         self, method: str, params: Mapping[str, Any] | None, limit: float | None

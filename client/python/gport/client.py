@@ -206,7 +206,7 @@ class Client:
 
     def _run(self, call: c.Call[T]) -> T:
         """One method of the API: its request, its result read."""
-        return call.parse(self.call(call.method, call.params, call.limit(self.timeout)))
+        return call.read(self.call(call.method, call.params, call.limit(self.timeout)))
 
     def _send(self, method: str, params: Mapping[str, Any] | None, limit: float | None) -> int:
         with self._cond:

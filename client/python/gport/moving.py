@@ -35,7 +35,7 @@ class Movement:
 
     def __init__(self, client: Caller, first: Call[SpeedResult]) -> None:
         self._client = client
-        self._parse = first.parse
+        self._parse = first.read
         self._params = dict(first.params or {})
         self._lock = threading.Lock()
         self._stop = threading.Event()
@@ -104,7 +104,7 @@ class AsyncMovement:
 
     def __init__(self, client: AsyncCaller, first: Call[SpeedResult]) -> None:
         self._client = client
-        self._parse = first.parse
+        self._parse = first.read
         self._params = dict(first.params or {})
         self._task: asyncio.Task[None] | None = None
         self._deadline: float | None = None
