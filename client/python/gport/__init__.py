@@ -41,6 +41,7 @@ from .results import (
     CaptureAttitude,
     CaptureClient,
     Captures,
+    CaptureVehicle,
     CenterResult,
     Control,
     Counters,
@@ -61,6 +62,9 @@ from .results import (
     Subscription,
     AxisRange,
     Limits,
+    VehiclePosition,
+    VehicleStatus,
+    VehicleTime,
 )
 
 # The project's version (CMakeLists.txt project()); tests/python checks they agree.
@@ -84,6 +88,7 @@ __all__ = [
     "CaptureAttitude",
     "CaptureClient",
     "Captures",
+    "CaptureVehicle",
     "CenterResult",
     "Client",
     "ConnectionLost",
@@ -120,4 +125,7 @@ __all__ = [
     "Timeout",
     "TooManyRequests",
     "ConfigInvalid",
+    "VehiclePosition",
+    "VehicleStatus",
+    "VehicleTime",
 ]

@@ -11,6 +11,7 @@ import time
 from dataclasses import dataclass
 from typing import Any, Callable, Generic, Iterable, Mapping, TypeVar
 
+from . import _checks as check
 from . import _protocol as p
 from . import results as r
 from .errors import ConnectionLost, GportError, Timeout
@@ -117,6 +118,48 @@ def _with_meta(params: dict[str, Any], meta: Mapping[str, Any] | None) -> dict[s
 
 def captures(since: int | None, limit: int | None) -> Call[r.Captures]:
     return Call("captures", p.drop_none(since=since, limit=limit), r.parse_captures)
+
+
+def publish_vehicle(position: r.VehiclePosition | None, when: r.VehicleTime | None) -> Call[None]:
+    """The vehicle's state for gportd to stamp captures with (``when``: the
+    ``time`` part). The types are checked here (ValueError naming the member
+    before anything is sent), the ranges by gportd (InvalidParams)."""
+    if position is None and when is None:
+        raise ValueError("publish_vehicle needs position, time or both")
+    params: dict[str, Any] = {}
+    if position is not None:
+        params["position"] = _position_json(position)
+    if when is not None:
+        if not isinstance(when, r.VehicleTime):
+            raise ValueError(f"time must be a gport.VehicleTime, not {type(when).__name__}")
+        params["time"] = {
+            "boot_ms": check.integer(when.boot_ms, "time.boot_ms"),
+            "utc_us": check.integer(when.utc_us, "time.utc_us"),
+        }
+    return Call("publish_vehicle", params, _nothing)
+
+
+def _position_json(position: r.VehiclePosition) -> dict[str, Any]:
+    if not isinstance(position, r.VehiclePosition):
+        raise ValueError(f"position must be a gport.VehiclePosition, not {type(position).__name__}")
+
+    def optional(name: str) -> float | None:
+        return check.optional_number(getattr(position, name), f"position.{name}")
+
+    return p.drop_none(
+        boot_ms=check.integer(position.boot_ms, "position.boot_ms"),
+        lat=check.number(position.lat, "position.lat"),
+        lon=check.number(position.lon, "position.lon"),
+        alt_msl_m=check.number(position.alt_msl_m, "position.alt_msl_m"),
+        alt_rel_m=optional("alt_rel_m"),
+        velocity_ned=list(check.triple(position.velocity_ned, "position.velocity_ned")),
+        heading_deg=optional("heading_deg"),
+        yaw_rate_dps=optional("yaw_rate_dps"),
+        fix=check.optional_integer(position.fix, "position.fix"),
+        h_acc_m=optional("h_acc_m"),
+        v_acc_m=optional("v_acc_m"),
+        satellites=check.optional_integer(position.satellites, "position.satellites"),
+    )
 
 
 def set_settings(

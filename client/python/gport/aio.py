@@ -29,6 +29,8 @@ from .results import (
     SpeedResult,
     Status,
     Subscription,
+    VehiclePosition,
+    VehicleTime,
 )
 
 _DEFAULT: Any = object()
@@ -330,6 +332,14 @@ class AsyncClient:
     async def captures(self, since: int | None = None, limit: int | None = None) -> Captures:
         """The captures gportd kept from index ``since`` on, oldest first."""
         return await self._run(c.captures(since, limit))
+
+    async def publish_vehicle(
+        self, *, position: VehiclePosition | None = None, time: VehicleTime | None = None
+    ) -> None:
+        """Publishes the vehicle's state, which gportd stamps every capture
+        with (only its trusted source may: access.vehicle_uids). ValueError
+        before sending for neither part or a member of the wrong type."""
+        await self._run(c.publish_vehicle(position, time))
 
     async def acquire(self) -> Control:
         return await self._run(c.ACQUIRE)

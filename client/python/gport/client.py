@@ -28,6 +28,8 @@ from .results import (
     SpeedResult,
     Status,
     Subscription,
+    VehiclePosition,
+    VehicleTime,
 )
 
 _DEFAULT: Any = object()  # "the client's timeout", distinct from None (no limit)
@@ -337,6 +339,14 @@ class Client:
     def captures(self, since: int | None = None, limit: int | None = None) -> Captures:
         """The captures gportd kept from index ``since`` on, oldest first."""
         return self._run(c.captures(since, limit))
+
+    def publish_vehicle(
+        self, *, position: VehiclePosition | None = None, time: VehicleTime | None = None
+    ) -> None:
+        """Publishes the vehicle's state, which gportd stamps every capture
+        with (only its trusted source may: access.vehicle_uids). ValueError
+        before sending for neither part or a member of the wrong type."""
+        self._run(c.publish_vehicle(position, time))
 
     def acquire(self) -> Control:
         return self._run(c.ACQUIRE)

@@ -64,7 +64,8 @@ class LinkDown(GportError):
 
 
 class PermissionDenied(GportError):
-    """-32001: this peer may only read (``access.control_uids/gids``)."""
+    """-32001: this peer may only read (``access.control_uids/gids``), or may
+    not publish the vehicle's state (``access.vehicle_uids``)."""
 
     code = -32001
 
@@ -76,7 +77,7 @@ class NotAnswering(GportError):
 
 
 class Busy(GportError):
-    """-32003: another client holds control."""
+    """-32003: another client holds control (or publishes the vehicle's state)."""
 
     code = -32003
 

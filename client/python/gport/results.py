@@ -2,13 +2,17 @@
 
 Each ``parse_*`` function takes the decoded ``result`` (or notification
 ``params``) and returns the dataclass; members a newer daemon adds are kept
-in ``raw`` where a type has it, so nothing is lost.
+in ``raw`` where a type has it, so nothing is lost. Also here: what
+``publish_vehicle`` takes (VehiclePosition, VehicleTime), the position being
+what ``status`` shows of the newest one too.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
 from typing import Any, Mapping, Union
+
+from . import _checks as check
 
 Json = Mapping[str, Any]
 
@@ -137,6 +141,7 @@ class Status:
     raw: Json = field(default_factory=dict, compare=False, repr=False)
     device_error: str | None = None  # closed: why the last open failed
     attitude_channel_clients: int = 0  # connected clients that opened the channel
+    vehicle: VehicleStatus | None = None  # None: nothing published (or an older gportd)
 
 
 @dataclass(frozen=True)
@@ -200,11 +205,84 @@ class CaptureClient:
 
 
 @dataclass(frozen=True)
+class VehiclePosition:
+    """A position of the vehicle at the autopilot's boot time ``boot_ms``
+    (MAVLink time_boot_ms): what ``publish_vehicle`` sends, and the newest
+    one taken in ``status().vehicle``. Degrees (WGS84), metres, m/s;
+    ``heading_deg`` 0 to 360, ``yaw_rate_dps`` clockwise seen from above
+    (``status`` does not show it), ``fix`` MAVLink's GPS_FIX_TYPE,
+    ``h_acc_m``/``v_acc_m`` 1-sigma. None: not known (not sent)."""
+
+    boot_ms: int
+    lat: float
+    lon: float
+    alt_msl_m: float
+    velocity_ned: tuple[float, float, float]  # north, east, down
+    alt_rel_m: float | None = None
+    heading_deg: float | None = None
+    yaw_rate_dps: float | None = None
+    fix: int | None = None
+    h_acc_m: float | None = None
+    v_acc_m: float | None = None
+    satellites: int | None = None
+
+
+@dataclass(frozen=True)
+class VehicleTime:
+    """The autopilot's UTC (MAVLink SYSTEM_TIME) at its boot time ``boot_ms``:
+    ``utc_us`` is time_unix_usec (gportd refuses 0, sent before GPS time)."""
+
+    boot_ms: int
+    utc_us: int
+
+
+@dataclass(frozen=True)
+class CaptureVehicle:
+    """The vehicle at a capture's instant, as gportd stamped it: ``tagged``
+    with the newest position carried to the instant by its velocity
+    (``age_ms`` old there; the accuracies grown by that age), or untagged
+    and ``why``. ``utc_us``: the autopilot's UTC at the instant (None: no
+    time published). The position's members are None when untagged."""
+
+    tagged: bool
+    why: str = ""  # untagged: why ("no 3D GPS fix (GPS_FIX_TYPE 1)", ...)
+    utc_us: int | None = None
+    lat: float | None = None
+    lon: float | None = None
+    alt_msl_m: float | None = None
+    alt_rel_m: float | None = None
+    velocity_ned: tuple[float, float, float] | None = None
+    heading_deg: float | None = None
+    h_acc_m: float | None = None
+    v_acc_m: float | None = None
+    fix: int | None = None
+    satellites: int | None = None
+    age_ms: int | None = None
+
+
+@dataclass(frozen=True)
+class VehicleStatus:
+    """``status().vehicle``: who publishes the vehicle's state (None: no
+    source now), the newest position taken and its age, whether the
+    autopilot's UTC is known and how old its newest time is, and the
+    reports published, refused and the autopilot's reboots seen."""
+
+    source: Peer | None = None
+    position: VehiclePosition | None = None
+    position_age_ms: int | None = None
+    utc_known: bool = False
+    time_age_ms: int | None = None
+    published: int = 0
+    refused: int = 0
+    resets: int = 0
+
+
+@dataclass(frozen=True)
 class Capture:
     """A photo or record toggle that reached the wire, as gportd's capture log
     keeps it (docs/api.md, "Captures"). The ``photo`` and ``record`` replies
-    carry ``index``, ``kind``, ``utc_us`` and ``attitude`` only; ``captures()`` and the
-    ``capture`` notification carry everything."""
+    carry ``index``, ``kind``, ``utc_us``, ``attitude`` and ``vehicle`` only;
+    ``captures()`` and the ``capture`` notification carry everything."""
 
     index: int
     kind: str  # photo, record_start, record_stop or record_toggle
@@ -214,6 +292,11 @@ class Capture:
     client: CaptureClient | None = None
     meta: Json | None = None  # the ``meta`` object sent with the command
     raw: Json = field(default_factory=dict, compare=False, repr=False)
+    # When the frame's last byte was due on the line, and that plus
+    # camera.shutter_delay_ms: the instant stamped (clock of mono_us).
+    line_mono_us: int | None = None
+    shutter_mono_us: int | None = None
+    vehicle: CaptureVehicle | None = None  # None: nothing ever published the vehicle
 
 
 @dataclass(frozen=True)
@@ -409,6 +492,58 @@ def parse_status(raw: Json) -> Status:
         raw=raw,
         device_error=_optional_str(raw.get("device_error")),
         attitude_channel_clients=int(raw.get("attitude_channel_clients", 0)),
+        vehicle=_vehicle_status(raw.get("vehicle")),
+    )
+
+
+def _vehicle_position(raw: Any, where: str) -> VehiclePosition | None:
+    if raw is None:
+        return None
+    position = check.mapping(raw, where)
+
+    def number(name: str) -> float:
+        return check.number(position.get(name), f"{where}.{name}")
+
+    def optional(name: str) -> float | None:
+        return check.optional_number(position.get(name), f"{where}.{name}")
+
+    return VehiclePosition(
+        boot_ms=check.integer(position.get("boot_ms"), f"{where}.boot_ms"),
+        lat=number("lat"),
+        lon=number("lon"),
+        alt_msl_m=number("alt_msl_m"),
+        velocity_ned=check.triple(position.get("velocity_ned"), f"{where}.velocity_ned"),
+        alt_rel_m=optional("alt_rel_m"),
+        heading_deg=optional("heading_deg"),
+        yaw_rate_dps=optional("yaw_rate_dps"),
+        fix=check.optional_integer(position.get("fix"), f"{where}.fix"),
+        h_acc_m=optional("h_acc_m"),
+        v_acc_m=optional("v_acc_m"),
+        satellites=check.optional_integer(position.get("satellites"), f"{where}.satellites"),
+    )
+
+
+def _vehicle_status(raw: Any) -> VehicleStatus | None:
+    if raw is None:
+        return None
+    vehicle = check.mapping(raw, "vehicle")
+    source = vehicle.get("source")
+
+    def count(name: str) -> int:
+        return check.integer(vehicle.get(name, 0), f"vehicle.{name}")
+
+    def age(name: str) -> int | None:
+        return check.optional_integer(vehicle.get(name), f"vehicle.{name}")
+
+    return VehicleStatus(
+        source=None if source is None else _peer(check.mapping(source, "vehicle.source")),
+        position=_vehicle_position(vehicle.get("position"), "vehicle.position"),
+        position_age_ms=age("position_age_ms"),
+        utc_known=check.flag(vehicle.get("utc_known", False), "vehicle.utc_known"),
+        time_age_ms=age("time_age_ms"),
+        published=count("published"),
+        refused=count("refused"),
+        resets=count("resets"),
     )
 
 
@@ -486,6 +621,41 @@ def parse_capture(raw: Json) -> Capture:
         else CaptureClient(int(client["pid"]), int(client["uid"]), _optional_str(client.get("name"))),
         meta=None if meta is None else dict(meta),
         raw=raw,
+        line_mono_us=check.optional_integer(raw.get("line_mono_us"), "line_mono_us"),
+        shutter_mono_us=check.optional_integer(raw.get("shutter_mono_us"), "shutter_mono_us"),
+        vehicle=_capture_vehicle(raw.get("vehicle")),
+    )
+
+
+def _capture_vehicle(raw: Any) -> CaptureVehicle | None:
+    """A capture's ``vehicle``: null, or an object with ``tagged``; every
+    other member may be missing (None)."""
+    if raw is None:
+        return None
+    vehicle = check.mapping(raw, "vehicle")
+
+    def optional(name: str) -> float | None:
+        return check.optional_number(vehicle.get(name), f"vehicle.{name}")
+
+    def optional_integer(name: str) -> int | None:
+        return check.optional_integer(vehicle.get(name), f"vehicle.{name}")
+
+    why, velocity = vehicle.get("why"), vehicle.get("velocity_ned")
+    return CaptureVehicle(
+        tagged=check.flag(vehicle.get("tagged"), "vehicle.tagged"),
+        why="" if why is None else check.text(why, "vehicle.why"),
+        utc_us=optional_integer("utc_us"),
+        lat=optional("lat"),
+        lon=optional("lon"),
+        alt_msl_m=optional("alt_msl_m"),
+        alt_rel_m=optional("alt_rel_m"),
+        velocity_ned=None if velocity is None else check.triple(velocity, "vehicle.velocity_ned"),
+        heading_deg=optional("heading_deg"),
+        h_acc_m=optional("h_acc_m"),
+        v_acc_m=optional("v_acc_m"),
+        fix=optional_integer("fix"),
+        satellites=optional_integer("satellites"),
+        age_ms=optional_integer("age_ms"),
     )
 
 
