@@ -490,6 +490,11 @@ void AsyncClient::async_lock(Handler<Done> handler) {
     impl_->call(contract::method::kLock, json::object(), typed(std::move(handler), done));
 }
 
+void AsyncClient::async_publish_vehicle(const VehicleReport& report, Handler<Done> handler) {
+    impl_->call(contract::method::kPublishVehicle, codec::vehicle_params(report),
+                typed(std::move(handler), done));
+}
+
 void AsyncClient::async_photo(Handler<Done> handler) {
     impl_->call(contract::method::kPhoto, json::object(), typed(std::move(handler), done));
 }

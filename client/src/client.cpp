@@ -283,6 +283,10 @@ CenterResult Client::center(const CenterOptions& options) {
 void Client::lock() {
     impl().call(contract::method::kLock);
 }
+void Client::publish_vehicle(const VehicleReport& report) {
+    impl().call(contract::method::kPublishVehicle, codec::vehicle_params(report));
+}
+
 void Client::photo() {
     impl().call(contract::method::kPhoto);
 }

@@ -22,6 +22,7 @@ json speed_params(const Axes& speed, const SpeedOptions& options);
 json angle_params(const Axes& target, const AngleOptions& options);
 json center_params(const CenterOptions& options);
 json record_params(std::optional<bool> on, bool force);
+json vehicle_params(const VehicleReport& report);
 // Adds options.meta to params as `meta`; the Error (kInvalidParams) when it
 // is not the text of a JSON object.
 std::optional<Error> add_meta(json& params, const CaptureOptions& options);
@@ -57,6 +58,7 @@ Subscription subscription(const json& result);
 json captures_params(std::uint64_t since, std::optional<std::uint32_t> limit);
 CapturesPage captures_page(const json& result, std::uint64_t since);
 CaptureEntry capture_entry(const json& capture);
+CaptureStamp capture_stamp(const json& capture);
 // A "capture" notification's entry; empty for any other message.
 std::optional<CaptureEntry> capture_notification(const json& message);
 

@@ -56,6 +56,40 @@ json record_params(std::optional<bool> on, bool force) {
     return params;
 }
 
+namespace {
+
+template <typename T>
+void put(json& object, const char* name, const std::optional<T>& value) {
+    if (value) {
+        object[name] = *value;
+    }
+}
+
+}  // namespace
+
+json vehicle_params(const VehicleReport& report) {
+    json params = json::object();
+    if (const auto& p = report.position) {
+        json position = {{"boot_ms", p->boot_ms},
+                         {"lat", p->lat},
+                         {"lon", p->lon},
+                         {"alt_msl_m", p->alt_msl_m},
+                         {"velocity_ned", p->velocity_ned}};
+        put(position, "alt_rel_m", p->alt_rel_m);
+        put(position, "heading_deg", p->heading_deg);
+        put(position, "yaw_rate_dps", p->yaw_rate_dps);
+        put(position, "fix", p->fix);
+        put(position, "h_acc_m", p->h_acc_m);
+        put(position, "v_acc_m", p->v_acc_m);
+        put(position, "satellites", p->satellites);
+        params["position"] = std::move(position);
+    }
+    if (const auto& t = report.time) {
+        params["time"] = {{"boot_ms", t->boot_ms}, {"utc_us", t->utc_us}};
+    }
+    return params;
+}
+
 std::optional<Error> add_meta(json& params, const CaptureOptions& options) {
     if (options.meta.empty()) {
         return std::nullopt;

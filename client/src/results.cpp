@@ -62,6 +62,10 @@ Subscription subscription_from_json(std::string_view result) {
     return codec::subscription(parsed(result, "subscribe result"));
 }
 
+CaptureStamp capture_stamp_from_json(std::string_view capture) {
+    return codec::capture_stamp(parsed(capture, "capture"));
+}
+
 std::optional<Notification> notification_from_json(std::string_view message) {
     const auto value = parsed(message, "notification");
     if (!value.is_object()) {

@@ -78,6 +78,9 @@ class GPORT_CLIENT_API AsyncClient {
     // `more`.
     void async_captures(std::uint64_t since, std::optional<std::uint32_t> limit,
                         Handler<CapturesPage> handler);
+    // The vehicle's state for gportd to stamp captures with (1.10.0); only a
+    // trusted source may (kPermission otherwise; docs/api.md, "The vehicle").
+    void async_publish_vehicle(const VehicleReport& report, Handler<Done> handler);
     void async_acquire(Handler<Control> handler);
     void async_release(Handler<Control> handler);
     void async_settings(Handler<Settings> handler);

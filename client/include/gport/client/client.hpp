@@ -86,6 +86,9 @@ class GPORT_CLIENT_API Client {
     // `more`.
     CapturesPage captures(std::uint64_t since = 0,
                           std::optional<std::uint32_t> limit = std::nullopt);
+    // The vehicle's state for gportd to stamp captures with (1.10.0; only a
+    // trusted source may: kPermission otherwise).
+    void publish_vehicle(const VehicleReport& report);
     Control acquire();
     Control release();
     Settings settings();

@@ -6,6 +6,7 @@
 // reordering a member changes it and bumps the SONAME (libgport-client.so.N).
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <optional>
@@ -266,5 +267,63 @@ struct MotionEvent {
 };
 
 using Notification = std::variant<AttitudeSample, LinkEvent, MotionEvent>;
+
+// publish_vehicle's report (1.10.0; docs/api.md, "The vehicle"): a position
+// at the autopilot's boot time, its UTC (SYSTEM_TIME), or both. Only a
+// trusted source may publish (gportd's access.vehicle_uids).
+struct VehiclePosition {
+    std::uint32_t boot_ms = 0;  // the autopilot's boot time of the sample
+    double lat = 0;             // degrees, WGS84
+    double lon = 0;
+    double alt_msl_m = 0;
+    std::optional<double> alt_rel_m{};
+    std::array<double, 3> velocity_ned{0, 0, 0};  // m/s
+    std::optional<double> heading_deg{};          // 0 to 360
+    std::optional<double> yaw_rate_dps{};         // clockwise seen from above
+    std::optional<int> fix{};                     // GPS_FIX_TYPE
+    std::optional<double> h_acc_m{};
+    std::optional<double> v_acc_m{};
+    std::optional<int> satellites{};
+};
+
+struct VehicleTime {
+    std::uint32_t boot_ms = 0;
+    std::int64_t utc_us = 0;  // SYSTEM_TIME's time_unix_usec
+};
+
+struct VehicleReport {
+    std::optional<VehiclePosition> position{};
+    std::optional<VehicleTime> time{};
+};
+
+// The vehicle where and when a capture was taken, as gportd stamped it
+// (1.10.0): tagged with the position carried to the capture's instant, or
+// untagged and why. utc_us is the autopilot's UTC at the instant.
+struct CaptureVehicle {
+    bool tagged = false;
+    std::string why{};
+    std::optional<std::int64_t> utc_us{};
+    double lat = 0;
+    double lon = 0;
+    double alt_msl_m = 0;
+    std::optional<double> alt_rel_m{};
+    std::array<double, 3> velocity_ned{0, 0, 0};
+    std::optional<double> heading_deg{};
+    std::optional<double> h_acc_m{};
+    std::optional<double> v_acc_m{};
+    std::optional<int> fix{};
+    std::optional<int> satellites{};
+    std::int64_t age_ms = 0;
+};
+
+// A capture's moment (1.10.0): when its frame's last byte was due on the
+// line and the instant stamped (that plus camera.shutter_delay_ms), on the
+// clock of the capture's mono_us; the vehicle then (none: gportd had no
+// vehicle source, or predates the stamp).
+struct CaptureStamp {
+    std::optional<std::int64_t> line_mono_us{};
+    std::optional<std::int64_t> shutter_mono_us{};
+    std::optional<CaptureVehicle> vehicle{};
+};
 
 }  // namespace gport::client
