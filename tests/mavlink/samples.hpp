@@ -154,6 +154,34 @@ inline GlobalPositionInt sample_position() {
     return m;
 }
 
+inline SystemTime sample_system_time() {
+    SystemTime m;
+    m.time_unix_usec = 1795910400123456ULL;
+    m.time_boot_ms = 654000;
+    return m;
+}
+
+inline GpsRawInt sample_gps() {
+    GpsRawInt m;
+    m.time_usec = 654000000;
+    m.fix_type = 6;
+    m.lat = -353632621;
+    m.lon = 1491652374;
+    m.alt = 584070;
+    m.eph = 70;
+    m.epv = 120;
+    m.vel = 1512;
+    m.cog = 9001;
+    m.satellites_visible = 17;
+    m.alt_ellipsoid = 612000;
+    m.h_acc = 14;
+    m.v_acc = 25;
+    m.vel_acc = 30;
+    m.hdg_acc = 5000;
+    m.yaw = 18000;
+    return m;
+}
+
 inline CameraInformation sample_camera_information() {
     CameraInformation m;
     m.time_boot_ms = 1000;
@@ -232,11 +260,23 @@ inline CameraImageCaptured sample_image_captured() {
 }
 
 inline std::vector<Message> sample_messages() {
-    return {sample_heartbeat(),       sample_command_long(),       sample_command_ack(),
-            sample_information(),     sample_set_attitude(),       sample_attitude_status(),
-            sample_autopilot_state(), sample_truncated_ack(),      sample_vehicle_attitude(),
-            sample_position(),        sample_camera_information(), sample_camera_settings(),
-            sample_storage(),         sample_capture_status(),     sample_image_captured()};
+    return {sample_heartbeat(),
+            sample_command_long(),
+            sample_command_ack(),
+            sample_information(),
+            sample_set_attitude(),
+            sample_attitude_status(),
+            sample_autopilot_state(),
+            sample_truncated_ack(),
+            sample_vehicle_attitude(),
+            sample_position(),
+            sample_camera_information(),
+            sample_camera_settings(),
+            sample_storage(),
+            sample_capture_status(),
+            sample_image_captured(),
+            sample_system_time(),
+            sample_gps()};
 }
 
 }  // namespace gport::mavlink::testing

@@ -27,14 +27,15 @@ TrustPolicy policy_of(const Options& o) {
     return policy;
 }
 
-// ATTITUDE (10 Hz) for the vehicle's yaw; GLOBAL_POSITION_INT (5 Hz) for
-// the camera's geotags.
-std::vector<StreamRequests::Stream> wanted_streams(bool camera) {
-    std::vector<StreamRequests::Stream> wanted{{Attitude::kId, 100000}};
-    if (camera) {
-        wanted.push_back({GlobalPositionInt::kId, 200000});
-    }
-    return wanted;
+// ATTITUDE (10 Hz) for the vehicle's yaw; GLOBAL_POSITION_INT (5 Hz),
+// GPS_RAW_INT (2 Hz) and SYSTEM_TIME (1 Hz) for the vehicle's state that
+// gportd stamps every capture with (vehicle_publisher.hpp), whoever asks for
+// the photo: wanted with or without the camera component.
+std::vector<StreamRequests::Stream> wanted_streams() {
+    return {{Attitude::kId, 100000},
+            {GlobalPositionInt::kId, 200000},
+            {GpsRawInt::kId, 500000},
+            {SystemTime::kId, 1000000}};
 }
 
 }  // namespace
@@ -56,8 +57,9 @@ Bridge::Bridge(asio::io_context& io, Options options, std::unique_ptr<SigningSes
       heartbeat_timer_(io),
       attitude_timer_(io),
       rate_lease_(std::chrono::milliseconds(options_.lease_ms)),
-      streams_(wanted_streams(options_.camera)),
+      streams_(wanted_streams()),
       camera_(io, options_, log_, *this),
+      vehicle_(log_),
       motion_timer_(io) {}
 
 void Bridge::start() {
@@ -102,11 +104,13 @@ void Bridge::finish() {
         "(not used), {} signed without a key, {} undecodable, {} positions dropped; decoder: {} "
         "bad CRC, {} bad length, {} unknown flags, {} MAVLink 1, {} of messages not decoded here "
         "(not errors); signing: {}; {} frames unsent (no peer yet), {} send failures; {} "
-        "ground-station GIMBAL_DEVICE_SET_ATTITUDE overruled by the vehicle's",
+        "ground-station GIMBAL_DEVICE_SET_ATTITUDE overruled by the vehicle's; vehicle state: {} "
+        "reports taken by gportd, {} refused",
         counters_.accepted, counters_.untrusted, counters_.gcs_heartbeats, counters_.signed_no_key,
         counters_.undecodable, counters_.bad_positions, d.crc_errors, d.length_errors,
         d.header_errors, d.v1_frames, d.unknown_ids, signing, transport_ ? transport_->unsent() : 0,
-        transport_ ? transport_->send_failures() : 0, counters_.overruled);
+        transport_ ? transport_->send_failures() : 0, counters_.overruled,
+        vehicle_.counters().published, vehicle_.counters().refused);
 }
 
 // ---- gportd ---------------------------------------------------------------------
@@ -153,6 +157,7 @@ void Bridge::on_connected() {
     connected_ = true;
     filter_.reset();
     spdlog::info("gportd: connected to {}", options_.socket);
+    vehicle_.connected(gportd_);
     gportd_.async_status([this](std::optional<client::Error> error, client::Status status) {
         if (!error) {
             link_state_ = status.link.state;
@@ -181,6 +186,7 @@ void Bridge::on_disconnected(const std::string& why) {
         return;
     }
     connected_ = false;
+    vehicle_.disconnected();
     gportd_.close();  // either broke: both start again together
     motion_.close();
     link_state_.clear();

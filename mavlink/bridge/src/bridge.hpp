@@ -36,6 +36,7 @@
 #include "logbook.hpp"
 #include "signing_session.hpp"
 #include "transport.hpp"
+#include "vehicle_publisher.hpp"
 
 namespace gport::mavlink::bridge {
 
@@ -96,6 +97,8 @@ class Bridge : private CameraHost {
     void on_attitude(const Header& from, const Attitude& message);
     std::optional<double> vehicle_yaw_deg() override;  // fresh, or none; logs a change of source
     void on_position(const Header& from, const GlobalPositionInt& message);
+    void on_gps(const Header& from, const GpsRawInt& message);
+    void on_system_time(const Header& from, const SystemTime& message);
     // The autopilot's streams we need, asked for when they do not come
     // (stream_requests.hpp; bridge_streams.cpp), and its answers.
     void request_streams();
@@ -159,6 +162,7 @@ class Bridge : private CameraHost {
 
     StreamRequests streams_;
     CameraComponent camera_;
+    VehiclePublisher vehicle_;
     std::uint8_t seq_ = 0;         // the gimbal's frames
     std::uint8_t camera_seq_ = 0;  // the camera's: a sequence per component
 

@@ -144,6 +144,10 @@ void Bridge::handle(const Header& from, const Message& message) {
         on_attitude(from, *attitude);
     } else if (const auto* position = std::get_if<GlobalPositionInt>(&message)) {
         on_position(from, *position);
+    } else if (const auto* gps = std::get_if<GpsRawInt>(&message)) {
+        on_gps(from, *gps);
+    } else if (const auto* time = std::get_if<SystemTime>(&message)) {
+        on_system_time(from, *time);
     } else if (const auto* answer = std::get_if<CommandAck>(&message)) {
         if (addressed_to(answer->target_system, answer->target_component, us, options_.compid)) {
             on_ack(from, *answer);
@@ -250,7 +254,27 @@ void Bridge::on_position(const Header& from, const GlobalPositionInt& message) {
     }
     const auto now = Clock::now();
     camera_.on_position(message, now);
+    const auto yaw = vehicle_yaw_.at(now);
+    vehicle_.on_position(message, yaw ? yaw->rate_dps : std::nullopt, now);
     streams_.on_message(GlobalPositionInt::kId, now);
+}
+
+// GPS_RAW_INT and SYSTEM_TIME from the vehicle's autopilot only, as positions.
+void Bridge::on_gps(const Header& from, const GpsRawInt& message) {
+    if (from.sysid != trust_.vehicle() || from.compid != mav_comp_id::kAutopilot1) {
+        return;
+    }
+    const auto now = Clock::now();
+    vehicle_.on_gps(message, now);
+    streams_.on_message(GpsRawInt::kId, now);
+}
+
+void Bridge::on_system_time(const Header& from, const SystemTime& message) {
+    if (from.sysid != trust_.vehicle() || from.compid != mav_comp_id::kAutopilot1) {
+        return;
+    }
+    vehicle_.on_system_time(message);
+    streams_.on_message(SystemTime::kId, Clock::now());
 }
 
 void Bridge::ack(const Requester& to, std::uint16_t command, std::uint8_t result,

@@ -12,7 +12,8 @@ namespace gport::mavlink::bridge {
 namespace {
 
 std::string_view stream_name(std::uint32_t msgid) {
-    return msgid == GlobalPositionInt::kId ? "GLOBAL_POSITION_INT" : "ATTITUDE";
+    const MessageInfo* info = find_message(msgid);
+    return info != nullptr ? info->name : "a message";
 }
 
 }  // namespace

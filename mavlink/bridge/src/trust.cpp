@@ -13,6 +13,8 @@ Concern concern_of(std::uint32_t msgid) {
         case AutopilotStateForGimbalDevice::kId:
         case Attitude::kId:
         case GlobalPositionInt::kId:
+        case GpsRawInt::kId:
+        case SystemTime::kId:
             return Concern::kVehicleState;
         default:
             return Concern::kOther;

@@ -15,19 +15,37 @@ const [gportdPath, simPath, bridgePath, workRoot] = process.argv.slice(2);
 const { check, figures, sleep, until, common, Peer, heartbeat, commandLong } = h;
 const CAMERA = 100;
 const [IMAGE_START, SET_MESSAGE_INTERVAL] = [2000, 511];
-const [ATTITUDE_ID, POSITION_ID] = [30, 33];
+const [ATTITUDE_ID, POSITION_ID, GPS_ID, TIME_ID] = [30, 33, 24, 2];
 const POSITION = { lat: -353632621, lon: 1491652374, alt: 584070, relativeAlt: 30250 };
+// The autopilot's clocks: its boot time, and a UTC 2026-11-29T00:00:00Z at boot.
+const booted = Date.now();
+const bootMs = () => Date.now() - booted;
+const UTC_AT_BOOT_US = 1795910400000000n;
 
 function position() {
   const m = new common.GlobalPositionInt();
-  Object.assign(m, { timeBootMs: 1000, vx: 0, vy: 0, vz: 0, hdg: 3000 }, POSITION);
+  Object.assign(m, { timeBootMs: bootMs(), vx: 0, vy: 0, vz: 0, hdg: 3000 }, POSITION);
   return m;
 }
 function attitude() {
   const m = new common.Attitude();
-  Object.assign(m, { timeBootMs: 1000, roll: 0, pitch: 0, yaw: 0.5, rollspeed: 0, pitchspeed: 0, yawspeed: 0 });
+  Object.assign(m, { timeBootMs: bootMs(), roll: 0, pitch: 0, yaw: 0.5, rollspeed: 0, pitchspeed: 0, yawspeed: 0 });
   return m;
 }
+function gps() {
+  const m = new common.GpsRawInt();
+  Object.assign(m, { timeUsec: BigInt(bootMs()) * 1000n, fixType: 3, lat: POSITION.lat, lon: POSITION.lon,
+    alt: POSITION.alt, eph: 80, epv: 120, vel: 0, cog: 0, satellitesVisible: 14, altEllipsoid: 0,
+    hAcc: 900, vAcc: 1500, velAcc: 0, hdgAcc: 0, yaw: 0 });
+  return m;
+}
+function systemTime() {
+  const m = new common.SystemTime();
+  const boot = bootMs();
+  Object.assign(m, { timeBootMs: boot, timeUnixUsec: UTC_AT_BOOT_US + BigInt(boot) * 1000n });
+  return m;
+}
+const makers = { [POSITION_ID]: position, [ATTITUDE_ID]: attitude, [GPS_ID]: gps, [TIME_ID]: systemTime };
 function commandAck(command, result, target) {
   const m = new common.CommandAck();
   Object.assign(m, { command, result, progress: 0, resultParam2: 0, targetSystem: target.sysid,
@@ -62,8 +80,8 @@ async function main() {
       autopilot.send(commandAck(SET_MESSAGE_INTERVAL, 0, r.header));
       const id = r.data._param1;
       clearInterval(streams[id]);
-      const make = id === POSITION_ID ? position : attitude;
-      streams[id] = setInterval(() => autopilot.send(make()), r.data._param2 / 1000);
+      const make = makers[id];
+      if (make) streams[id] = setInterval(() => autopilot.send(make()), r.data._param2 / 1000);
     }
   }, 20);
   const beats = setInterval(() => autopilot.send(heartbeat()), 1000);
@@ -96,6 +114,17 @@ async function main() {
   const last = listed && listed.result && (listed.result.captures || []).filter((c) => c.kind === 'photo').pop();
   check(last && last.meta && Math.abs(last.meta.lat - POSITION.lat / 1e7) < 1e-6 &&
     Math.abs(last.meta.lon - POSITION.lon / 1e7) < 1e-6, `gportd's capture log meta: ${last && JSON.stringify(last.meta)}`);
+  // gport-mavlink published the vehicle: gportd stamped the photo with it,
+  // the GPS's accuracy and the autopilot's UTC.
+  const v = last && last.vehicle;
+  check(v && v.tagged && Math.abs(v.lat - POSITION.lat / 1e7) < 1e-6 && Math.abs(v.h_acc_m - 0.9) < 0.01 &&
+    v.fix === 3 && v.satellites === 14, `gportd's capture stamped with the vehicle: ${JSON.stringify(v)}`);
+  // The autopilot's UTC at the shutter instant: its UTC at boot plus the
+  // boot time then, within the latency of a datagram on this machine.
+  const shutterUtcUs = v && Number(UTC_AT_BOOT_US) + (last.utc_us - booted * 1000) +
+    (last.shutter_mono_us - last.mono_us);
+  check(v && typeof v.utc_us === 'number' && Math.abs(v.utc_us - shutterUtcUs) < 50000,
+    `its UTC is the autopilot's at the shutter (${v && v.utc_us}; ${v && ((v.utc_us - shutterUtcUs) / 1000).toFixed(1)} ms from it)`);
   const before = requests.length;
   await sleep(3500);
   check(requests.length === before, `no request while the streams come (${requests.length - before} more)`);

@@ -78,6 +78,67 @@ struct GlobalPositionInt {
     }
 };
 
+// The autopilot's UTC and boot time at one instant (0 while it has no GPS
+// time): gportd's capture time (docs/api.md, "The vehicle").
+struct SystemTime {
+    using F = FieldType;
+    static constexpr std::uint32_t kId = 2;
+    static constexpr std::string_view kName = "SYSTEM_TIME";
+    static constexpr std::uint8_t kCrcExtra = 137;
+    static constexpr std::array<FieldSpec, 2> kFields{{
+        {F::kU64, "time_unix_usec"},
+        {F::kU32, "time_boot_ms"},
+    }};
+    std::uint64_t time_unix_usec = 0;
+    std::uint32_t time_boot_ms = 0;
+
+    template <typename M, typename V>
+    static constexpr void visit(M& m, V&& v) {
+        each(v, m.time_unix_usec, m.time_boot_ms);
+    }
+};
+
+// The GPS receiver's fix and its accuracy (h_acc, v_acc: extensions, 0 or
+// absent when the autopilot does not know them).
+struct GpsRawInt {
+    using F = FieldType;
+    static constexpr std::uint32_t kId = 24;
+    static constexpr std::string_view kName = "GPS_RAW_INT";
+    static constexpr std::uint8_t kCrcExtra = 24;
+    static constexpr std::array<FieldSpec, 16> kFields{{
+        {F::kU64, "time_usec"},
+        {F::kI32, "lat"},
+        {F::kI32, "lon"},
+        {F::kI32, "alt"},
+        {F::kU16, "eph"},
+        {F::kU16, "epv"},
+        {F::kU16, "vel"},
+        {F::kU16, "cog"},
+        {F::kU8, "fix_type"},
+        {F::kU8, "satellites_visible"},
+        {F::kI32, "alt_ellipsoid", 0, true},
+        {F::kU32, "h_acc", 0, true},  // mm
+        {F::kU32, "v_acc", 0, true},  // mm
+        {F::kU32, "vel_acc", 0, true},
+        {F::kU32, "hdg_acc", 0, true},
+        {F::kU16, "yaw", 0, true},
+    }};
+    std::uint64_t time_usec = 0;
+    std::int32_t lat = 0, lon = 0, alt = 0;
+    std::uint16_t eph = 0, epv = 0, vel = 0, cog = 0;
+    std::uint8_t fix_type = 0;  // GPS_FIX_TYPE
+    std::uint8_t satellites_visible = 0;
+    std::int32_t alt_ellipsoid = 0;
+    std::uint32_t h_acc = 0, v_acc = 0, vel_acc = 0, hdg_acc = 0;
+    std::uint16_t yaw = 0;
+
+    template <typename M, typename V>
+    static constexpr void visit(M& m, V&& v) {
+        each(v, m.time_usec, m.lat, m.lon, m.alt, m.eph, m.epv, m.vel, m.cog, m.fix_type,
+             m.satellites_visible, m.alt_ellipsoid, m.h_acc, m.v_acc, m.vel_acc, m.hdg_acc, m.yaw);
+    }
+};
+
 struct CameraInformation {
     using F = FieldType;
     static constexpr std::uint32_t kId = 259;

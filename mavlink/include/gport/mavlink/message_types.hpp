@@ -286,6 +286,6 @@ using Message =
     std::variant<Heartbeat, CommandLong, CommandAck, GimbalDeviceInformation,
                  GimbalDeviceSetAttitude, GimbalDeviceAttitudeStatus, AutopilotStateForGimbalDevice,
                  Attitude, GlobalPositionInt, CameraInformation, CameraSettings, StorageInformation,
-                 CameraCaptureStatus, CameraImageCaptured>;
+                 CameraCaptureStatus, CameraImageCaptured, SystemTime, GpsRawInt>;
 
 }  // namespace gport::mavlink
