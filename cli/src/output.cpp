@@ -8,6 +8,7 @@
 #include "gport/cli/printable.hpp"
 #include "gport/client/results.hpp"
 #include "gport/contract/limits.hpp"
+#include "vehicle_text.hpp"
 
 namespace gport::cli {
 namespace {
@@ -183,7 +184,7 @@ std::string notification(const client::Notification& n) {
 std::string format_result(const std::string& command, const json& result) {
     const auto r = result.dump();
     if (command == "status") {
-        return status(client::status_from_json(r));
+        return status(client::status_from_json(r)) + vehicle_status_line(result);
     }
     if (command == "attitude") {
         const auto a = client::attitude_from_json(r);
@@ -207,13 +208,14 @@ std::string format_result(const std::string& command, const json& result) {
     }
     if (command == "record" && result.contains("recording")) {
         const auto record = client::record_result_from_json(r);
-        return fmt::format("record: {}{}; recording {} (assumed)\n",
+        return fmt::format("record: {}{}{}; recording {} (assumed)\n",
                            record.sent ? "sent" : "nothing sent", capture_suffix(record.capture),
-                           text(record.recording, "unknown"));
+                           capture_vehicle_suffix(result), text(record.recording, "unknown"));
     }
     if (command == "photo") {
-        return fmt::format("photo: sent{}\n",
-                           capture_suffix(client::photo_result_from_json(r).capture));
+        return fmt::format("photo: sent{}{}\n",
+                           capture_suffix(client::photo_result_from_json(r).capture),
+                           capture_vehicle_suffix(result));
     }
     return fmt::format("{}: sent\n", command);
 }

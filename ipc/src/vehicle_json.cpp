@@ -50,7 +50,10 @@ auto prefixed(const char* name, Read&& read) {
     try {
         return read();
     } catch (const InvalidParams& e) {
-        throw InvalidParams(fmt::format("{}.{}", name, e.what()));
+        // "position.lat must be ..."; "position: unknown parameter ..."
+        const std::string_view what = e.what();
+        const bool member_first = !what.starts_with("unknown") && !what.starts_with("params");
+        throw InvalidParams(fmt::format("{}{}{}", name, member_first ? "." : ": ", what));
     }
 }
 

@@ -74,3 +74,72 @@ TEST(CapturesCodec, TheCaptureTopicAndOnlyIt) {
 
 }  // namespace
 }  // namespace gport::client::codec
+
+namespace gport::client::codec {
+namespace {
+
+// A capture's moment and vehicle (1.10.0): a server that lies about them
+// is a bad reply naming the vehicle, never a crash nor a made-up position.
+TEST(CaptureStampCodec, AVehicleGportdNeverSendsIsABadReply) {
+    for (const auto* text :
+         {R"({"vehicle":1})", R"({"vehicle":{}})", R"({"vehicle":{"tagged":"yes"}})",
+          R"({"vehicle":{"tagged":true}})",
+          R"({"vehicle":{"tagged":true,"lat":"47","lon":8,"alt_msl_m":1}})", R"({"vehicle":[]})"}) {
+        try {
+            capture_stamp(json::parse(text));
+            ADD_FAILURE() << text;
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), static_cast<int>(ErrorCode::kBadReply)) << text;
+            EXPECT_NE(e.message().find("vehicle"), std::string::npos) << e.message();
+        }
+    }
+    EXPECT_THROW(capture_stamp(json::parse("[]")), Error);
+}
+
+TEST(CaptureStampCodec, TaggedUntaggedAndAnOlderGportd) {
+    const auto tagged = capture_stamp(json::parse(R"({"line_mono_us":5000,"shutter_mono_us":5100,
+        "vehicle":{"tagged":true,"utc_us":1795910400000000,"lat":47.1,"lon":8.2,"alt_msl_m":500,
+        "alt_rel_m":null,"velocity_ned":[15,0,"x"],"heading_deg":90,"h_acc_m":1.5,"v_acc_m":null,
+        "fix":3,"satellites":300,"age_ms":120}})"));
+    EXPECT_EQ(tagged.line_mono_us, 5000);
+    EXPECT_EQ(tagged.shutter_mono_us, 5100);
+    ASSERT_TRUE(tagged.vehicle);
+    EXPECT_TRUE(tagged.vehicle->tagged);
+    EXPECT_DOUBLE_EQ(tagged.vehicle->lat, 47.1);
+    EXPECT_EQ(tagged.vehicle->utc_us, 1795910400000000);
+    EXPECT_FALSE(tagged.vehicle->alt_rel_m);
+    EXPECT_EQ(tagged.vehicle->velocity_ned[0], 0.0) << "a mistyped velocity is not taken";
+    EXPECT_EQ(tagged.vehicle->h_acc_m, 1.5);
+    EXPECT_EQ(tagged.vehicle->fix, 3);
+    EXPECT_FALSE(tagged.vehicle->satellites) << "out of range";
+    EXPECT_EQ(tagged.vehicle->age_ms, 120);
+
+    const auto untagged = capture_stamp(
+        json::parse(R"({"vehicle":{"tagged":false,"utc_us":null,"why":"no 3D GPS fix"}})"));
+    ASSERT_TRUE(untagged.vehicle);
+    EXPECT_FALSE(untagged.vehicle->tagged);
+    EXPECT_EQ(untagged.vehicle->why, "no 3D GPS fix");
+
+    const auto older = capture_stamp(json::parse(R"({"index":3,"kind":"photo"})"));
+    EXPECT_FALSE(older.line_mono_us);
+    EXPECT_FALSE(older.vehicle);
+    EXPECT_FALSE(capture_stamp(json::parse(R"({"vehicle":null})")).vehicle);
+}
+
+TEST(VehicleCodec, ReportsSendOnlyWhatIsKnown) {
+    VehicleReport report;
+    report.position = VehiclePosition{};
+    report.position->boot_ms = 1000;
+    report.position->lat = 47.5;
+    report.position->h_acc_m = 0.8;
+    EXPECT_EQ(vehicle_params(report),
+              json::parse(R"({"position":{"boot_ms":1000,"lat":47.5,"lon":0.0,"alt_msl_m":0.0,
+                              "velocity_ned":[0.0,0.0,0.0],"h_acc_m":0.8}})"));
+    report.position.reset();
+    report.time = VehicleTime{2000, 1795910400000000};
+    EXPECT_EQ(vehicle_params(report),
+              json::parse(R"({"time":{"boot_ms":2000,"utc_us":1795910400000000}})"));
+}
+
+}  // namespace
+}  // namespace gport::client::codec

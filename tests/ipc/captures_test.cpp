@@ -50,6 +50,88 @@ class CapturesTest : public ::testing::Test {
     Dispatcher dispatcher_{api_, [] { return ServerStats{}; }};
 };
 
+// issue 43: the vehicle the core stamped each capture with, in the reply's
+// summary, the log's line and the captures list, with the moment on the line.
+TEST_F(CapturesTest, CapturesCarryTheVehicleAndTheirMomentOnTheLine) {
+    EXPECT_TRUE(call("photo")["result"]["capture"]["vehicle"].is_null()) << "nothing published";
+    daemon::VehicleStamp stamp;
+    stamp.tagged = true;
+    stamp.lat_deg = 47.123456789;
+    stamp.lon_deg = 8.5;
+    stamp.alt_msl_m = 500.25;
+    stamp.h_acc_m = 1.75;
+    stamp.age = std::chrono::milliseconds(120);
+    stamp.utc_us = 1795910400123456;
+    api_.vehicle_stamp = stamp;
+    const auto photo = call("photo")["result"]["capture"];
+    EXPECT_EQ(photo["vehicle"]["tagged"], true);
+    EXPECT_EQ(photo["vehicle"]["lat"], 47.12345679);
+    EXPECT_EQ(photo["vehicle"]["h_acc_m"], 1.75);
+    EXPECT_EQ(photo["vehicle"]["age_ms"], 120);
+    EXPECT_EQ(photo["vehicle"]["utc_us"], 1795910400123456);
+    EXPECT_TRUE(photo["vehicle"]["heading_deg"].is_null());
+
+    stamp = daemon::VehicleStamp{};
+    stamp.why = "no 3D GPS fix (GPS_FIX_TYPE 1)";
+    api_.vehicle_stamp = stamp;
+    const auto untagged = call("photo")["result"]["capture"]["vehicle"];
+    EXPECT_EQ(
+        untagged,
+        json::parse(R"j({"tagged":false,"utc_us":null,"why":"no 3D GPS fix (GPS_FIX_TYPE 1)"})j"));
+
+    const auto list = call("captures")["result"]["captures"];
+    ASSERT_EQ(list.size(), 3u);
+    EXPECT_TRUE(list[1]["line_mono_us"].is_number_integer());
+    EXPECT_GE(list[1]["shutter_mono_us"].get<std::int64_t>(),
+              list[1]["line_mono_us"].get<std::int64_t>());
+    EXPECT_EQ(list[1]["vehicle"]["lat"], 47.12345679);
+    EXPECT_EQ(list[2]["vehicle"]["tagged"], false);
+}
+
+// publish_vehicle's params: every shape refused names the member and what it
+// must be; nothing reaches the core.
+TEST_F(CapturesTest, PublishVehicleParamsNameWhatIsWrong) {
+    const auto refused = [&](json params) {
+        const auto reply = call("publish_vehicle", std::move(params));
+        EXPECT_EQ(reply["error"]["code"], -32602) << reply.dump();
+        return reply["error"]["message"].get<std::string>();
+    };
+    const json position = {{"boot_ms", 1000},
+                           {"lat", 47.0},
+                           {"lon", 8.0},
+                           {"alt_msl_m", 500.0},
+                           {"velocity_ned", {1.0, 0.0, 0.0}}};
+    EXPECT_THAT(refused({{"position", 1}}), HasSubstr("position must be an object"));
+    EXPECT_THAT(refused({{"pos", position}}), HasSubstr("unknown parameter"));
+    auto p = position;
+    p.erase("lat");
+    EXPECT_THAT(refused({{"position", p}}), HasSubstr("position.lat is required"));
+    p = position;
+    p["lat"] = "47";
+    EXPECT_THAT(refused({{"position", p}}), HasSubstr("position.lat must be a number"));
+    p = position;
+    p["velocity_ned"] = {1.0, 2.0};
+    EXPECT_THAT(refused({{"position", p}}),
+                HasSubstr("position.velocity_ned is required: [north, east, down]"));
+    p = position;
+    p["speed"] = 3;
+    EXPECT_THAT(refused({{"position", p}}), HasSubstr("position: unknown parameter \"speed\""));
+    p = position;
+    p["boot_ms"] = -1;
+    EXPECT_THAT(refused({{"position", p}}),
+                HasSubstr("position.boot_ms must be an integer from 0 to 4294967295"));
+    EXPECT_THAT(refused({{"time", {{"boot_ms", 1}}}}), HasSubstr("time.utc_us is required"));
+    EXPECT_TRUE(api_.vehicle_reports.empty());
+
+    const auto taken =
+        call("publish_vehicle",
+             {{"position", position}, {"time", {{"boot_ms", 1000}, {"utc_us", 1795910400000000}}}});
+    EXPECT_EQ(taken["result"], json({{"taken", true}}));
+    ASSERT_EQ(api_.vehicle_reports.size(), 1u);
+    EXPECT_EQ(api_.vehicle_reports[0].position->velocity_ned[0], 1.0);
+    EXPECT_EQ(api_.vehicle_reports[0].time->utc_us, 1795910400000000);
+}
+
 TEST_F(CapturesTest, MetaOverTheLimitIsRefusedNamingItAndNothingIsSent) {
     auto refused = call("photo", {{"meta", meta_of(1025)}});
     EXPECT_EQ(refused["error"]["code"], -32602);
