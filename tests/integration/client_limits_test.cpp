@@ -303,11 +303,12 @@ TEST(ClientLimits, FloodingClientsAreRateLimitedAndTheStreamFlows) {
 // Runs `method` as uid/gid 65534 with exactly `groups` in a forked child;
 // returns the child's exit code: 0 result, 1 error -32001, 2 anything else.
 int command_as_nobody(const std::string& socket_path, std::vector<gid_t> groups,
-                      const std::string& method) {
+                      const std::string& method, const std::string& params = "{}") {
     sockaddr_un address{};
     address.sun_family = AF_UNIX;
     std::strncpy(address.sun_path, socket_path.c_str(), sizeof(address.sun_path) - 1);
-    const std::string request = R"({"id":1,"method":")" + method + "\"}\n";
+    const std::string request =
+        R"({"id":1,"method":")" + method + R"(","params":)" + params + "}\n";
     const pid_t child = ::fork();
     if (child == 0) {
         // Plain system calls only: other threads may hold locks (malloc) at fork.
@@ -347,6 +348,36 @@ TEST(ClientLimits, CommandAccessFollowsThePeersOwnGroups) {
     EXPECT_EQ(command_as_nobody(daemon.socket(), {4242}, "center"), 0);
     EXPECT_EQ(command_as_nobody(daemon.socket(), {}, "center"), 1);
     EXPECT_EQ(command_as_nobody(daemon.socket(), {}, "status"), 0) << "reading is open to all";
+}
+
+// Only a trusted source may publish the vehicle's state (issue 43): another
+// uid is refused (-32001) whatever groups it holds, and counted; listed in
+// access.vehicle_uids it may.
+TEST(ClientLimits, OnlyATrustedSourcePublishesTheVehicle) {
+    if (::geteuid() != 0) {
+        GTEST_SKIP() << "needs root to run clients with other uids";
+    }
+    const std::string report =
+        R"({"position":{"boot_ms":1000,"lat":47.0,"lon":8.0,"alt_msl_m":500,"velocity_ned":[0,0,0]}})";
+    TempDir dir;
+    ::chmod(dir.path().c_str(), 0755);
+    {
+        LimitedDaemon daemon(dir, R"("mode": "0666")", 0,
+                             R"("access": {"control_gids": [4242], "vehicle_uids": []})");
+        Client watcher(daemon.socket());
+        ASSERT_TRUE(link_up(watcher));
+        EXPECT_EQ(command_as_nobody(daemon.socket(), {4242}, "publish_vehicle", report), 1)
+            << "commanding is not publishing";
+        const auto status = watcher.call("status")["result"];
+        EXPECT_EQ(status["vehicle"]["refused"], 1);
+        EXPECT_TRUE(status["vehicle"]["position"].is_null()) << "nothing taken";
+    }
+    TempDir again;
+    ::chmod(again.path().c_str(), 0755);
+    LimitedDaemon daemon(again, R"("mode": "0666")", 0, R"("access": {"vehicle_uids": [65534]})");
+    Client watcher(daemon.socket());
+    ASSERT_TRUE(link_up(watcher));
+    EXPECT_EQ(command_as_nobody(daemon.socket(), {}, "publish_vehicle", report), 0);
 }
 
 }  // namespace
