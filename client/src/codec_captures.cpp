@@ -99,10 +99,16 @@ CaptureVehicle capture_vehicle(const json& v) {
 
 }  // namespace
 
-CaptureStamp capture_stamp(const json& capture) {
-    if (!capture.is_object()) {
+CaptureStamp capture_stamp(const json& object) {
+    if (!object.is_object()) {
         throw Error(ErrorCode::kBadReply, "capture: expected a JSON object from gportd");
     }
+    // A photo or record result: its capture (none when nothing was sent).
+    const auto held = object.find("capture");
+    if (held != object.end() && !object.contains("index")) {
+        return held->is_object() ? capture_stamp(*held) : CaptureStamp{};
+    }
+    const json& capture = object;
     CaptureStamp stamp;
     stamp.line_mono_us = integer(capture, "line_mono_us");
     stamp.shutter_mono_us = integer(capture, "shutter_mono_us");

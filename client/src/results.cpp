@@ -54,6 +54,10 @@ PhotoResult photo_result_from_json(std::string_view result) {
     return codec::photo_result(parsed(result, "photo result"));
 }
 
+PhotoReport photo_report_from_json(std::string_view result) {
+    return codec::photo_report(parsed(result, "photo result"));
+}
+
 RecordResult record_result_from_json(std::string_view result) {
     return codec::record_result(parsed(result, "record result"));
 }

@@ -103,9 +103,10 @@ class CameraComponent {
                     std::uint8_t compid);
     void photo_done(const std::optional<Requester>& from, std::uint16_t command,
                     std::uint8_t compid, const std::optional<client::Error>& error,
-                    const client::PhotoReport& report);
+                    const client::PhotoReport& report, const client::CaptureStamp& stamp);
     ImageCapture image_captured(const std::optional<client::Error>& error,
-                                const client::PhotoReport& report);
+                                const client::PhotoReport& report,
+                                const client::CaptureStamp& stamp);
     void record(const Requester& from, std::uint16_t command, std::uint8_t compid, bool on,
                 bool force);
     client::CaptureOptions capture_options() const;

@@ -1,14 +1,17 @@
 // The camera component's photos and video: gportd `photo` / `record` with
 // the vehicle's position as its `meta`, then the ACK and (photos)
-// CAMERA_IMAGE_CAPTURED with the image_index (image_count.hpp) and the
-// attitude gportd logged for the capture (docs/mavlink.md, "The camera
-// component").
+// CAMERA_IMAGE_CAPTURED with the image_index (image_count.hpp), the
+// attitude gportd logged for the capture and the vehicle gportd stamped it
+// with: its position carried to the instant the frame was on the line and
+// the autopilot's UTC then (docs/mavlink.md, "The camera component").
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cmath>
 
 #include "camera_component.hpp"
+#include "gport/client/results.hpp"
 #include "gport/mavlink/bridge/stream_requests.hpp"
 #include "gport/mavlink/enums.hpp"
 
@@ -18,6 +21,25 @@ namespace {
 
 const char* command_name(std::uint16_t command) {
     return command == mav_cmd::kDoDigicamControl ? "DO_DIGICAM_CONTROL" : "IMAGE_START_CAPTURE";
+}
+
+// The photo's params: {"meta": ...} with the position, or {}.
+std::string photo_params(const client::CaptureOptions& options) {
+    return options.meta.empty() ? std::string("{}") : R"({"meta":)" + options.meta + "}";
+}
+
+// The vehicle gportd stamped the capture with, as CAMERA_IMAGE_CAPTURED's
+// position (degE7, mm); none when untagged.
+std::optional<GlobalPositionInt> stamped_position(const client::CaptureVehicle& v) {
+    if (!v.tagged) {
+        return std::nullopt;
+    }
+    GlobalPositionInt p;
+    p.lat = static_cast<std::int32_t>(std::lround(v.lat * 1e7));
+    p.lon = static_cast<std::int32_t>(std::lround(v.lon * 1e7));
+    p.alt = static_cast<std::int32_t>(std::lround(v.alt_msl_m * 1e3));
+    p.relative_alt = static_cast<std::int32_t>(std::lround(v.alt_rel_m.value_or(0) * 1e3));
+    return p;
 }
 
 std::uint64_t utc_now_us() {
@@ -76,16 +98,29 @@ void CameraComponent::take_photo(const std::optional<Requester>& from, std::uint
     call_in_flight_ = true;  // cleared by the call's completion (gportd
                              // completes every pending call, on disconnect too)
     photo_in_flight_ = true;
-    host_.gportd().async_photo_report(
-        capture_options(),
-        [this, from, command, compid](std::optional<client::Error> e, client::PhotoReport report) {
-            photo_done(from, command, compid, e, report);
+    // The reply's text, for the capture's stamp beside its report.
+    host_.gportd().async_call_json(
+        "photo", photo_params(capture_options()),
+        [this, from, command, compid](std::optional<client::Error> e, std::string result) {
+            client::PhotoReport report;
+            client::CaptureStamp stamp;
+            if (!e) {
+                try {
+                    report = client::photo_report_from_json(result);
+                    stamp = client::capture_stamp_from_json(result);
+                } catch (const client::Error& bad) {
+                    log_.warn("gportd photo reply unreadable",
+                              "camera: gportd's photo reply is unreadable: " + bad.message());
+                }
+            }
+            photo_done(from, command, compid, e, report, stamp);
         });
 }
 
 void CameraComponent::photo_done(const std::optional<Requester>& from, std::uint16_t command,
                                  std::uint8_t compid, const std::optional<client::Error>& error,
-                                 const client::PhotoReport& report) {
+                                 const client::PhotoReport& report,
+                                 const client::CaptureStamp& stamp) {
     call_in_flight_ = false;
     photo_in_flight_ = false;
     if (from) {
@@ -99,11 +134,12 @@ void CameraComponent::photo_done(const std::optional<Requester>& from, std::uint
     }
     // To whoever asked (the requester's origin), else (an interval's
     // photos) to the peer.
-    send(make_image_captured(image_captured(error, report)), from ? from->origin : Origin{});
+    send(make_image_captured(image_captured(error, report, stamp)), from ? from->origin : Origin{});
 }
 
 ImageCapture CameraComponent::image_captured(const std::optional<client::Error>& error,
-                                             const client::PhotoReport& report) {
+                                             const client::PhotoReport& report,
+                                             const client::CaptureStamp& stamp) {
     const auto& capture = report.capture;
     ImageCapture image;
     image.time_boot_ms = host_.time_boot_ms();
@@ -122,7 +158,16 @@ ImageCapture CameraComponent::image_captured(const std::optional<client::Error>&
                           "); after a restart image_index may repeat");
         }
     }
-    image.position = fresh_position();
+    // gportd's stamp when it has the vehicle (one source: the capture);
+    // without a vehicle source there, our newest position as before.
+    if (stamp.vehicle) {
+        image.position = stamped_position(*stamp.vehicle);
+        if (stamp.vehicle->utc_us) {
+            image.time_utc_us = static_cast<std::uint64_t>(*stamp.vehicle->utc_us);
+        }
+    } else {
+        image.position = fresh_position();
+    }
     if (!image.position && !error) {
         warn_no_position(image.image_index);
     }

@@ -23,14 +23,19 @@ const VEHICLE_YAW = 30; // degrees, ATTITUDE's
 
 const text = (bytes) => Buffer.from(bytes.filter((b) => b !== 0)).toString();
 
+// The autopilot's boot time: a real one's samples carry increasing times
+// (gport-mavlink publishes each new one to gportd, which stamps the photos).
+const booted = Date.now();
+const bootMs = () => Date.now() - booted;
+
 function position() {
   const m = new common.GlobalPositionInt();
-  Object.assign(m, { timeBootMs: 1000, vx: 0, vy: 0, vz: 0, hdg: 3000 }, POSITION);
+  Object.assign(m, { timeBootMs: bootMs(), vx: 0, vy: 0, vz: 0, hdg: 3000 }, POSITION);
   return m;
 }
 function attitude() {
   const m = new common.Attitude();
-  Object.assign(m, { timeBootMs: 1000, roll: 0, pitch: 0, yaw: h.rad(VEHICLE_YAW), rollspeed: 0,
+  Object.assign(m, { timeBootMs: bootMs(), roll: 0, pitch: 0, yaw: h.rad(VEHICLE_YAW), rollspeed: 0,
     pitchspeed: 0, yawspeed: 0 });
   return m;
 }

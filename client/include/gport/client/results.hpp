@@ -29,11 +29,14 @@ GPORT_CLIENT_API SpeedResult speed_result_from_json(std::string_view result);
 GPORT_CLIENT_API AngleResult angle_result_from_json(std::string_view result);
 GPORT_CLIENT_API CenterResult center_result_from_json(std::string_view result);
 GPORT_CLIENT_API PhotoResult photo_result_from_json(std::string_view result);
+// photo's result as async_photo_report decodes it: the capture and its
+// attitude (1.10.0).
+GPORT_CLIENT_API PhotoReport photo_report_from_json(std::string_view result);
 GPORT_CLIENT_API RecordResult record_result_from_json(std::string_view result);
 GPORT_CLIENT_API Subscription subscription_from_json(std::string_view result);
 // One capture object (a captures page's entry, the capture topic's params,
-// a line of captures.jsonl, a photo or record reply's "capture"): its
-// moment and vehicle (1.10.0). Members it lacks stay empty; a vehicle
+// a line of captures.jsonl), or a photo or record result holding one as
+// "capture": its moment and vehicle (1.10.0). Members it lacks stay empty; a vehicle
 // that is neither null nor an object with "tagged" throws kBadReply.
 GPORT_CLIENT_API CaptureStamp capture_stamp_from_json(std::string_view capture);
 
