@@ -78,7 +78,7 @@ TEST(StreamRequests, ALostStreamIsAskedForAgain) {
     EXPECT_EQ(again.size(), 2U);
 }
 
-// Without the camera only ATTITUDE is wanted (the vehicle's yaw).
+// Only the streams asked for are requested (the bridge wants four: bridge.cpp).
 TEST(StreamRequests, OnlyTheWantedOnes) {
     StreamRequests streams({{kAttitude, 100000}});
     const auto t0 = Clock::now();
