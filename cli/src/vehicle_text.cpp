@@ -49,7 +49,8 @@ std::string source_text(const json& source) {
 std::string vehicle_status_line(const json& status) {
     const auto it = status.find("vehicle");
     if (it == status.end() || !it->is_object()) {
-        return "vehicle:   none (nothing publishes the vehicle's state; captures carry no vehicle)\n";
+        return "vehicle:   none (nothing publishes the vehicle's state; captures carry no "
+               "vehicle)\n";
     }
     const json& v = *it;
     const auto position = v.find("position");
