@@ -60,13 +60,16 @@ inline bool link_up(Client& client) {
 
 // A config file with fast timings for tests, and the camera limit at its
 // highest (tests take photos back to back) unless `extra` has a "camera"
-// section of its own.
+// section of its own (a "link" section of its own replaces the timings'
+// too).
 inline std::string write_test_config(const TempDir& dir, const std::string& extra = "") {
     const std::string path = dir.file("gportd.json");
     const bool own_camera = extra.find("\"camera\"") != std::string::npos;
+    const bool own_link = extra.find("\"link\"") != std::string::npos;
     std::ofstream(path) << "{\n  // test timings\n"
-                        << "  \"link\": {\"stale_ms\": 300, \"reconnect_initial_ms\": 50,"
-                        << " \"reconnect_max_ms\": 200},\n"
+                        << (own_link ? ""
+                                     : "  \"link\": {\"stale_ms\": 300, \"reconnect_initial_ms\": "
+                                       "50, \"reconnect_max_ms\": 200},\n")
                         << "  \"requests\": {\"timeout_ms\": 200, \"retries\": 1}"
                         << (own_camera ? "" : ",\n  \"camera\": {\"max_commands_per_s\": 1000}")
                         << (extra.empty() ? "" : ",\n  " + extra) << "\n}\n";

@@ -189,8 +189,13 @@ TEST(LineRate, AStopReachesTheGimbalWhileEveryMethodFloods) {
     TempDir dir;
     ::chmod(dir.path().c_str(), 0755);  // uid 65534 must reach the socket
     SimProcess sim(dir, {"--baud", "115200"});
+    // The link turns stale after kGapBound without attitude, the bound this
+    // test holds attitude to (the harness's 300 ms flipped it once on a
+    // loaded 2-core CI machine with attitude within its bound).
     DaemonProcess daemon(dir, {"--device", sim.link(), "--state-dir", dir.file("state")}, {},
-                         R"("socket": {"mode": "0666"}, "access": {"control_uids": [0]})");
+                         R"("socket": {"mode": "0666"}, "access": {"control_uids": [0]},
+                            "link": {"stale_ms": 2000, "reconnect_initial_ms": 50,
+                                     "reconnect_max_ms": 200})");
     Client control(daemon.socket());
     ASSERT_TRUE(control.connected());
     ASSERT_TRUE(link_up(control));
@@ -224,7 +229,11 @@ TEST(LineRate, AStopReachesTheGimbalWhileEveryMethodFloods) {
     floods.clear();
     EXPECT_LT(attitude.longest(), kGapBound) << "attitude paused under the flood";
     EXPECT_GT(attitude.count(), 0);
-    EXPECT_FALSE(link_watch.notification("link", 100ms).has_value()) << "the link changed state";
+    const auto changed = link_watch.notification("link", 100ms);
+    EXPECT_FALSE(changed.has_value())
+        << "the link changed state: " << changed->dump() << " (longest attitude gap "
+        << std::chrono::duration_cast<std::chrono::milliseconds>(attitude.longest()).count()
+        << " ms)";
 }
 
 }  // namespace
