@@ -15,6 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 extern char** environ;
@@ -141,16 +142,51 @@ Result<std::vector<std::string>, ExifError> jpeg_files(const std::string& dir) {
     return files;
 }
 
-// Runs exiftool with `lines` as its argument file, then `args`.
+// Pix4D's XMP namespace, for the position's accuracy (XMP-Camera:GPSXYAccuracy
+// and GPSZAccuracy, 1-sigma metres: what Pix4D and OpenDroneMap read), which
+// exiftool 12.57 (Debian 12) does not define: an exiftool configuration
+// file defines it for the writes. Reading needs none (exiftool reads any XMP).
+const std::vector<std::string> kPix4dConfig{
+    "%Image::ExifTool::UserDefined = (",
+    "    'Image::ExifTool::XMP::Main' => {",
+    "        Camera => { SubDirectory => { TagTable => 'Image::ExifTool::UserDefined::Camera' } },",
+    "    },",
+    ");",
+    "%Image::ExifTool::UserDefined::Camera = (",
+    "    GROUPS => { 0 => 'XMP', 1 => 'XMP-Camera', 2 => 'Location' },",
+    "    NAMESPACE => { 'Camera' => 'http://pix4d.com/camera/1.0/' },",
+    "    WRITABLE => 'real',",
+    "    GPSXYAccuracy => { },",
+    "    GPSZAccuracy => { },",
+    ");",
+    "1;",
+};
+
+// Runs exiftool with `lines` as its argument file, then `args`; with
+// `config`, under that configuration (-config must come first).
 Result<Ran, ExifError> run_with_argfile(const std::vector<std::string>& lines,
-                                        std::vector<std::string> args) {
+                                        std::vector<std::string> args,
+                                        const std::vector<std::string>* config = nullptr) {
     auto argfile = write_argfile(lines);
     if (!argfile) {
         return gport::unexpected(argfile.error());
     }
     args.insert(args.begin(), {"-@", *argfile});
+    std::optional<std::string> config_file;
+    if (config != nullptr) {
+        auto written = write_argfile(*config);
+        if (!written) {
+            std::remove(argfile->c_str());
+            return gport::unexpected(written.error());
+        }
+        config_file = *written;
+        args.insert(args.begin(), {"-config", *config_file});
+    }
     auto ran = run_exiftool(args);
     std::remove(argfile->c_str());
+    if (config_file) {
+        std::remove(config_file->c_str());
+    }
     return ran;
 }
 
@@ -221,7 +257,7 @@ Result<std::vector<std::optional<std::string>>, ExifError> write_image_tags(
         lines.insert(lines.end(), {files[i], "-echo4", marker(i)});
     }
     // -common_args: -q and -m for every file's command, not just the first.
-    auto ran = run_with_argfile(lines, {"-common_args", "-q", "-q", "-m"});
+    auto ran = run_with_argfile(lines, {"-common_args", "-q", "-q", "-m"}, &kPix4dConfig);
     if (!ran) {
         return gport::unexpected(ran.error());
     }

@@ -90,7 +90,7 @@ std::string seconds(std::int64_t us) {
 
 std::string position(const PhotoCapture& c) {
     if (!c.lat || !c.lon) {
-        return "no position in its meta";
+        return c.untagged.empty() ? "no position in its meta" : "untagged by gportd: " + c.untagged;
     }
     return fmt::format("{:.7f} {:.7f}{}", *c.lat, *c.lon,
                        c.alt_m ? fmt::format(" {:.1f} m", *c.alt_m) : std::string());
@@ -290,8 +290,8 @@ bool all_placed(const Invocation& inv, const std::vector<ImageFile>& images,
     const auto unplaced = without_position(photos, m);
     if (!unplaced.empty()) {
         err << fmt::format(
-            "gportctl: geotag: {} image{} matched a capture with no position in its meta and "
-            "get none: {}\n",
+            "gportctl: geotag: {} image{} matched a capture with no position (none in its meta, "
+            "or gportd marked it untagged: no fit position at the shutter) and get none: {}\n",
             unplaced.size(), unplaced.size() == 1 ? "" : "s", names(images, unplaced));
     }
     return m.images_left.empty() && unplaced.empty() && !images.empty();

@@ -8,6 +8,7 @@
 #include <ctime>
 #include <filesystem>
 #include <tuple>
+#include <utility>
 
 namespace gport::cli {
 namespace {
@@ -76,6 +77,38 @@ std::string name_of(const std::string& path) {
     return std::filesystem::path(path).filename().string();
 }
 
+// gportd's stamp: the vehicle at the shutter, or why there is none.
+void stamped(const json& vehicle, PhotoCapture& p, std::optional<double>& heading) {
+    const auto utc = vehicle.find("utc_us");
+    if (utc != vehicle.end() && utc->is_number_integer()) {
+        p.gps_utc_us = utc->get<std::int64_t>();
+        p.utc_us = *p.gps_utc_us;  // true time: the images are matched by it
+    }
+    const auto tagged = vehicle.find("tagged");
+    if (tagged == vehicle.end() || !tagged->is_boolean() || !tagged->get<bool>()) {
+        const json why = vehicle.value("why", json());
+        p.untagged = why.is_string() ? why.get<std::string>() : "untagged by gportd";
+        heading.reset();
+        return;
+    }
+    p.lat = number_at(vehicle, "lat");
+    p.lon = number_at(vehicle, "lon");
+    p.alt_m = number_at(vehicle, "alt_msl_m");
+    p.h_acc_m = number_at(vehicle, "h_acc_m");
+    p.v_acc_m = number_at(vehicle, "v_acc_m");
+    heading = number_at(vehicle, "heading_deg");
+}
+
+// exiftool's GPSDateStamp and GPSTimeStamp values for a UTC.
+std::pair<std::string, std::string> gps_date_time(std::int64_t utc_us) {
+    const std::time_t seconds = static_cast<std::time_t>(utc_us / 1000000);
+    std::tm tm{};
+    ::gmtime_r(&seconds, &tm);
+    const double second = tm.tm_sec + static_cast<double>(utc_us % 1000000) / 1e6;
+    return {fmt::format("{:04}:{:02}:{:02}", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday),
+            fmt::format("{:02}:{:02}:{:09.6f}", tm.tm_hour, tm.tm_min, second)};
+}
+
 }  // namespace
 
 std::optional<PhotoCapture> photo_capture(const json& capture) {
@@ -92,9 +125,15 @@ std::optional<PhotoCapture> photo_capture(const json& capture) {
     p.index = index->get<std::uint64_t>();
     p.utc_us = utc->get<std::int64_t>();
     const json meta = capture.value("meta", json::object());
-    p.lat = number_at(meta, "lat");
-    p.lon = number_at(meta, "lon");
-    p.alt_m = number_at(meta, "alt_m");
+    const json vehicle = capture.value("vehicle", json());
+    std::optional<double> heading = number_at(meta, "heading_deg");
+    if (vehicle.is_object()) {
+        stamped(vehicle, p, heading);
+    } else {
+        p.lat = number_at(meta, "lat");
+        p.lon = number_at(meta, "lon");
+        p.alt_m = number_at(meta, "alt_m");
+    }
     if (!p.lat || !p.lon || std::abs(*p.lat) > 90 || std::abs(*p.lon) > 180) {
         p.lat.reset();  // half a position, or none that exists, is no position
         p.lon.reset();
@@ -104,7 +143,6 @@ std::optional<PhotoCapture> photo_capture(const json& capture) {
     const json hall = attitude.is_object() ? attitude.value("hall", json()) : json();
     p.pitch = number_at(imu, "pitch");
     p.roll = number_at(imu, "roll");
-    const auto heading = number_at(meta, "heading_deg");
     const auto hall_yaw = number_at(hall, "yaw");
     if (heading && hall_yaw) {
         p.yaw = std::remainder(*heading + *hall_yaw, 360.0);
@@ -295,6 +333,20 @@ std::vector<std::string> tag_arguments(const PhotoCapture& c) {
     }
     if (c.yaw) {
         args.push_back(fmt::format("-XMP-drone-dji:GimbalYawDegree={:.2f}", *c.yaw));
+        // The camera's direction, true north (0 to 360).
+        args.push_back(fmt::format("-GPSImgDirection={:.2f}", std::fmod(*c.yaw + 360.0, 360.0)));
+        args.push_back("-GPSImgDirectionRef=T");
+    }
+    if (c.lat && c.lon && c.h_acc_m) {  // Pix4D's XMP, 1-sigma metres (ODM reads it too)
+        args.push_back(fmt::format("-XMP-Camera:GPSXYAccuracy={:.3f}", *c.h_acc_m));
+    }
+    if (c.lat && c.lon && c.v_acc_m) {
+        args.push_back(fmt::format("-XMP-Camera:GPSZAccuracy={:.3f}", *c.v_acc_m));
+    }
+    if (c.lat && c.lon && c.gps_utc_us) {
+        const auto [date, time] = gps_date_time(*c.gps_utc_us);
+        args.push_back("-GPSDateStamp=" + date);
+        args.push_back("-GPSTimeStamp=" + time);
     }
     return args;
 }
@@ -311,6 +363,10 @@ std::string geo_txt(const std::vector<ImageFile>& images, const std::vector<Phot
         if (c.alt_m) {
             out += fmt::format(" {:.3f} {:.2f} {:.2f} {:.2f}", *c.alt_m, c.yaw.value_or(0.0),
                                c.pitch.value_or(0.0), c.roll.value_or(0.0));
+            // OpenDroneMap reads the accuracy only with all nine columns.
+            if (c.h_acc_m && c.v_acc_m) {
+                out += fmt::format(" {:.3f} {:.3f}", *c.h_acc_m, *c.v_acc_m);
+            }
         }
         out += "\n";
     }

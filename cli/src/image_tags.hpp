@@ -14,12 +14,18 @@
 namespace gport::cli {
 
 // A photo from gportd's capture log, with what is written into its file.
+// A photo's capture. Its position is gportd's stamp (`vehicle`, docs/api.md
+// "The vehicle") when gportd has a vehicle source, else the meta's; a
+// capture gportd marked untagged gets no position, whatever its meta says.
 struct PhotoCapture {
     std::uint64_t index = 0;
-    std::int64_t utc_us = 0;
-    std::optional<double> lat, lon, alt_m;  // the meta's position (degrees, metres AMSL)
-    std::optional<double> pitch, roll;      // the IMU's, degrees (earth-referenced)
-    std::optional<double> yaw;              // hall yaw + the meta's heading_deg, when both
+    std::int64_t utc_us = 0;  // the autopilot's UTC at the shutter when known, else gportd's clock
+    std::optional<double> lat, lon, alt_m;   // degrees, metres AMSL
+    std::optional<double> pitch, roll;       // the IMU's, degrees (earth-referenced)
+    std::optional<double> yaw;               // hall yaw + the vehicle's heading, when both
+    std::optional<double> h_acc_m, v_acc_m;  // the stamp's accuracy (1-sigma), when known
+    std::optional<std::int64_t> gps_utc_us;  // the autopilot's UTC at the shutter
+    std::string untagged;                    // gportd's reason, when it marked it untagged
 };
 
 // A capture object as `captures` lists it; empty unless it is a photo.

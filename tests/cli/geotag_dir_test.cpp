@@ -209,8 +209,9 @@ TEST_F(GeotagDir, AnImageThatGetsNoPositionIsAFailureNamedEvenWhenWritten) {
     images_every(12, 2, 0);
     const auto r = geotag({"--write"});
     EXPECT_EQ(r.status, kExitFailure) << r.out;
-    EXPECT_THAT(r.err, HasSubstr("12 images matched a capture with no position in its meta and get "
-                                 "none: IMG_01.JPG, IMG_02.JPG"));
+    EXPECT_THAT(r.err, HasSubstr("12 images matched a capture with no position (none in its meta, "
+                                 "or gportd marked it untagged: no fit position at the shutter) "
+                                 "and get none: IMG_01.JPG, IMG_02.JPG"));
     EXPECT_THAT(r.out, HasSubstr("wrote 12 of 12 images")) << "the angles";
 }
 
@@ -251,6 +252,57 @@ TEST_F(GeotagDir, MissesAWholeNumberOfHoursOffHintAtTheTimeZone) {
                                  "--clock-offset 3600"));
     const auto given = geotag({"--clock-offset", "0"});
     EXPECT_THAT(given.err, Not(HasSubstr("try --clock-offset"))) << "the user said so";
+}
+
+// issue 43: a capture gportd stamped gives its image the stamp's position,
+// the camera's direction, the accuracy in Pix4D's XMP and the GPS date and
+// time from the autopilot's UTC, which exiftool reads back; one gportd
+// marked untagged gets no position, whatever its meta says, and is named.
+TEST_F(GeotagDir, TheStampsTagsAreWrittenAndAnUntaggedCaptureGetsNone) {
+    {
+        std::ofstream file(root_ / "captures.jsonl");
+        for (int k = 1; k <= 2; ++k) {
+            json c = {{"index", k},
+                      {"kind", "photo"},
+                      {"utc_us", (kT + (k - 1) * 10) * 1000000 + 900000},  // a companion 0.9 s late
+                      {"attitude",
+                       {{"imu", {{"pitch", -30.0}, {"roll", 0.0}}},
+                        {"hall", {{"pitch", -30.0}, {"roll", 0.0}, {"yaw", -20.0}}}}},
+                      {"meta", {{"lat", 1.0}, {"lon", 2.0}}}};
+            c["vehicle"] = {{"tagged", k == 1}, {"utc_us", (kT + (k - 1) * 10) * 1000000 + 250000}};
+            if (k == 1) {
+                c["vehicle"].update({{"lat", 47.397742},
+                                     {"lon", 8.545594},
+                                     {"alt_msl_m", 488.5},
+                                     {"heading_deg", 10.0},
+                                     {"h_acc_m", 1.25},
+                                     {"v_acc_m", 2.5}});
+            } else {
+                c["vehicle"]["why"] = "no 3D GPS fix (GPS_FIX_TYPE 1)";
+            }
+            file << c.dump() << "\n";
+        }
+    }
+    images_every(2, 10, 0);
+    const auto ran = geotag({"--clock-offset", "0", "--write"});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_THAT(ran.err, HasSubstr("IMG_02.JPG"));
+    EXPECT_FALSE(latitude("IMG_02.JPG")) << "never the meta's position";
+
+    const auto out = root_ / "stamp.json";
+    const auto command =
+        "exiftool -json -GPSLatitude# -GPSImgDirection# -GPSImgDirectionRef# "
+        "-GPSDateStamp -GPSTimeStamp -XMP:GPSXYAccuracy# -XMP:GPSZAccuracy# '" +
+        card() + "/IMG_01.JPG' > '" + out.string() + "' 2>/dev/null";
+    ASSERT_EQ(std::system(command.c_str()), 0);
+    const auto tags = json::parse(std::ifstream(out))[0];
+    EXPECT_EQ(tags["GPSLatitude"], 47.397742);
+    EXPECT_EQ(tags["GPSImgDirection"], 350);
+    EXPECT_EQ(tags["GPSImgDirectionRef"], "T");
+    EXPECT_EQ(tags["GPSDateStamp"], "2026:11:27");
+    EXPECT_EQ(tags["GPSTimeStamp"], "07:00:00.25");
+    EXPECT_EQ(tags["GPSXYAccuracy"], 1.25);
+    EXPECT_EQ(tags["GPSZAccuracy"], 2.5);
 }
 
 }  // namespace

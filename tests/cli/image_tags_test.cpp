@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -116,6 +117,59 @@ TEST(PhotoCapture, PositionAnglesAndYawOnlyWithAHeading) {
     half["meta"].erase("lon");
     EXPECT_FALSE(photo_capture(half)->lat) << "half a position is none";
     EXPECT_FALSE(photo_capture(json::parse(R"({"index":-1,"kind":"photo","utc_us":1})")));
+}
+
+// gportd's stamp (issue 43) wins over the meta: its position, its accuracy,
+// the heading at the shutter and the autopilot's UTC, by which the images
+// are matched; an untagged capture gets no position, whatever the meta says.
+TEST(PhotoCapture, GportdsStampWinsOverTheMetaAndUntaggedMeansNoPosition) {
+    const json capture = json::parse(R"({"index":3,"kind":"photo","utc_us":1795762800000000,
+        "attitude":{"imu":{"roll":0.5,"pitch":-90,"yaw":0},"hall":{"roll":0,"pitch":-90,"yaw":-20},"age_ms":3},
+        "meta":{"lat":1.0,"lon":2.0,"alt_m":3.0,"heading_deg":0},
+        "vehicle":{"tagged":true,"utc_us":1795910400250000,"lat":47.397742,"lon":8.545594,
+          "alt_msl_m":488.5,"alt_rel_m":40.0,"velocity_ned":[15,0,0],"heading_deg":10,
+          "h_acc_m":1.25,"v_acc_m":2.5,"fix":3,"satellites":12,"age_ms":130}})");
+    const auto p = photo_capture(capture);
+    ASSERT_TRUE(p);
+    EXPECT_EQ(p->lat, 47.397742);
+    EXPECT_EQ(p->alt_m, 488.5);
+    EXPECT_EQ(p->utc_us, 1795910400250000) << "matched by the autopilot's UTC";
+    EXPECT_NEAR(*p->yaw, -10.0, 1e-9) << "the vehicle's heading 10 + the hall yaw -20";
+    const auto args = tag_arguments(*p);
+    for (const auto* expected :
+         {"-GPSLatitude=47.3977420", "-GPSImgDirection=350.00", "-GPSImgDirectionRef=T",
+          "-XMP-Camera:GPSXYAccuracy=1.250", "-XMP-Camera:GPSZAccuracy=2.500",
+          "-GPSDateStamp=2026:11:29", "-GPSTimeStamp=00:00:00.250000"}) {
+        EXPECT_NE(std::find(args.begin(), args.end(), expected), args.end()) << expected;
+    }
+
+    auto untagged = capture;
+    untagged["vehicle"] = json::parse(
+        R"j({"tagged":false,"utc_us":1795910400250000,"why":"no 3D GPS fix (GPS_FIX_TYPE 1)"})j");
+    const auto u = photo_capture(untagged);
+    ASSERT_TRUE(u);
+    EXPECT_FALSE(u->lat) << "never the meta's position when gportd said untagged";
+    EXPECT_EQ(u->untagged, "no 3D GPS fix (GPS_FIX_TYPE 1)");
+    EXPECT_FALSE(u->yaw);
+    const auto bare = tag_arguments(*u);
+    EXPECT_TRUE(std::none_of(bare.begin(), bare.end(), [](const std::string& a) {
+        return a.starts_with("-GPS") || a.starts_with("-XMP-Camera");
+    }));
+}
+
+TEST(GeoTxt, NineColumnsWhenTheAccuracyIsKnown) {
+    PhotoCapture a = capture_at(1, kT);
+    a.lat = 47.397742;
+    a.lon = 8.545594;
+    a.alt_m = 488.5;
+    a.yaw = 12.5;
+    a.pitch = -90;
+    a.h_acc_m = 1.25;
+    a.v_acc_m = 2.5;
+    const std::vector<ImageFile> images{image_at("/d/IMG_1.JPG", kT)};
+    const auto m = match_by_time(images, {a}, 1000000);
+    EXPECT_EQ(geo_txt(images, {a}, m),
+              "EPSG:4326\nIMG_1.JPG 8.5455940 47.3977420 488.500 12.50 -90.00 0.00 1.250 2.500\n");
 }
 
 TEST(GeoTxt, Epsg4326ThenNameLonLatAltAndAnglesZeroWhenUnknown) {
