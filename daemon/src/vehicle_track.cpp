@@ -189,7 +189,13 @@ void VehicleTrack::reset() {
 }
 
 void VehicleTrack::observe_latency(std::uint32_t boot_ms, SteadyTime now) {
+    // A minimum queue: a sample no less delayed than a newer one can never
+    // be the window's least delayed, so the front is the minimum and each
+    // report costs O(1) amortised, whatever the publisher sends.
     const auto offset = now.time_since_epoch() - duration_cast<nanoseconds>(Millis(boot_ms));
+    while (!latencies_.empty() && latencies_.back().second >= offset) {
+        latencies_.pop_back();
+    }
     latencies_.emplace_back(now, offset);
     while (latencies_.size() > 1 && now - latencies_.front().first > kOffsetWindow) {
         latencies_.pop_front();
@@ -197,11 +203,8 @@ void VehicleTrack::observe_latency(std::uint32_t boot_ms, SteadyTime now) {
 }
 
 SteadyTime VehicleTrack::steady_of(std::uint32_t boot_ms) const {
-    auto offset = latencies_.front().second;
-    for (const auto& [arrival, o] : latencies_) {
-        offset = std::min(offset, o);
-    }
-    return SteadyTime(duration_cast<SteadyTime::duration>(offset + Millis(boot_ms)));
+    return SteadyTime(
+        duration_cast<SteadyTime::duration>(latencies_.front().second + Millis(boot_ms)));
 }
 
 std::optional<std::int64_t> VehicleTrack::utc_at(SteadyTime instant) const {

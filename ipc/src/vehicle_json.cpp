@@ -23,6 +23,10 @@ json rounded(double value, double step) {
     return std::round(value / step) * step;
 }
 
+json velocity_json(const std::array<double, 3>& v) {
+    return {rounded(v[0], 1e-3), rounded(v[1], 1e-3), rounded(v[2], 1e-3)};
+}
+
 json optional_rounded(const std::optional<double>& value, double step) {
     return value ? rounded(*value, step) : json(nullptr);
 }
@@ -127,9 +131,7 @@ json position_json(const daemon::VehiclePosition& p) {
             {"lon", rounded(p.lon_deg, 1e-8)},
             {"alt_msl_m", rounded(p.alt_msl_m, 1e-3)},
             {"alt_rel_m", optional_rounded(p.alt_rel_m, 1e-3)},
-            {"velocity_ned",
-             {rounded(p.velocity_ned[0], 1e-3), rounded(p.velocity_ned[1], 1e-3),
-              rounded(p.velocity_ned[2], 1e-3)}},
+            {"velocity_ned", velocity_json(p.velocity_ned)},
             {"heading_deg", optional_rounded(p.heading_deg, 1e-2)},
             {"fix", optional_value(p.fix)},
             {"h_acc_m", optional_rounded(p.h_acc_m, 1e-3)},
@@ -179,9 +181,7 @@ json vehicle_stamp_json(const std::optional<daemon::VehicleStamp>& stamp) {
                     {"lon", rounded(s.lon_deg, 1e-8)},
                     {"alt_msl_m", rounded(s.alt_msl_m, 1e-3)},
                     {"alt_rel_m", optional_rounded(s.alt_rel_m, 1e-3)},
-                    {"velocity_ned",
-                     {rounded(s.velocity_ned[0], 1e-3), rounded(s.velocity_ned[1], 1e-3),
-                      rounded(s.velocity_ned[2], 1e-3)}},
+                    {"velocity_ned", velocity_json(s.velocity_ned)},
                     {"heading_deg", optional_rounded(s.heading_deg, 1e-2)},
                     {"h_acc_m", optional_rounded(s.h_acc_m, 1e-3)},
                     {"v_acc_m", optional_rounded(s.v_acc_m, 1e-3)},

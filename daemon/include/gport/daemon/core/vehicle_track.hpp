@@ -79,7 +79,7 @@ class VehicleTrack {
     SteadyTime source_seen_{};
     std::optional<VehiclePosition> position_;
     std::optional<VehicleTime> time_;
-    std::deque<std::pair<SteadyTime, std::chrono::nanoseconds>> latencies_;  // arrival, offset
+    std::deque<std::pair<SteadyTime, std::chrono::nanoseconds>> latencies_;  // increasing offsets
     std::deque<std::int64_t> utc_offsets_us_;                                // utc - boot time
     VehicleStatus status_;                                                   // its counters
     bool rebooted_ = false;  // since the last reset, no position yet
