@@ -1,13 +1,18 @@
 // gport-web's pure parts: the token file's rules, sessions and login
-// limits, the outbound queue's bounds, the options.
+// limits, the outbound queue's bounds, the registry of connections, the
+// options.
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "gport/web/limits.hpp"
 #include "gport/web/login_codes.hpp"
 #include "gport/web/options.hpp"
 #include "gport/web/outbox.hpp"
+#include "gport/web/registry.hpp"
 #include "gport/web/request_rates.hpp"
 #include "gport/web/sessions.hpp"
 #include "gport/web/tokens.hpp"
@@ -152,6 +157,93 @@ TEST(Outbox, KeepsTheNewestAttitudeAndBoundsTheRest) {
     }
     EXPECT_EQ(*outbox.pop(), "a999");
     EXPECT_FALSE(outbox.pop());
+}
+
+// A connection as the registry sees it: what it was sent, whether closed.
+struct FakeMember : Member {
+    void close() override { closed = true; }
+    void deliver(const Message& message, bool) override { got.push_back(*message); }
+    bool closed = false;
+    std::vector<std::string> got;
+};
+
+struct Joined {
+    std::shared_ptr<FakeMember> member = std::make_shared<FakeMember>();
+    std::unique_ptr<Registry::Membership> membership;
+};
+
+Joined join(Registry& registry, const std::string& peer) {
+    Joined joined;
+    joined.membership = registry.join(peer);
+    joined.membership->hold(joined.member);
+    return joined;
+}
+
+TEST(Registry, CapsEachAddressAndTheWhole) {
+    Registry registry;
+    std::vector<Joined> held;
+    for (std::size_t i = 0; i < kMaxConnectionsPerAddress; ++i) {
+        ASSERT_EQ(registry.admit("10.0.0.1"), Admission::kServe);
+        held.push_back(join(registry, "10.0.0.1"));
+        held.back().membership->authenticate();
+    }
+    EXPECT_EQ(registry.admit("10.0.0.1"), Admission::kTooManyFromPeer);
+    for (std::size_t i = held.size(); i < kMaxConnections; ++i) {
+        const auto peer = "10.0.1." + std::to_string(i);
+        ASSERT_EQ(registry.admit(peer), Admission::kServe);
+        held.push_back(join(registry, peer));
+        held.back().membership->authenticate();
+    }
+    EXPECT_EQ(registry.admit("10.0.2.1"), Admission::kFull);
+    held.pop_back();  // one leaves: room again
+    EXPECT_EQ(registry.size(), kMaxConnections - 1);
+    EXPECT_EQ(registry.admit("10.0.2.1"), Admission::kServe);
+    held.clear();
+    EXPECT_EQ(registry.size(), 0U);
+    EXPECT_EQ(registry.from("10.0.0.1"), 0U);
+}
+
+TEST(Registry, ANewcomerTakesTheRoomOfTheOldestUnauthenticatedNeverATrustedOne) {
+    Registry registry;
+    auto operator_page = join(registry, "192.168.1.2");
+    operator_page.membership->authenticate();
+    std::vector<Joined> idle;
+    for (std::size_t i = 0; i < kMaxUnauthenticatedConnections; ++i) {
+        idle.push_back(join(registry, "10.0.0." + std::to_string(i)));
+    }
+    EXPECT_EQ(registry.unauthenticated(), kMaxUnauthenticatedConnections);
+    EXPECT_EQ(registry.admit("10.0.9.9"), Admission::kServe);
+    EXPECT_TRUE(idle.front().member->closed);  // the oldest, closed at once
+    EXPECT_FALSE(idle[1].member->closed);
+    EXPECT_FALSE(operator_page.member->closed);
+    // Counted until its operations end, but no longer among the new ones.
+    EXPECT_EQ(registry.unauthenticated(), kMaxUnauthenticatedConnections - 1);
+    EXPECT_EQ(registry.size(), kMaxUnauthenticatedConnections + 1);
+    idle.erase(idle.begin());
+    EXPECT_EQ(registry.size(), kMaxUnauthenticatedConnections);
+}
+
+TEST(Registry, BroadcastsToListeningMembersAndClosesAll) {
+    Registry registry;
+    auto page = join(registry, "10.0.0.1");
+    auto other = join(registry, "10.0.0.2");
+    auto http = join(registry, "10.0.0.3");
+    page.membership->listen(true);
+    other.membership->listen(true);
+    EXPECT_EQ(registry.listening(), 2U);
+    registry.broadcast(std::make_shared<const std::string>("one"), false);
+    other.membership->listen(false);
+    registry.broadcast(std::make_shared<const std::string>("two"), true);
+    EXPECT_EQ(page.member->got, (std::vector<std::string>{"one", "two"}));
+    EXPECT_EQ(other.member->got, (std::vector<std::string>{"one"}));
+    EXPECT_TRUE(http.member->got.empty());
+    page.member.reset();  // on its way out: skipped, not called
+    registry.broadcast(std::make_shared<const std::string>("three"), false);
+    page.membership.reset();
+    EXPECT_EQ(registry.listening(), 0U);
+    registry.close_all();
+    EXPECT_TRUE(other.member->closed);
+    EXPECT_TRUE(http.member->closed);
 }
 
 std::string no_env(const char*) {

@@ -2,7 +2,6 @@
 
 #include <boost/asio/write.hpp>
 
-#include "connections.hpp"
 #include "http_session.hpp"
 
 namespace gport::web {
@@ -38,7 +37,7 @@ void Acceptor::admit(tcp::socket socket) {
         return;  // gone already
     }
     auto peer = peer_key(remote.address());
-    switch (web::admit(context_, peer)) {
+    switch (context_.registry.admit(peer)) {
         case Admission::kServe:
             std::make_shared<HttpSession>(context_, std::move(socket), std::move(peer))->start();
             break;

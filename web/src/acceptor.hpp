@@ -1,5 +1,5 @@
 // Accepts connections: each becomes an HttpSession, or, beyond the limits
-// of connections.hpp, gets 503 and is closed.
+// of the registry (gport/web/registry.hpp), gets 503 and is closed.
 #pragma once
 
 #include <boost/asio/ip/tcp.hpp>

@@ -19,10 +19,10 @@ Message gportd_message(bool connected, const std::string& reason) {
         message.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 
-Gateway::Gateway(boost::asio::io_context& io, std::string socket, Hub& hub)
+Gateway::Gateway(boost::asio::io_context& io, std::string socket, Registry& registry)
     : io_(io),
       socket_(std::move(socket)),
-      hub_(hub),
+      registry_(registry),
       client_(io),
       commands_(io),
       command_lane_(io, commands_),
@@ -31,8 +31,8 @@ Gateway::Gateway(boost::asio::io_context& io, std::string socket, Hub& hub)
       status_(io) {
     state_ = gportd_message(false, "connecting to gportd");
     client_.on_notification_text([this](const std::string& topic, const std::string& line) {
-        hub_.broadcast(std::make_shared<const std::string>(line),
-                       topic == contract::kTopicAttitude);
+        registry_.broadcast(std::make_shared<const std::string>(line),
+                            topic == contract::kTopicAttitude);
     });
     client_.on_disconnect(
         [this](const client::Error& error) { lost("lost gportd", error.message()); });
@@ -86,7 +86,7 @@ void Gateway::subscribe() {
                                     spdlog::info("connected to gportd on {}", socket_);
                                 }
                                 announced_down_ = false;
-                                hub_.broadcast(gportd_message(true, "connected"), false);
+                                registry_.broadcast(gportd_message(true, "connected"), false);
                             });
 }
 
@@ -103,7 +103,7 @@ void Gateway::lost(const std::string& reason, const std::string& detail) {
     if (was || !announced_down_) {
         announced_down_ = true;
         spdlog::warn("gportd not reachable: {}: {} (retrying every second)", reason, detail);
-        hub_.broadcast(state_, false);
+        registry_.broadcast(state_, false);
     }
     retry();
 }
@@ -135,14 +135,14 @@ void Gateway::poll_status() {
         if (ec || stopped_) {
             return;
         }
-        if (connected_ && hub_.size() > 0) {
+        if (connected_ && registry_.listening() > 0) {
             read_lane_.snapshot(
                 contract::method::kStatus,
                 [this](std::optional<client::Error> error, const std::string& result) {
                     if (!error) {
-                        hub_.broadcast(std::make_shared<const std::string>(
-                                           R"({"method":"status","params":)" + result + "}"),
-                                       false);
+                        registry_.broadcast(std::make_shared<const std::string>(
+                                                R"({"method":"status","params":)" + result + "}"),
+                                            false);
                     }
                 });
         }

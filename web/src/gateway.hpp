@@ -5,7 +5,7 @@
 // browser polls). Connects both and reconnects both (every
 // kReconnectPeriod) when either breaks, subscribes once (attitude at
 // kAttitudeMaxRateHz, link, motion, capture), fans each notification out
-// through the hub as one shared string, and polls `status` for the live
+// through the registry as one shared string, and polls `status` for the live
 // sockets.
 #pragma once
 
@@ -15,14 +15,14 @@
 
 #include "command_lane.hpp"
 #include "gport/client/async_client.hpp"
-#include "hub.hpp"
+#include "gport/web/registry.hpp"
 #include "read_lane.hpp"
 
 namespace gport::web {
 
 class Gateway {
   public:
-    Gateway(boost::asio::io_context& io, std::string socket, Hub& hub);
+    Gateway(boost::asio::io_context& io, std::string socket, Registry& registry);
 
     void start();
     // Closes the connections for good (at exit): no retry, no poll.
@@ -55,7 +55,7 @@ class Gateway {
 
     boost::asio::io_context& io_;
     std::string socket_;
-    Hub& hub_;
+    Registry& registry_;            // the live sockets are its listening members
     client::AsyncClient client_;    // the subscription and the reads
     client::AsyncClient commands_;  // the commands only
     CommandLane command_lane_;

@@ -9,28 +9,27 @@ namespace beast = boost::beast;
 
 HttpSession::HttpSession(Context& context, boost::asio::ip::tcp::socket socket, std::string peer)
     : context_(context),
-      slot_(std::make_unique<ConnectionSlot>(context, std::move(peer))),
+      membership_(context.registry.join(std::move(peer))),
       stream_(std::move(socket)),
-      delay_(context.io) {
-    auto close = [this] {
-        beast::error_code ignored;
-        stream_.socket().close(ignored);
-        delay_.cancel();
-    };
-    context_.closers[this] = close;
-    slot_->on_evict(close);
+      delay_(context.io) {}
+
+void HttpSession::start() {
+    membership_->hold(weak_from_this());
+    read();
 }
 
-HttpSession::~HttpSession() {
-    context_.closers.erase(this);
+void HttpSession::close() {
+    beast::error_code ignored;
+    stream_.socket().close(ignored);
+    delay_.cancel();
 }
 
 void HttpSession::read() {
     parser_.emplace();
     parser_->header_limit(static_cast<std::uint32_t>(kMaxHeaderBytes));
     parser_->body_limit(kMaxBodyBytes);
-    stream_.expires_after(slot_->authenticated() ? kHttpIdleTimeout
-                                                 : kUnauthenticatedRequestTimeout);
+    stream_.expires_after(membership_->authenticated() ? kHttpIdleTimeout
+                                                       : kUnauthenticatedRequestTimeout);
     http::async_read(
         stream_, buffer_, *parser_,
         [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
@@ -110,7 +109,8 @@ void HttpSession::finish(bool keep_alive) {
 
 void HttpSession::upgrade(Request request, Role role) {
     stream_.expires_never();
-    LiveSocket::start(context_, std::move(slot_), std::move(stream_), std::move(request), role);
+    LiveSocket::start(context_, std::move(membership_), std::move(stream_), std::move(request),
+                      role);
 }
 
 }  // namespace gport::web

@@ -15,17 +15,20 @@
 
 namespace gport::web {
 
-class HttpSession : public std::enable_shared_from_this<HttpSession> {
+class HttpSession : public Member, public std::enable_shared_from_this<HttpSession> {
   public:
     HttpSession(Context& context, boost::asio::ip::tcp::socket socket, std::string peer);
-    ~HttpSession();
     HttpSession(const HttpSession&) = delete;
     HttpSession& operator=(const HttpSession&) = delete;
-    void start() { read(); }
+    // Reads the first request (held by the registry from now on).
+    void start();
+    // Member: its socket and timer closed (evicted, or at exit).
+    void close() override;
+    void deliver(const Message&, bool) override {}  // it never listens
 
     Context& context() { return context_; }
     boost::beast::tcp_stream& stream() { return stream_; }
-    ConnectionSlot& slot() { return *slot_; }
+    Registry::Membership& membership() { return *membership_; }
     // Writes the answer, then reads the next request (or closes).
     void send(Response response);
     // The same after `delay` (a timer: the loop goes on meanwhile).
@@ -42,7 +45,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     void drain(std::size_t budget);
 
     Context& context_;
-    std::unique_ptr<ConnectionSlot> slot_;
+    std::unique_ptr<Registry::Membership> membership_;
     boost::beast::tcp_stream stream_;
     boost::asio::steady_timer delay_;
     boost::beast::flat_buffer buffer_;

@@ -13,30 +13,26 @@ namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 using nlohmann::json;
 
-void LiveSocket::start(Context& context, std::unique_ptr<ConnectionSlot> slot,
+void LiveSocket::start(Context& context, std::unique_ptr<Registry::Membership> membership,
                        beast::tcp_stream stream, Request request, Role role) {
-    auto socket = std::make_shared<LiveSocket>(context, std::move(slot), std::move(stream), role);
+    auto socket =
+        std::make_shared<LiveSocket>(context, std::move(membership), std::move(stream), role);
+    socket->membership_->hold(socket);
     socket->accept(std::move(request));
 }
 
-LiveSocket::LiveSocket(Context& context, std::unique_ptr<ConnectionSlot> slot,
+LiveSocket::LiveSocket(Context& context, std::unique_ptr<Registry::Membership> membership,
                        beast::tcp_stream stream, Role role)
     : context_(context),
-      slot_(std::move(slot)),
+      membership_(std::move(membership)),
       ws_(std::move(stream)),
       rate_(kMaxWsMessagesPerSecond, kMaxWsMessagesPerSecond),
       role_(role) {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
     ws_.read_message_max(kMaxWsMessageBytes);
-    context_.closers[this] = [this] {
-        beast::error_code ignored;
-        beast::get_lowest_layer(ws_).socket().close(ignored);
-    };
 }
 
 LiveSocket::~LiveSocket() {
-    context_.closers.erase(this);
-    context_.hub.remove(this);
     if (jogging_) {
         context_.gateway.stop([](std::optional<client::Error>, const std::string&) {});
     }
@@ -48,20 +44,20 @@ void LiveSocket::accept(Request request) {
             return;
         }
         self->open_ = true;
-        self->context_.hub.add(self);
+        self->membership_->listen(true);
         const json hello = {
             {"method", "hello"},
             {"params",
              {{"role", std::string(role_name(self->role_))}, {"version", std::string(kVersion)}}}};
-        self->send(std::make_shared<const std::string>(json_text(hello)), false);
+        self->deliver(std::make_shared<const std::string>(json_text(hello)), false);
         if (auto state = self->context_.gateway.state()) {
-            self->send(state, false);
+            self->deliver(state, false);
         }
         self->read();
     });
 }
 
-void LiveSocket::send(const Message& message, bool attitude) {
+void LiveSocket::deliver(const Message& message, bool attitude) {
     if (!open_) {
         return;
     }
@@ -101,7 +97,7 @@ void LiveSocket::read() {
     ws_.async_read(input_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
         if (ec) {
             self->open_ = false;  // closed, too big (Beast closes with 1009) or timed out
-            self->context_.hub.remove(self.get());
+            self->membership_->listen(false);
             return;
         }
         self->on_message();
@@ -112,7 +108,7 @@ void LiveSocket::on_message() {
     const auto text = beast::buffers_to_string(input_.data());
     input_.consume(input_.size());
     if (!rate_.take(base::TokenBucket::Clock::now())) {
-        close(websocket::close_code::policy_error);
+        close_with(websocket::close_code::policy_error);
         return;
     }
     const auto message = json::parse(text, nullptr, false);
@@ -161,12 +157,19 @@ void LiveSocket::stop() {
 
 void LiveSocket::reply_error(const std::string& message) {
     const json error = {{"method", "error"}, {"params", {{"message", message}}}};
-    send(std::make_shared<const std::string>(json_text(error)), false);
+    deliver(std::make_shared<const std::string>(json_text(error)), false);
 }
 
-void LiveSocket::close(websocket::close_code code) {
+void LiveSocket::close() {
     open_ = false;
-    context_.hub.remove(this);
+    membership_->listen(false);
+    beast::error_code ignored;
+    beast::get_lowest_layer(ws_).socket().close(ignored);
+}
+
+void LiveSocket::close_with(websocket::close_code code) {
+    open_ = false;
+    membership_->listen(false);
     close_code_ = code;
     if (!writing_) {
         write();

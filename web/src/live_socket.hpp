@@ -1,4 +1,4 @@
-// One browser's live WebSocket (/api/live): hello, then the hub's messages
+// One browser's live WebSocket (/api/live): hello, then the broadcast's messages
 // through a bounded Outbox; jog and stop from a control login; at most
 // kMaxWsMessagesPerSecond messages a second from the browser (beyond:
 // closed with 1008) of at most kMaxWsMessageBytes (beyond: closed by Beast
@@ -17,16 +17,19 @@
 
 namespace gport::web {
 
-class LiveSocket : public Listener, public std::enable_shared_from_this<LiveSocket> {
+class LiveSocket : public Member, public std::enable_shared_from_this<LiveSocket> {
   public:
-    // Takes over the connection's slot (it stays counted as it was).
-    static void start(Context& context, std::unique_ptr<ConnectionSlot> slot,
+    // Takes over the connection's membership (it stays counted as it was).
+    static void start(Context& context, std::unique_ptr<Registry::Membership> membership,
                       boost::beast::tcp_stream stream, Request request, Role role);
-    LiveSocket(Context& context, std::unique_ptr<ConnectionSlot> slot,
+    LiveSocket(Context& context, std::unique_ptr<Registry::Membership> membership,
                boost::beast::tcp_stream stream, Role role);
     ~LiveSocket() override;
 
-    void send(const Message& message, bool attitude) override;
+    // Member: queued through the Outbox (the broadcast's messages, once open).
+    void deliver(const Message& message, bool attitude) override;
+    // Member: the socket closed (at exit).
+    void close() override;
 
   private:
     void accept(Request request);
@@ -36,10 +39,10 @@ class LiveSocket : public Listener, public std::enable_shared_from_this<LiveSock
     void stop();
     void write();
     void reply_error(const std::string& message);
-    void close(boost::beast::websocket::close_code code);
+    void close_with(boost::beast::websocket::close_code code);
 
     Context& context_;
-    std::unique_ptr<ConnectionSlot> slot_;
+    std::unique_ptr<Registry::Membership> membership_;
     // Without permessage-deflate (the template's false): no compression
     // to attack (a small message inflating to a large one) or to pay for.
     boost::beast::websocket::stream<boost::beast::tcp_stream, false> ws_;

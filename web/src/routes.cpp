@@ -140,7 +140,7 @@ Response too_many_logins(const Context& context, const Request& request, int wai
 void refuse_guess(const std::shared_ptr<HttpSession>& session, const Request& request,
                   std::string_view line = "wrong token") {
     auto& context = session->context();
-    const auto& peer = session->slot().peer();
+    const auto& peer = session->membership().peer();
     if (const auto wait = context.logins.blocked(peer)) {
         session->send_after(too_many_logins(context, request, *wait), kLoginTarpit);
         return;
@@ -173,7 +173,7 @@ void log_in(const std::shared_ptr<HttpSession>& session, const Request& request,
                           : "wrong token");
         return;
     }
-    session->slot().authenticate();
+    session->membership().authenticate();
     auto response = redirect(request, "/");
     response.set(http::field::set_cookie, session_cookie(context.sessions.open(*role)));
     session->send(std::move(response));
@@ -221,7 +221,7 @@ void api_within_rate(const std::shared_ptr<HttpSession>& session, Request reques
     const bool stop =
         request.method() == http::verb::post && path_of(target_of(request)) == "/api/stop";
     if (!stop) {
-        if (const auto wait = session->context().api_rates.take(session->slot().peer())) {
+        if (const auto wait = session->context().api_rates.take(session->membership().peer())) {
             auto response =
                 error_response(request, http::status::too_many_requests,
                                "too many requests from your address: at most " +
@@ -267,7 +267,7 @@ void route(const std::shared_ptr<HttpSession>& session, Request request) {
         return;
     }
     if (role) {
-        session->slot().authenticate();
+        session->membership().authenticate();
     }
     const bool post = request.method() == http::verb::post;
     if (boost::beast::websocket::is_upgrade(request) && path == "/api/live") {

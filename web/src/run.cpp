@@ -115,10 +115,7 @@ int serve(Options options, TokenFile tokens) {
     signals.async_wait([&](boost::system::error_code, int) {
         listener->stop();
         context.gateway.close();
-        const auto closers = context.closers;
-        for (const auto& [connection, close] : closers) {
-            close();
-        }
+        context.registry.close_all();
     });
     listener->start();
     context.gateway.start();

@@ -46,7 +46,7 @@ inline constexpr std::size_t kMaxLoginAddresses = 1024;
 inline constexpr auto kLoginWindow = 60s;
 inline constexpr auto kLoginTarpit = 1s;
 
-// API requests from one peer address (the key of connections.hpp: an IPv4
+// API requests from one peer address (the key of registry.hpp: an IPv4
 // address, an IPv6 /64), all its logins together, a stop never counted
 // (beyond: 429 with Retry-After), for at most this many addresses.
 inline constexpr double kApiRequestsPerSecond = 50;
