@@ -10,6 +10,8 @@
 #include <tuple>
 #include <utility>
 
+#include "gport/client/capture_files.hpp"
+
 namespace gport::cli {
 namespace {
 
@@ -77,28 +79,6 @@ std::string name_of(const std::string& path) {
     return std::filesystem::path(path).filename().string();
 }
 
-// gportd's stamp: the vehicle at the shutter, or why there is none.
-void stamped(const json& vehicle, PhotoCapture& p, std::optional<double>& heading) {
-    const auto utc = vehicle.find("utc_us");
-    if (utc != vehicle.end() && utc->is_number_integer()) {
-        p.gps_utc_us = utc->get<std::int64_t>();
-        p.utc_us = *p.gps_utc_us;  // true time: the images are matched by it
-    }
-    const auto tagged = vehicle.find("tagged");
-    if (tagged == vehicle.end() || !tagged->is_boolean() || !tagged->get<bool>()) {
-        const json why = vehicle.value("why", json());
-        p.untagged = why.is_string() ? why.get<std::string>() : "untagged by gportd";
-        heading.reset();
-        return;
-    }
-    p.lat = number_at(vehicle, "lat");
-    p.lon = number_at(vehicle, "lon");
-    p.alt_m = number_at(vehicle, "alt_msl_m");
-    p.h_acc_m = number_at(vehicle, "h_acc_m");
-    p.v_acc_m = number_at(vehicle, "v_acc_m");
-    heading = number_at(vehicle, "heading_deg");
-}
-
 // exiftool's GPSDateStamp and GPSTimeStamp values for a UTC.
 std::pair<std::string, std::string> gps_date_time(std::int64_t utc_us) {
     const std::time_t seconds = static_cast<std::time_t>(utc_us / 1000000);
@@ -124,20 +104,21 @@ std::optional<PhotoCapture> photo_capture(const json& capture) {
     PhotoCapture p;
     p.index = index->get<std::uint64_t>();
     p.utc_us = utc->get<std::int64_t>();
-    const json meta = capture.value("meta", json::object());
-    const json vehicle = capture.value("vehicle", json());
-    std::optional<double> heading = number_at(meta, "heading_deg");
-    if (vehicle.is_object()) {
-        stamped(vehicle, p, heading);
-    } else {
-        p.lat = number_at(meta, "lat");
-        p.lon = number_at(meta, "lon");
-        p.alt_m = number_at(meta, "alt_m");
+    // One rule with the CSV and GeoJSON: gportd's stamp, none when it marked
+    // the capture untagged, the meta's when it had no vehicle.
+    const auto where =
+        client::capture_position(capture.dump(-1, ' ', false, json::error_handler_t::replace));
+    p.lat = where.lat;
+    p.lon = where.lon;
+    p.alt_m = where.alt_m;
+    p.h_acc_m = where.h_acc_m;
+    p.v_acc_m = where.v_acc_m;
+    p.gps_utc_us = where.gps_utc_us;
+    p.untagged = where.untagged;
+    if (p.gps_utc_us) {
+        p.utc_us = *p.gps_utc_us;  // true time: the images are matched by it
     }
-    if (!p.lat || !p.lon || std::abs(*p.lat) > 90 || std::abs(*p.lon) > 180) {
-        p.lat.reset();  // half a position, or none that exists, is no position
-        p.lon.reset();
-    }
+    const auto heading = where.heading_deg;
     const json attitude = capture.value("attitude", json());
     const json imu = attitude.is_object() ? attitude.value("imu", json()) : json();
     const json hall = attitude.is_object() ? attitude.value("hall", json()) : json();

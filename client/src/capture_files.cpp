@@ -2,6 +2,7 @@
 // gportctl and gport-web.
 #include "gport/client/capture_files.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <limits>
@@ -29,16 +30,6 @@ const json& member(const json& object, const char* key) {
     }
     const auto it = object.find(key);
     return it == object.end() ? kNull : *it;
-}
-
-// utc_us as text; empty unless it is an integer that fits an int64.
-std::string utc_of(const json& capture) {
-    const auto& us = member(capture, "utc_us");
-    if (us.is_number_unsigned() &&
-        us.get<std::uint64_t>() > std::uint64_t{std::numeric_limits<std::int64_t>::max()}) {
-        return "";
-    }
-    return us.is_number_integer() ? utc_text(us.get<std::int64_t>()) : "";
 }
 
 // RFC 4180: the field in double quotes, a double quote in it doubled.
@@ -79,11 +70,87 @@ std::string angle_fields(const json& attitude, const char* source) {
            number_field(member(axes, "yaw"));
 }
 
+std::optional<double> number_of(const json& value) {
+    if (!value.is_number()) {
+        return std::nullopt;
+    }
+    const auto number = value.get<double>();
+    return std::isfinite(number) ? std::optional<double>(number) : std::nullopt;
+}
+
+// utc_us as an int64, when it is one.
+std::optional<std::int64_t> int64_of(const json& us) {
+    if (!us.is_number_integer() ||
+        (us.is_number_unsigned() &&
+         us.get<std::uint64_t>() > std::uint64_t{std::numeric_limits<std::int64_t>::max()})) {
+        return std::nullopt;
+    }
+    return us.get<std::int64_t>();
+}
+
+CapturePosition position_of(const json& capture) {
+    CapturePosition p;
+    const auto& vehicle = member(capture, "vehicle");
+    const json* from = &member(capture, "meta");
+    const char* alt = "alt_m";
+    if (vehicle.is_object()) {
+        p.gps_utc_us = int64_of(member(vehicle, "utc_us"));
+        const auto& tagged = member(vehicle, "tagged");
+        if (!tagged.is_boolean() || !tagged.get<bool>()) {
+            const auto& why = member(vehicle, "why");
+            p.untagged = why.is_string() ? why.get<std::string>() : "untagged by gportd";
+            return p;
+        }
+        from = &vehicle;
+        alt = "alt_msl_m";
+        p.h_acc_m = number_of(member(vehicle, "h_acc_m"));
+        p.v_acc_m = number_of(member(vehicle, "v_acc_m"));
+    }
+    p.lat = number_of(member(*from, "lat"));
+    p.lon = number_of(member(*from, "lon"));
+    if (!p.lat || !p.lon || std::abs(*p.lat) > 90 || std::abs(*p.lon) > 180) {
+        CapturePosition none;  // half a position, or one that does not exist
+        none.gps_utc_us = p.gps_utc_us;
+        return none;
+    }
+    p.alt_m = number_of(member(*from, alt));
+    p.heading_deg = number_of(member(*from, "heading_deg"));
+    p.from = from == &vehicle ? "vehicle" : "meta";
+    return p;
+}
+
+std::string optional_field(const std::optional<double>& value) {
+    return number_field(value ? json(*value) : json());
+}
+
+std::string position_fields(const CapturePosition& p) {
+    const std::string position = p.untagged.empty() ? p.from : "untagged: " + p.untagged;
+    return text_field(position) + "," + optional_field(p.lat) + "," + optional_field(p.lon) + "," +
+           optional_field(p.alt_m) + "," + optional_field(p.h_acc_m) + "," +
+           optional_field(p.v_acc_m) + "," + optional_field(p.heading_deg) + "," +
+           csv_quoted(p.gps_utc_us ? utc_text(*p.gps_utc_us) : "");
+}
+
+// utc_us as text; empty unless it is an integer that fits an int64.
+std::string utc_of(const json& capture) {
+    const auto us = int64_of(member(capture, "utc_us"));
+    return us ? utc_text(*us) : "";
+}
+
+json optional_json(const std::optional<double>& value) {
+    return value ? json(*value) : json();
+}
+
 }  // namespace
+
+CapturePosition capture_position(std::string_view capture) {
+    return position_of(parsed(capture));
+}
 
 std::string captures_csv_header() {
     return "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,hall_yaw,lat,lon,"
-           "alt_m\n";
+           "alt_m,position,position_lat,position_lon,position_alt_m,h_acc_m,v_acc_m,heading_deg,"
+           "gps_utc\n";
 }
 
 std::string capture_csv_row(std::string_view text) {
@@ -93,7 +160,8 @@ std::string capture_csv_row(std::string_view text) {
     return number_field(member(capture, "index")) + "," + csv_quoted(utc_of(capture)) + "," +
            text_field(member(capture, "kind")) + "," + angle_fields(attitude, "imu") + "," +
            angle_fields(attitude, "hall") + "," + number_field(member(meta, "lat")) + "," +
-           number_field(member(meta, "lon")) + "," + number_field(member(meta, "alt_m")) + "\n";
+           number_field(member(meta, "lon")) + "," + number_field(member(meta, "alt_m")) + "," +
+           position_fields(position_of(capture)) + "\n";
 }
 
 std::string captures_geojson_head() {
@@ -106,13 +174,13 @@ std::string captures_geojson_tail() {
 
 std::string capture_geojson_feature(std::string_view text) {
     const auto capture = parsed(text);
-    const auto& meta = member(capture, "meta");
-    if (!member(meta, "lat").is_number() || !member(meta, "lon").is_number()) {
+    const auto p = position_of(capture);
+    if (p.from.empty()) {
         return "";
     }
-    json coordinates = {meta["lon"], meta["lat"]};
-    if (member(meta, "alt_m").is_number()) {
-        coordinates.push_back(meta["alt_m"]);
+    json coordinates = {*p.lon, *p.lat};
+    if (p.alt_m) {
+        coordinates.push_back(*p.alt_m);
     }
     const auto utc = utc_of(capture);
     const json feature = {{"type", "Feature"},
@@ -121,7 +189,12 @@ std::string capture_geojson_feature(std::string_view text) {
                            {{"index", member(capture, "index")},
                             {"utc", utc.empty() ? json() : json(utc)},
                             {"kind", member(capture, "kind")},
-                            {"attitude", member(capture, "attitude")}}}};
+                            {"attitude", member(capture, "attitude")},
+                            {"position", p.from},
+                            {"h_acc_m", optional_json(p.h_acc_m)},
+                            {"v_acc_m", optional_json(p.v_acc_m)},
+                            {"heading_deg", optional_json(p.heading_deg)},
+                            {"gps_utc", p.gps_utc_us ? json(utc_text(*p.gps_utc_us)) : json()}}}};
     return feature.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 

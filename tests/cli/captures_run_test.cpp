@@ -177,7 +177,7 @@ TEST(CapturesAttack, TheCsvIsQuotedAndHoldsNoFormula) {
     ASSERT_EQ(rows.size(), 2u);
     const auto fields = quoted_csv_fields(rows[1]);
     ASSERT_TRUE(fields) << rows[1];
-    ASSERT_EQ(fields->size(), 12u);
+    ASSERT_EQ(fields->size(), 20u);
     EXPECT_EQ((*fields)[2], "'=cmd|'/C calc'!A0");
     EXPECT_EQ((*fields)[9], "");
     EXPECT_EQ((*fields)[10], "-30.5");

@@ -29,8 +29,8 @@ std::vector<std::string> fields_of(const std::string& row) {
     EXPECT_EQ(line.find_first_of("\r\n"), std::string::npos) << row;
     const auto fields = quoted_csv_fields(line);
     EXPECT_TRUE(fields) << "not RFC 4180 with every field quoted: " << row;
-    EXPECT_EQ(fields.value_or(std::vector<std::string>{}).size(), 12U) << row;
-    return fields.value_or(std::vector<std::string>(12));
+    EXPECT_EQ(fields.value_or(std::vector<std::string>{}).size(), 20U) << row;
+    return fields.value_or(std::vector<std::string>(20));
 }
 
 std::string row_of(const json& capture) {
@@ -59,18 +59,20 @@ const json kCapture = {
 TEST(CaptureCsv, TheHeaderNamesTheColumnsUnquoted) {
     EXPECT_EQ(captures_csv_header(),
               "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,hall_yaw,lat,lon,"
-              "alt_m\n");
+              "alt_m,position,position_lat,position_lon,position_alt_m,h_acc_m,v_acc_m,heading_deg,"
+              "gps_utc\n");
 }
 
 TEST(CaptureCsv, AWholeCaptureIsOneRowOfQuotedFields) {
     EXPECT_EQ(row_of(kCapture),
               R"("12","2026-11-24T23:33:03.085470Z","photo","0.5","-30.25","120","0.0","-30",)"
-              R"("119.75","47.397742","-8.545594","488.2")"
+              R"("119.75","47.397742","-8.545594","488.2","meta","47.397742","-8.545594","488.2",)"
+              R"("","","","")"
               "\n");
 }
 
 TEST(CaptureCsv, WhatIsMissingOrMistypedIsAnEmptyField) {
-    const std::string empty = R"("","","","","","","","","","","","")"
+    const std::string empty = R"("","","","","","","","","","","","","","","","","","","","")"
                               "\n";
     EXPECT_EQ(capture_csv_row("{}"), empty);
     EXPECT_EQ(capture_csv_row("[1,2]"), empty);
@@ -214,6 +216,72 @@ TEST(CaptureGeoJson, HeadFeaturesAndTailAreOneCollection) {
     EXPECT_EQ(collection.at("features").size(), 2U);
     EXPECT_TRUE(
         json::parse(captures_geojson_head() + captures_geojson_tail()).at("features").empty());
+}
+
+// gportd's stamp of a capture with meta (the caller's own, older position).
+json stamped(const json& vehicle) {
+    auto capture = kCapture;
+    capture["vehicle"] = vehicle;
+    return capture;
+}
+
+const json kTagged = {{"tagged", true}, {"utc_us", 1795563183012345}, {"lat", 47.3978},
+                      {"lon", -8.5456}, {"alt_msl_m", 500.25},        {"h_acc_m", 0.9},
+                      {"v_acc_m", 1.4}, {"heading_deg", 91.5},        {"age_ms", 120}};
+
+TEST(CapturePosition, GportdsStampWinsOverTheMeta) {
+    const auto p = capture_position(stamped(kTagged).dump());
+    EXPECT_EQ(p.from, "vehicle");
+    EXPECT_EQ(p.lat, 47.3978);
+    EXPECT_EQ(p.lon, -8.5456);
+    EXPECT_EQ(p.alt_m, 500.25);
+    EXPECT_EQ(p.h_acc_m, 0.9);
+    EXPECT_EQ(p.v_acc_m, 1.4);
+    EXPECT_EQ(p.heading_deg, 91.5);
+    EXPECT_EQ(p.gps_utc_us, 1795563183012345);
+    const auto row = fields_of(row_of(stamped(kTagged)));
+    EXPECT_EQ(row[9], "47.397742") << "the meta's own columns stay the meta's";
+    EXPECT_EQ(std::vector<std::string>(row.begin() + 12, row.end()),
+              (std::vector<std::string>{"vehicle", "47.3978", "-8.5456", "500.25", "0.9", "1.4",
+                                        "91.5", "2026-11-24T23:33:03.012345Z"}));
+    const auto feature = json::parse(capture_geojson_feature(stamped(kTagged).dump()));
+    EXPECT_EQ(feature.at("geometry").at("coordinates"), json({-8.5456, 47.3978, 500.25}));
+    EXPECT_EQ(feature.at("properties").at("position"), "vehicle");
+    EXPECT_EQ(feature.at("properties").at("h_acc_m"), 0.9);
+    EXPECT_EQ(feature.at("properties").at("gps_utc"), "2026-11-24T23:33:03.012345Z");
+}
+
+TEST(CapturePosition, UntaggedByGportdIsNoPositionNeverTheMetas) {
+    const json untagged = {
+        {"tagged", false}, {"why", "position 1500 ms old"}, {"utc_us", 1795563183012345}};
+    const auto p = capture_position(stamped(untagged).dump());
+    EXPECT_EQ(p.from, "");
+    EXPECT_FALSE(p.lat);
+    EXPECT_EQ(p.untagged, "position 1500 ms old");
+    EXPECT_EQ(p.gps_utc_us, 1795563183012345) << "its true time is still known";
+    const auto row = fields_of(row_of(stamped(untagged)));
+    EXPECT_EQ(row[12], "untagged: position 1500 ms old");
+    EXPECT_EQ(row[13], "");
+    EXPECT_EQ(row[19], "2026-11-24T23:33:03.012345Z");
+    EXPECT_EQ(capture_geojson_feature(stamped(untagged).dump()), "")
+        << "no point on the map from a stale or absent position";
+    EXPECT_EQ(capture_position(stamped({{"tagged", "yes"}}).dump()).untagged, "untagged by gportd");
+}
+
+TEST(CapturePosition, WithoutAVehicleTheMetaAsBeforeAndNoHalfPositions) {
+    EXPECT_EQ(capture_position(kCapture.dump()).from, "meta");
+    EXPECT_EQ(capture_position(stamped(nullptr).dump()).from, "meta");
+    EXPECT_EQ(capture_position(kCapture.dump()).alt_m, 488.2);
+    EXPECT_FALSE(capture_position(kCapture.dump()).h_acc_m) << "a caller's meta has no accuracy";
+    auto beyond = kTagged;
+    beyond["lat"] = 91;
+    EXPECT_EQ(capture_position(stamped(beyond).dump()).from, "");
+    auto half = kTagged;
+    half.erase("lon");
+    EXPECT_EQ(capture_position(stamped(half).dump()).from, "");
+    EXPECT_EQ(capture_position(R"({"meta":{"lat":47.3}})").from, "");
+    EXPECT_EQ(capture_position("{}").from, "");
+    EXPECT_THROW(capture_position("{"), Error);
 }
 
 TEST(Printable, ControlsAndBadBytesAreShownAndTheRestKept) {

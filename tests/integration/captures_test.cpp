@@ -131,10 +131,11 @@ TEST_F(CapturesEndToEnd, GportctlCapturesCsvMatchesTheRun) {
     ASSERT_EQ(lines.size(), 4u);
     EXPECT_EQ(
         lines[0],
-        "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,hall_yaw,lat,lon,alt_m");
+        "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,hall_yaw,lat,lon,alt_m,"
+        "position,position_lat,position_lon,position_alt_m,h_acc_m,v_acc_m,heading_deg,gps_utc");
     for (std::size_t i = 0; i < 3; ++i) {
         const auto cells = quoted_csv_fields(lines[i + 1]).value_or(std::vector<std::string>{});
-        ASSERT_EQ(cells.size(), 12u) << lines[i + 1];
+        ASSERT_EQ(cells.size(), 20u) << lines[i + 1];
         const auto& c = listed[i];
         EXPECT_EQ(cells[0], c["index"].dump());
         EXPECT_EQ(cells[2], c["kind"]);
@@ -213,7 +214,7 @@ TEST_F(CapturesEndToEnd, AHostileLogAndProcessNameReachNoTerminalOrSpreadsheet) 
         EXPECT_FALSE(has_raw_control(csv[i]));
         const auto cells = quoted_csv_fields(csv[i]);
         ASSERT_TRUE(cells) << "not RFC 4180 with every field quoted: " << csv[i];
-        ASSERT_EQ(cells->size(), 12u);
+        ASSERT_EQ(cells->size(), 20u);
     }
     EXPECT_EQ(split_cell(csv[1], 2), "'=cmd|'/C calc'!A0");
     EXPECT_EQ(split_cell(csv[1], 9), "") << "a string is no latitude";

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -20,8 +21,34 @@
 
 namespace gport::client {
 
-// "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,hall_yaw,lat,lon,alt_m\n":
-// the header line, its names unquoted.
+// Where a capture was taken (1.11.0), by the one rule of every writer (the
+// CSV's position columns, the GeoJSON, gportctl geotag):
+// - gportd tagged it (its `vehicle` has "tagged": true): the vehicle's
+//   position at the shutter, with its accuracy and heading; from "vehicle";
+// - gportd marked it untagged (no position recent enough, no fix...): no
+//   position, never the caller's meta, whose position is no better;
+//   `untagged` holds gportd's reason;
+// - gportd had no vehicle source (no `vehicle`, or null): the caller's meta
+//   (lat, lon, alt_m), as before 1.10.0; from "meta".
+// A latitude beyond ±90°, a longitude beyond ±180° or half a position is no
+// position. gps_utc_us: the autopilot's UTC at the shutter, when gportd
+// knew it (tagged or not).
+struct CapturePosition {
+    std::optional<double> lat{}, lon{}, alt_m{};  // degrees; metres above mean sea level
+    std::optional<double> h_acc_m{}, v_acc_m{};   // 1-sigma, from "vehicle" only
+    std::optional<double> heading_deg{};          // the vehicle's (the meta's when from it)
+    std::optional<std::int64_t> gps_utc_us{};
+    std::string from{};      // "vehicle", "meta", or empty: no position
+    std::string untagged{};  // gportd's reason, when it marked the capture untagged
+};
+GPORT_CLIENT_API CapturePosition capture_position(std::string_view capture);
+
+// "index,utc,kind,imu_roll,imu_pitch,imu_yaw,hall_roll,hall_pitch,hall_yaw,lat,lon,alt_m,
+// position,position_lat,position_lon,position_alt_m,h_acc_m,v_acc_m,heading_deg,gps_utc\n":
+// the header line, its names unquoted. lat, lon and alt_m are the meta's as
+// the caller gave them; position is capture_position's `from` ("vehicle",
+// "meta"), "untagged: " and gportd's reason, or empty; the position_ columns
+// and the rest are capture_position's (gps_utc as utc_text) (1.11.0).
 GPORT_CLIENT_API std::string captures_csv_header();
 
 // One row, ending in "\n" (LF, as the header; not RFC 4180's CRLF). Every
@@ -41,9 +68,11 @@ GPORT_CLIENT_API std::string capture_csv_row(std::string_view capture);
 // separated by ",", and the tail.
 GPORT_CLIENT_API std::string captures_geojson_head();  // {"type":"FeatureCollection","features":[
 GPORT_CLIENT_API std::string captures_geojson_tail();  // ]}\n
-// A Point feature at meta's lon, lat (and alt_m when it is a number), with
-// the properties index, utc (as in the CSV; null without one), kind and
-// attitude as gportd logged them; empty when lat or lon is not a number.
+// A Point feature at capture_position's lon, lat (and alt_m when known),
+// with the properties index, utc (as in the CSV; null without one), kind and
+// attitude as gportd logged them, and (1.11.0) position (its `from`),
+// h_acc_m, v_acc_m, heading_deg and gps_utc (null when unknown); empty when
+// the capture has no position.
 GPORT_CLIENT_API std::string capture_geojson_feature(std::string_view capture);
 
 // ISO 8601 UTC with microseconds: 1795563183085470 ->
