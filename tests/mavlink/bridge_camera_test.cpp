@@ -1,6 +1,7 @@
 // The camera component's pure parts (camera.hpp): what it answers, which
 // IMAGE_START_CAPTURE parameters it takes, the earth-frame orientation and
-// the position of CAMERA_IMAGE_CAPTURED, the capture's meta.
+// the position of CAMERA_IMAGE_CAPTURED, the capture's meta, and the
+// images kept for a ground station that missed one.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 
 #include "gport/mavlink/attitude.hpp"
 #include "gport/mavlink/bridge/camera.hpp"
+#include "gport/mavlink/bridge/image_history.hpp"
 #include "gport/mavlink/enums.hpp"
 
 namespace gport::mavlink::bridge {
@@ -57,6 +59,7 @@ TEST(Camera, BroadcastCommandsItTakesAndTheMessagesItServes) {
     EXPECT_TRUE(is_camera_command(command(mav_cmd::kDoDigicamControl)));
     EXPECT_TRUE(is_camera_command(command(mav_cmd::kRequestMessage, {259})));
     EXPECT_TRUE(is_camera_command(command(mav_cmd::kRequestMessage, {262})));
+    EXPECT_TRUE(is_camera_command(command(mav_cmd::kRequestMessage, {263})));   // a missed image
     EXPECT_FALSE(is_camera_command(command(mav_cmd::kRequestMessage, {283})));  // the gimbal's
     EXPECT_FALSE(is_camera_command(command(mav_cmd::kRequestMessage, {0})));
     EXPECT_FALSE(is_camera_command(command(mav_cmd::kRequestMessage, {259.5F})));
@@ -66,6 +69,59 @@ TEST(Camera, BroadcastCommandsItTakesAndTheMessagesItServes) {
     EXPECT_EQ(requested_message(command(mav_cmd::kRequestCameraCaptureStatus, {1})), 262U);
     EXPECT_EQ(requested_message(command(mav_cmd::kRequestStorageInformation)), 261U);
     EXPECT_FALSE(requested_message(command(mav_cmd::kImageStartCapture)));
+}
+
+TEST(ImageHistory, TheCameraProtocolsRangesAndNothingElse) {
+    const auto range = [](float first, float last) {
+        return image_range(command(mav_cmd::kRequestMessage, {263, first, last}));
+    };
+    const auto is = [](const std::optional<ImageRange>& r, std::int32_t first,
+                       std::optional<std::int32_t> last) {
+        return r && r->first == first && r->last == last;
+    };
+    EXPECT_TRUE(is(range(7, 0), 7, 7));              // that one
+    EXPECT_TRUE(is(range(7, -1), 7, std::nullopt));  // it and all after
+    EXPECT_TRUE(is(range(7, 9), 7, 9));
+    EXPECT_TRUE(is(range(-1, 0), 0, std::nullopt));  // every image
+    EXPECT_FALSE(range(7, 6)) << "a last before the first";
+    EXPECT_FALSE(range(7.5F, 0));
+    EXPECT_FALSE(range(-2, 0));
+    EXPECT_FALSE(range(NAN, 0));
+    EXPECT_FALSE(range(7, INFINITY));
+    EXPECT_TRUE(is(range(2147483648.0F, 0), 2147483647, 2147483647)) << "clamped, not UB";
+}
+
+CameraImageCaptured image(std::int32_t index) {
+    CameraImageCaptured m;
+    m.image_index = index;
+    m.lat = 473977420 + index;
+    return m;
+}
+
+TEST(ImageHistory, KeepsTheNewestAsSentAndFindsARangeWithinItsLimit) {
+    ImageHistory history(4);
+    history.add(image(-1));  // a failed photo: no index to ask for
+    for (std::int32_t i = 0; i < 6; ++i) {
+        history.add(image(i));
+    }
+    EXPECT_EQ(history.size(), 4U);
+    const auto indexes = [](const std::vector<CameraImageCaptured>& found) {
+        std::vector<std::int32_t> out;
+        for (const auto& m : found) {
+            out.push_back(m.image_index);
+        }
+        return out;
+    };
+    EXPECT_EQ(indexes(history.find({3, 3}, 64)), std::vector<std::int32_t>{3});
+    EXPECT_EQ(history.find({3, 3}, 64)[0].lat, 473977423) << "as first sent";
+    EXPECT_TRUE(history.find({1, 1}, 64).empty()) << "older than the newest four";
+    EXPECT_EQ(indexes(history.find({0, std::nullopt}, 64)),
+              (std::vector<std::int32_t>{2, 3, 4, 5}));
+    EXPECT_EQ(indexes(history.find({0, std::nullopt}, 3)), (std::vector<std::int32_t>{2, 3, 4}));
+    EXPECT_EQ(indexes(history.find({3, 4}, 64)), (std::vector<std::int32_t>{3, 4}));
+    EXPECT_TRUE(history.find({6, std::nullopt}, 64).empty()) << "not taken yet";
+    history.add(image(1));  // the count restarted (its file lost): the newer ones go
+    EXPECT_EQ(indexes(history.find({0, std::nullopt}, 64)), std::vector<std::int32_t>{1});
 }
 
 TEST(Camera, InformationSaysWhatIsKnownAndNaNOrZeroForTheRest) {

@@ -24,8 +24,10 @@ std::array<std::uint8_t, N> bytes_of(std::string_view text) {
     return out;
 }
 
+// CAMERA_INFORMATION ... CAMERA_CAPTURE_STATUS, and CAMERA_IMAGE_CAPTURED
+// (a missed one asked again).
 bool is_camera_message(std::uint32_t id) {
-    return id >= CameraInformation::kId && id <= CameraCaptureStatus::kId;
+    return id >= CameraInformation::kId && id <= CameraImageCaptured::kId;
 }
 
 }  // namespace

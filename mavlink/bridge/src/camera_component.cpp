@@ -141,8 +141,42 @@ void CameraComponent::request(const Requester& from, const CommandLong& command)
     } else if (id == Heartbeat::kId) {
         accept();
         send_heartbeat(from.origin);
+    } else if (id == CameraImageCaptured::kId && command.command == mav_cmd::kRequestMessage) {
+        resend_images(from, command);
     } else {
         ack(from, command.command, mav_result::kDenied);
+    }
+}
+
+// A missed CAMERA_IMAGE_CAPTURED asked again (image_history.hpp): the kept
+// messages as first sent, to the requester. DENIED for a range the camera
+// protocol does not define, FAILED when none of it is kept (before this
+// run, or older than the newest kImageHistory), TEMPORARILY_REJECTED past
+// the re-send budget.
+void CameraComponent::resend_images(const Requester& from, const CommandLong& command) {
+    const auto range = image_range(command);
+    if (!range) {
+        ack(from, command.command, mav_result::kDenied);
+        return;
+    }
+    const auto found = image_history_.find(*range, kImageResendBatch);
+    if (found.empty()) {
+        ack(from, command.command, mav_result::kFailed);
+        return;
+    }
+    if (!resend_budget_.take(Clock::now(), static_cast<double>(found.size()))) {
+        log_.warn("camera re-send rejected", [&] {
+            return fmt::format(
+                "camera: CAMERA_IMAGE_CAPTURED asked again by system {} beyond {} a second: "
+                "TEMPORARILY_REJECTED",
+                from.header.sysid, kImageResendPerSecond);
+        });
+        ack(from, command.command, mav_result::kTemporarilyRejected);
+        return;
+    }
+    ack(from, command.command, mav_result::kAccepted);
+    for (const auto& message : found) {
+        send(message, from.origin);
     }
 }
 

@@ -2,7 +2,8 @@
 // component"): its heartbeat and the requests for its messages; photos
 // (single, by interval, DIGICAM shots) and video as gportd `photo` /
 // `record` with the vehicle's position as the capture's `meta`; and
-// CAMERA_IMAGE_CAPTURED after each photo.
+// CAMERA_IMAGE_CAPTURED after each photo, kept for a ground station that
+// missed one and asks again (image_history.hpp).
 //
 // It is the one photo path and the one record path: the gimbal component's
 // (154) IMAGE_START_CAPTURE, IMAGE_STOP_CAPTURE and VIDEO_START/STOP_CAPTURE
@@ -19,9 +20,11 @@
 #include <utility>
 #include <vector>
 
+#include "gport/base/token_bucket.hpp"
 #include "gport/client/async_client.hpp"
 #include "gport/mavlink/bridge/camera.hpp"
 #include "gport/mavlink/bridge/image_count.hpp"
+#include "gport/mavlink/bridge/image_history.hpp"
 #include "gport/mavlink/bridge/mapping.hpp"
 #include "gport/mavlink/bridge/options.hpp"
 #include "gport/mavlink/bridge/photo_merge.hpp"
@@ -86,6 +89,7 @@ class CameraComponent {
 
   private:
     void request(const Requester& from, const CommandLong& command);
+    void resend_images(const Requester& from, const CommandLong& command);
     void start_images(const Requester& from, const CommandLong& command);
     void begin_interval(const Requester& from, const CommandLong& command, const ImagePlan& plan);
     bool busy(const Requester& from, const CommandLong& command, std::uint8_t compid);
@@ -121,6 +125,8 @@ class CameraComponent {
     std::optional<ImagePlan> images_;
     std::uint32_t images_taken_ = 0;  // of the running interval capture
     ImageCount image_count_;          // photos taken, kept in the state directory
+    ImageHistory image_history_;      // their CAMERA_IMAGE_CAPTURED, for a re-request
+    base::TokenBucket resend_budget_{kImageResendPerSecond, kImageResendPerSecond};
     std::optional<Clock::time_point> recording_since_;
     bool photo_in_flight_ = false;
     // One camera call (photo, record) to gportd at a time; a camera command

@@ -134,7 +134,9 @@ void CameraComponent::photo_done(const std::optional<Requester>& from, std::uint
     }
     // To whoever asked (the requester's origin), else (an interval's
     // photos) to the peer.
-    send(make_image_captured(image_captured(error, report, stamp)), from ? from->origin : Origin{});
+    const auto message = make_image_captured(image_captured(error, report, stamp));
+    image_history_.add(message);
+    send(message, from ? from->origin : Origin{});
 }
 
 ImageCapture CameraComponent::image_captured(const std::optional<client::Error>& error,

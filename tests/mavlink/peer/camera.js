@@ -236,6 +236,36 @@ async function main() {
   `3 CAMERA_IMAGE_CAPTURED, indexes ${indexes.join(', ')}, each with the position`);
   figures.push(`interval capture: photo frames ${gaps.join(', ')} ms apart (asked 1000); 0x86 -> CAMERA_IMAGE_CAPTURED ` +
     `${frames.map((f, i) => (images[i] ? (images[i].hr - f.hr).toFixed(2) : '?')).join(', ')} ms`);
+  // 6b. A missed CAMERA_IMAGE_CAPTURED asked again (REQUEST_MESSAGE 263,
+  // param2 the image_index, param3 0: that one; -1: it and all after): the
+  // same message as first sent; an index never taken: FAILED; a fraction:
+  // DENIED.
+  if (images.length === 3) {
+    const same = (a, b) => ['imageIndex', 'lat', 'lon', 'alt', 'timeUtc', 'timeBootMs', 'captureResult']
+      .every((k) => String(a[k]) === String(b[k])) && a.q.every((v, i) => v === b.q[i]);
+    t0 = Date.now();
+    gcs.send(cam(REQUEST_MESSAGE, [263, indexes[1], 0]));
+    const again = await until(() => fromCamera(gcs, t0, 'CAMERA_IMAGE_CAPTURED')[0], 5000, 'the image again').catch(() => null);
+    const againAck = await ackOf(gcs, t0, REQUEST_MESSAGE).catch(() => null);
+    check(againAck && againAck.data.result === 0 && again && same(again.data, images[1].data),
+      `REQUEST_MESSAGE(263, image ${indexes[1]}): ACK ${againAck && againAck.data.result}, the same CAMERA_IMAGE_CAPTURED as first sent`);
+    t0 = Date.now();
+    gcs.send(cam(REQUEST_MESSAGE, [263, indexes[0], -1]));
+    await ackOf(gcs, t0, REQUEST_MESSAGE).catch(() => null);
+    await sleep(300);
+    const all = fromCamera(gcs, t0, 'CAMERA_IMAGE_CAPTURED').map((r) => r.data.imageIndex);
+    check(all.join() === indexes.join(), `REQUEST_MESSAGE(263, ${indexes[0]}, -1): images ${all.join(', ')} again`);
+    const refusal = async (params) => {
+      const t = Date.now();
+      gcs.send(cam(REQUEST_MESSAGE, params));
+      const ack = await ackOf(gcs, t, REQUEST_MESSAGE).catch(() => null);
+      return ack && ack.data.result;
+    };
+    const never = await refusal([263, indexes[2] + 1000, 0]);
+    const fraction = await refusal([263, 1.5, 0]);
+    check(never === 4 && fraction === 2,
+      `REQUEST_MESSAGE(263) for an image never taken: ${never} (FAILED); for image 1.5: ${fraction} (DENIED)`);
+  }
   // An unlimited one, stopped.
   t0 = Date.now();
   gcs.send(cam(IMAGE_START, [0, 1, 0, 0]));
