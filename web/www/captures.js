@@ -63,6 +63,75 @@ async function showPage(from) {
     ? `#${first}–#${result.captures[result.captures.length - 1].index}` : 'no captures yet';
 }
 
+// A number when it is a finite one, else null.
+const finite = (value) => (typeof value === 'number' && Number.isFinite(value) ? value : null);
+
+// µs since the epoch as ISO 8601 UTC; null when it is no time a Date holds
+// (the log is read back from files: a utc_us of 1e20 would make
+// toISOString throw and end the table).
+function isoTime(us) {
+  const date = new Date(finite(us) === null ? NaN : us / 1000);
+  return Number.isNaN(date.getTime()) ? null : date.toISOString();
+}
+
+// Where a capture was taken, by the rule the CSV, the GeoJSON (and so the
+// plot) and gportctl geotag follow (libgport-client's capture_position;
+// docs/api.md, "The capture log as CSV and GeoJSON"): gportd's stamp when
+// it tagged the capture; nothing when it marked it untagged (the caller's
+// meta is older still, so a place from it would be wrong, not approximate);
+// the meta when gportd had no vehicle source. {from, text, title}: which of
+// the three (`vehicle`, `untagged`, `meta`), the cell and its tooltip (none
+// for the meta).
+function position(capture) {
+  const vehicle = capture.vehicle;
+  // Absent, null, or a shape gportd never writes: no stamp, as the library
+  // reads it (only a JSON object is one).
+  if (vehicle === null || typeof vehicle !== 'object' || Array.isArray(vehicle)) {
+    return { from: 'meta', text: metaPosition(capture.meta) };
+  }
+  // Anything but `tagged: true` is untagged, so an odd stamp never places
+  // a capture.
+  if (vehicle.tagged !== true) {
+    const why = typeof vehicle.why === 'string' ? vehicle.why : 'untagged by gportd';
+    const utc = isoTime(vehicle.utc_us);
+    return { from: 'untagged', text: `untagged: ${why}`, title: `marked untagged by gportd${utc ? `\nGPS UTC ${utc}` : ''}` };
+  }
+  return stamped(vehicle);
+}
+
+// A tagged stamp: "lat, lon ±h m". Without a valid latitude and longitude
+// it places nothing, like an untagged one (half a position is none).
+function stamped(vehicle) {
+  const lat = finite(vehicle.lat);
+  const lon = finite(vehicle.lon);
+  if (lat === null || lon === null || Math.abs(lat) > 90 || Math.abs(lon) > 180) {
+    return { from: 'untagged', text: 'untagged: no position' };
+  }
+  const hAcc = finite(vehicle.h_acc_m);
+  const accuracy = hAcc === null ? '' : ` ±${hAcc.toFixed(1)} m`;
+  return { from: 'vehicle', text: `${lat.toFixed(6)}, ${lon.toFixed(6)}${accuracy}`, title: stampTitle(vehicle) };
+}
+
+// The rest of the stamp, a line for each member the source published.
+function stampTitle(vehicle) {
+  const alt = finite(vehicle.alt_msl_m);
+  const hAcc = finite(vehicle.h_acc_m);
+  const vAcc = finite(vehicle.v_acc_m);
+  const heading = finite(vehicle.heading_deg);
+  const age = finite(vehicle.age_ms);
+  const utc = isoTime(vehicle.utc_us);
+  const accuracy = [hAcc === null ? null : `±${hAcc.toFixed(1)} m horizontal`,
+    vAcc === null ? null : `±${vAcc.toFixed(1)} m vertical`].filter(Boolean);
+  const lines = [];
+  if (alt !== null) lines.push(`altitude ${alt.toFixed(2)} m MSL`);
+  if (accuracy.length) lines.push(`accuracy ${accuracy.join(', ')} (1σ)`);
+  if (heading !== null) lines.push(`heading ${heading.toFixed(1)}°`);
+  if (utc) lines.push(`GPS UTC ${utc}`);
+  // The position was carried with the velocity from its sample to the shutter.
+  lines.push(`stamped by gportd at the shutter${age === null ? '' : ` (position carried ${age} ms)`}`);
+  return lines.join('\n');
+}
+
 // A capture's position as its meta gives it: both coordinates when they are
 // numbers; whatever is there otherwise (a client's meta is its own: lat
 // without lon, a string, null), never an exception that would end the table.
@@ -71,7 +140,8 @@ function coordinate(value) {
   return value === undefined ? '?' : JSON.stringify(value);
 }
 
-function position(meta) {
+function metaPosition(value) {
+  const meta = value && typeof value === 'object' ? value : {};
   if (meta.lat === undefined && meta.lon === undefined) return '–';
   return `${coordinate(meta.lat)}, ${coordinate(meta.lon)}`;
 }
@@ -85,18 +155,22 @@ function render(captures) {
     row.dataset.index = c.index;
     row.dataset.kind = c.kind;
     const hall = c.attitude && c.attitude.hall ? c.attitude.hall : {};
-    const meta = c.meta && typeof c.meta === 'object' ? c.meta : {};
+    const utc = isoTime(c.utc_us);
+    const where = position(c);
     const cells = [
       c.index,
-      typeof c.utc_us === 'number' ? new Date(c.utc_us / 1000).toISOString().slice(11, 23) : '–',
+      utc ? utc.slice(11, 23) : '–',
       c.kind,
       fixed(hall.pitch),
       fixed(hall.yaw),
-      position(meta),
+      where.text,
       c.client ? `${c.client.name || ''} (pid ${c.client.pid})` : '–',
     ];
+    // Text only: a reason, a meta and a client name are others' words.
     for (const text of cells) row.insertCell().textContent = String(text);
-    if (typeof c.utc_us === 'number') row.cells[1].title = new Date(c.utc_us / 1000).toISOString();
+    if (utc) row.cells[1].title = utc;
+    row.cells[5].dataset.position = where.from; // an untagged reason may wrap (style.css)
+    if (where.title) row.cells[5].title = where.title;
   }
 }
 
@@ -109,7 +183,8 @@ async function loadMap() {
   points = localMetres((geo.features || []).filter((f) => f.geometry && f.geometry.type === 'Point'));
   $('captures-map-note').textContent = points.length
     ? `${points.length} capture(s) with a position; metres east and north of the first`
-    : 'no capture has a position yet (photos sent with lat/lon, e.g. by gport-mavlink)';
+    : 'no capture has a position yet: it comes from gportd\'s stamp of the vehicle at the shutter '
+      + '(when a source such as gport-mavlink publishes it), else from the photo\'s meta (lat/lon)';
   drawMap();
 }
 

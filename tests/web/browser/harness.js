@@ -103,7 +103,9 @@ async function startGimbal(workRoot, gportdPath, simPath) {
   fs.writeFileSync(config, JSON.stringify({
     link: { stale_ms: 300, reconnect_initial_ms: 50, reconnect_max_ms: 200 },
     requests: { timeout_ms: 500, retries: 2 },
-    camera: { max_commands_per_s: 1000 },
+    // A published position is kept 10 s (default 1 s): a slow machine
+    // leaves no capture of section 6c untagged by its age.
+    camera: { max_commands_per_s: 1000, max_position_age_ms: 10000 },
   }));
   const sim = start(workRoot, 'gport-sim', simPath, ['--link', link, '--trace'], onTrace);
   await until(() => fs.existsSync(link), 10000, 'the simulator link');

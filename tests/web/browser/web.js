@@ -378,6 +378,43 @@ async function oddMetaInTable(page, sock) {
   check(page.problems.length === 0, `no script error from them (${page.problems.join('; ') || 'none'})`);
 }
 
+// ---- 6c. captures gportd stamped with the vehicle (published as
+// gport-mavlink does): a tagged one shows the stamp's position and its
+// accuracy, not the meta's; an untagged one shows why and no position,
+// though its meta has one; the plot gets the tagged one only.
+async function stampedInTable(page, sock) {
+  const rows = await page.locator(id('capture-row')).count();
+  const points = Number((/^(\d+) capture/.exec(await page.textContent(id('captures-map-note'))) || [0, 0])[1]);
+  // Standing still, so the position carried to the shutter is the one sent
+  // (and its accuracy not grown), whatever the photo's delay.
+  const publish = async (bootMs, fix) => (await h.rpc(sock, 'publish_vehicle', {
+    position: { boot_ms: bootMs, lat: 47.3978, lon: 8.5456, alt_msl_m: 488.25, velocity_ned: [0, 0, 0],
+      heading_deg: 90, fix, h_acc_m: 0.9, v_acc_m: 1.4, satellites: 14 },
+    time: { boot_ms: bootMs, utc_us: 1763770000000000 + bootMs * 1000 },
+  })).result;
+  const meta = { lat: 47.5, lon: 8.7, alt_m: 400 }; // the client's: never shown for a stamped capture
+  const tagged = await publish(60000, 3);
+  await h.rpc(sock, 'photo', { meta });
+  const untagged = await publish(60100, 1);
+  await h.rpc(sock, 'photo', { meta });
+  check(tagged && tagged.taken && untagged && untagged.taken, 'the vehicle published (publish_vehicle, fix 3 then 1)');
+  await until(async () => (await page.locator(id('capture-row')).count()) === rows + 2, 10000,
+    'the stamped captures in the table');
+  const [last, first] = await page.locator(id('capture-row')).evaluateAll((trs) =>
+    trs.slice(0, 2).map((tr) => ({ text: tr.cells[5].textContent, title: tr.cells[5].title, from: tr.cells[5].dataset.position })));
+  check(first.from === 'vehicle' && first.text === '47.397800, 8.545600 ±0.9 m' && /altitude 488\.25 m MSL/.test(first.title) &&
+    /GPS UTC 2025-11-22T00:07:4\d\.\d{3}Z/.test(first.title) && /stamped by gportd/.test(first.title),
+  `a tagged capture shows the vehicle's position and accuracy, not the meta's: "${first.text}" ` +
+    `(${JSON.stringify(first.title)})`);
+  check(last.from === 'untagged' && last.text === 'untagged: no 3D GPS fix (GPS_FIX_TYPE 1)',
+    `an untagged capture shows why and no position, though its meta has one: "${last.text}"`);
+  await page.waitForFunction((n) => new RegExp(`^${n} capture`).test(document.querySelector('[data-testid="captures-map-note"]').textContent),
+    points + 1, { timeout: 10000 }).catch(() => {});
+  const note = await page.textContent(id('captures-map-note'));
+  check(note.startsWith(`${points + 1} capture`), `the plot: the tagged capture added, the untagged one not ("${note}")`);
+  check(page.problems.length === 0, `no script error from them (${page.problems.join('; ') || 'none'})`);
+}
+
 // ---- 7. screenshots
 async function screenshots(page) {
   const shots = [];
@@ -633,6 +670,7 @@ async function main() {
     await photoInTable(page);
     await positionsAndPose(page, sock);
     await oddMetaInTable(page, sock);
+    await stampedInTable(page, sock);
     await screenshots(page);
     check(page.problems.length === 0, `no script errors in the page (${page.problems.join('; ') || 'none'})`);
     await recordOnOff(page);
