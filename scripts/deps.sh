@@ -45,6 +45,9 @@ GPORT_TEST_PACKAGES=(
   # check_venv.sh): python3-venv (venv, with pip and setuptools), and
   # python3-wheel, which Debian's setuptools needs to build a wheel.
   python3-venv python3-setuptools python3-wheel
+  # libfaketime: gportd with the companion's clock wrong and stepped
+  # (tests/python/test_true_time.py; skipped without it).
+  faketime
   # Node.js and npm for the MAVLink cross-check against node-mavlink
   # (tests/mavlink/peer; Debian 12: nodejs 18, npm 9).
   nodejs npm

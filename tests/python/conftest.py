@@ -23,7 +23,12 @@ class Daemon:
     """gportd with a temporary config and socket; `simulate=False` with a
     device path that does not exist gives a daemon whose link stays down."""
 
-    def __init__(self, config: dict[str, Any] | None = None, simulate: bool = True) -> None:
+    def __init__(
+        self,
+        config: dict[str, Any] | None = None,
+        simulate: bool = True,
+        env: dict[str, str] | None = None,
+    ) -> None:
         if not GPORTD or not os.access(GPORTD, os.X_OK):
             pytest.fail(f"set GPORTD to the gportd binary (got {GPORTD!r})")
         # Short, world-traversable directory: sockets have a 107-byte path
@@ -48,11 +53,12 @@ class Daemon:
             self.args.append("--simulate")
         else:
             self.args += ["--device", os.path.join(self.dir, "no-such-tty")]
+        self.env = env  # gportd's environment (None: this process's)
         self.process: subprocess.Popen[bytes] | None = None
         self.start()
 
     def start(self) -> None:
-        self.process = subprocess.Popen(self.args)
+        self.process = subprocess.Popen(self.args, env=self.env)
         deadline = time.monotonic() + 10
         while not self._accepting():  # the file appears at bind(), before listen()
             if self.process.poll() is not None:
@@ -101,8 +107,12 @@ def link_up(client: gport.Client) -> bool:
 def make_daemon() -> Iterator[Callable[..., Daemon]]:
     daemons: list[Daemon] = []
 
-    def make(config: dict[str, Any] | None = None, simulate: bool = True) -> Daemon:
-        daemons.append(Daemon(config, simulate))
+    def make(
+        config: dict[str, Any] | None = None,
+        simulate: bool = True,
+        env: dict[str, str] | None = None,
+    ) -> Daemon:
+        daemons.append(Daemon(config, simulate, env))
         return daemons[-1]
 
     yield make
