@@ -22,9 +22,4 @@ inline constexpr std::array<LimitAxis, 3> kLimitAxes = {
     LimitAxis{"pitch", &protocol::Axes::pitch, &config::LimitsConfig::pitch},
     LimitAxis{"yaw", &protocol::Axes::yaw, &config::LimitsConfig::yaw}};
 
-// 0.01 units to degrees (or degrees per second): the protocol's conversion.
-inline double degrees(std::int16_t centi) {
-    return protocol::from_centi(centi);
-}
-
 }  // namespace gport::daemon::detail

@@ -12,14 +12,9 @@
 namespace gport::daemon {
 namespace {
 
-using detail::degrees;
 using detail::kLimitAxes;
-
-// Degrees to 0.01 units, the unit of the commands.
-std::int16_t centi(double degrees) {
-    const auto c = std::lround(degrees * 100.0);
-    return static_cast<std::int16_t>(std::clamp<long>(c, -32767, 32767));
-}
+using protocol::clamped_centi;
+using protocol::from_centi;
 
 }  // namespace
 
@@ -27,8 +22,8 @@ Outcome<Limited> MotionLimits::angle(protocol::Axes target, bool clamp) const {
     Limited out{target, {}};
     for (const auto& axis : kLimitAxes) {
         const auto& range = config_.*axis.range;
-        const auto low = centi(range.min);
-        const auto high = centi(range.max);
+        const auto low = clamped_centi(range.min);
+        const auto high = clamped_centi(range.max);
         auto& value = out.axes.*axis.member;
         if (value >= low && value <= high) {
             continue;
@@ -38,7 +33,7 @@ Outcome<Limited> MotionLimits::angle(protocol::Axes target, bool clamp) const {
                 ErrorCode::kInvalidParams,
                 fmt::format("{} = {} is outside the soft limit {} to {} (limits.{}); "
                             "clamp: true moves as far as allowed",
-                            axis.name, degrees(value), range.min, range.max, axis.name)};
+                            axis.name, from_centi(value), range.min, range.max, axis.name)};
         }
         value = std::clamp(value, low, high);
         out.clamped.emplace_back(axis.name);
@@ -52,7 +47,7 @@ Limited MotionLimits::center_target() const {
 
 Outcome<Limited> MotionLimits::speed(protocol::Axes speed, bool clamp) const {
     Limited out{speed, {}};
-    const auto max = centi(config_.max_speed);
+    const auto max = clamped_centi(config_.max_speed);
     for (const auto& axis : kLimitAxes) {
         auto& value = out.axes.*axis.member;
         if (std::abs(value) <= max) {
@@ -62,7 +57,7 @@ Outcome<Limited> MotionLimits::speed(protocol::Axes speed, bool clamp) const {
             return CommandError{ErrorCode::kInvalidParams,
                                 fmt::format("{} = {} °/s is faster than the soft limit {} °/s "
                                             "(limits.max_speed); clamp: true moves at the limit",
-                                            axis.name, degrees(value), config_.max_speed)};
+                                            axis.name, from_centi(value), config_.max_speed)};
         }
         value = static_cast<std::int16_t>(value < 0 ? -max : max);
         out.clamped.emplace_back(axis.name);

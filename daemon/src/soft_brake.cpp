@@ -12,8 +12,8 @@
 namespace gport::daemon {
 namespace {
 
-using detail::degrees;
 using detail::kLimitAxes;
+using protocol::from_centi;
 
 // The side of `range` that a motion at `speed` approaches, if it is
 // narrowed (the defaults, ±327.67, are the protocol's end: no limit).
@@ -52,9 +52,9 @@ Braked SoftBrake::apply(protocol::Axes speed, const protocol::Axes& hall, Millis
         if (!side) {
             continue;
         }
-        const double angle = degrees(hall.*axis.member);
+        const double angle = from_centi(hall.*axis.member);
         const double left = value > 0 ? *side - angle : angle - *side;  // < 0: beyond it
-        if (left <= distance(degrees(value), age)) {
+        if (left <= distance(from_centi(value), age)) {
             value = 0;
             out.braked.emplace_back(axis.name);
         }

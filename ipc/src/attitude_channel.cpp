@@ -33,7 +33,8 @@ base::RingSample ring_sample(const daemon::AttitudeSample& sample) {
     if (a.rates) {
         out.has_rates = true;
         out.hall_rates = protocol::degrees_of(a.rates->hall);
-        out.imu_rates = {degrees(a.rates->imu_x), degrees(a.rates->imu_y), degrees(a.rates->imu_z)};
+        out.imu_rates = {protocol::from_centi(a.rates->imu_x), protocol::from_centi(a.rates->imu_y),
+                         protocol::from_centi(a.rates->imu_z)};
     }
     return out;
 }

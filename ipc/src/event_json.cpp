@@ -14,8 +14,8 @@ namespace {
 
 using detail::axes_json;
 using detail::client_json;
-using detail::degrees;
 using nlohmann::json;
+using protocol::from_centi;
 
 contract::AttitudePayload::Axes payload_axes(const protocol::Axes& axes) {
     const auto [roll, pitch, yaw] = protocol::degrees_of(axes);
@@ -39,9 +39,9 @@ contract::AttitudePayload attitude_payload_of(const daemon::AttitudeSample& samp
     payload.imu = payload_axes(a.imu);
     payload.hall = payload_axes(a.hall);
     if (a.rates) {
-        payload.rates =
-            contract::AttitudePayload::Rates{payload_axes(a.rates->hall), degrees(a.rates->imu_x),
-                                             degrees(a.rates->imu_y), degrees(a.rates->imu_z)};
+        payload.rates = contract::AttitudePayload::Rates{
+            payload_axes(a.rates->hall), from_centi(a.rates->imu_x), from_centi(a.rates->imu_y),
+            from_centi(a.rates->imu_z)};
     }
     return payload;
 }

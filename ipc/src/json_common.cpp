@@ -14,10 +14,6 @@ std::string json_text(const nlohmann::json& value) {
     return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
-double degrees(std::int16_t centi) {
-    return protocol::from_centi(centi);
-}
-
 nlohmann::json client_json(const daemon::ClientInfo& client) {
     return {{"id", client.id}, {"pid", client.pid}, {"uid", client.uid}, {"gid", client.gid}};
 }

@@ -15,10 +15,6 @@ std::string json_line(const nlohmann::json& message);
 // The same without the newline (invalid UTF-8 replaced, as json_line does).
 std::string json_text(const nlohmann::json& value);
 
-// Degrees from 0.01 units. The division is correctly rounded, so the shortest
-// round-trip output prints exactly two decimals at most ("-39.29").
-double degrees(std::int16_t centi);
-
 nlohmann::json client_json(const daemon::ClientInfo& client);
 nlohmann::json axes_json(const protocol::Axes& axes);  // degrees from 0.01 units
 double epoch_seconds(daemon::WallTime time);           // with microsecond resolution

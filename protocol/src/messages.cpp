@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -190,6 +191,14 @@ Result<std::int16_t> to_centi(double degrees, std::string_view field) {
             fmt::format("{} = {} is out of range; allowed -327.67 to 327.67", field, degrees)};
     }
     return static_cast<std::int16_t>(steps);
+}
+
+std::int16_t clamped_centi(double degrees) {
+    const double steps = std::round(degrees * 100.0);
+    if (std::isnan(steps)) {
+        return 0;
+    }
+    return static_cast<std::int16_t>(std::clamp<double>(steps, -kMaxCenti, kMaxCenti));
 }
 
 Result<Axes> to_axes(double roll, double pitch, double yaw) {

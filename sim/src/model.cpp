@@ -20,9 +20,6 @@ std::array<double, 3> to_array(const Vec3& v) {
 Vec3 to_vec(const std::array<double, 3>& a) {
     return {a[0], a[1], a[2]};
 }
-std::array<double, 3> from_centi(const p::Axes& a) {
-    return {p::from_centi(a.roll), p::from_centi(a.pitch), p::from_centi(a.yaw)};
-}
 
 double seconds(Duration d) {
     return std::chrono::duration<double>(d).count();
@@ -30,12 +27,8 @@ double seconds(Duration d) {
 
 // Degrees to the wire's 0.01 steps; the model keeps values in range, the
 // clamp only guards against a misconfigured base attitude.
-std::int16_t centi(double degrees) {
-    const double steps = std::clamp(std::round(degrees * 100.0), -32767.0, 32767.0);
-    return static_cast<std::int16_t>(steps);
-}
 p::Axes to_axes(const Vec3& v) {
-    return {centi(v.roll), centi(v.pitch), centi(v.yaw)};
+    return {p::clamped_centi(v.roll), p::clamped_centi(v.pitch), p::clamped_centi(v.yaw)};
 }
 
 double wrap180(double degrees) {
@@ -266,11 +259,11 @@ void GimbalModel::apply(const protocol::Control& control) {
     const auto limits = to_array(options_.limits);
     switch (control.mode) {
         case p::ControlMode::kSpeed:
-            velocity_ = from_centi(control.speed);
+            velocity_ = p::degrees_of(control.speed);
             speed_until_ = now_ + options_.speed_timeout;
             break;
         case p::ControlMode::kAngle:
-            target_ = from_centi(control.angle);
+            target_ = p::degrees_of(control.angle);
             for (std::size_t i = 0; i < 3; ++i) {
                 target_[i] = std::clamp(target_[i], -limits[i], limits[i]);
             }

@@ -184,6 +184,20 @@ TEST(Frame, ZeroLengthFrameHasNoCrc) {
     EXPECT_EQ(Bytes(f.bytes().begin(), f.bytes().end()), (Bytes{0xAE, 0x01, 0x00, 0x13, 0x14}));
 }
 
+TEST(Units, ClampedCentiRoundsAsToCentiAndClampsWhatDoesNotFit) {
+    EXPECT_EQ(gp::clamped_centi(1.236), 124);
+    EXPECT_EQ(gp::clamped_centi(-0.125), -13) << "an exact half: away from zero";
+    EXPECT_EQ(gp::clamped_centi(0.005), 1);
+    EXPECT_EQ(gp::clamped_centi(327.67), 32767);
+    EXPECT_EQ(gp::clamped_centi(1e9), 32767);
+    EXPECT_EQ(gp::clamped_centi(-1e9), -32767);
+    EXPECT_EQ(gp::clamped_centi(INFINITY), 32767);
+    EXPECT_EQ(gp::clamped_centi(NAN), 0);
+    for (const double d : {30.0, -89.99, 0.01, 180.0}) {
+        EXPECT_EQ(gp::clamped_centi(d), *gp::to_centi(d, "x")) << d;
+    }
+}
+
 TEST(Units, ToCentiRoundsToNearestStep) {
     EXPECT_EQ(*gp::to_centi(30.0, "yaw"), 3000);
     EXPECT_EQ(*gp::to_centi(1.234, "yaw"), 123);

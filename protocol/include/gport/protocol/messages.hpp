@@ -58,6 +58,10 @@ static_assert(kMaxCenti / 100.0 == kMaxDegrees, "the API's range is the wire's i
 // Refuses NaN, infinities and values outside ±327.67 with a message naming
 // `field` and the allowed range.
 Result<std::int16_t> to_centi(double degrees, std::string_view field);
+// The same for a value known to be meant (a configured limit, a model's
+// position): rounded to nearest, halves away from zero, clamped to ±327.67;
+// NaN is 0.
+std::int16_t clamped_centi(double degrees);
 constexpr double from_centi(std::int16_t centi) {
     return centi / 100.0;
 }
