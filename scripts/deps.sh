@@ -27,9 +27,6 @@ GPORT_BUILD_PACKAGES=(
 GPORT_RELEASE_BUILD_PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 systemd dpkg-dev scdoc
-  # liburing for bench/fanout_bench (io_uring against sendmsg for one
-  # frame's fan-out, docs/performance.md); gportd itself does not use it.
-  liburing-dev
 )
 
 # What the tests, fuzzers and packages run with, on top of the above.
