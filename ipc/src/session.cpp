@@ -224,7 +224,7 @@ std::optional<Session::Clock::duration> Session::throttle() const {
 }
 
 bool Session::backlogged() const {
-    const std::size_t queued = outbox_.reply_bytes() + in_flight_bytes_;
+    const std::size_t queued = outbox_.reply_bytes() + write_.bytes;
     return queued > kPauseBytes || (queued > 0 && host_.over_budget());
 }
 
@@ -385,11 +385,11 @@ void Session::queue_attitude(const AttitudeLine& line) {
 // resumes (on a later turn, so a reply written from inside the core never
 // runs a request there) and a closing session closes if no reply is owed.
 void Session::flush() {
-    if (!writing_ && !closed()) {
+    if (!write_.pending && !closed()) {
         write_queued();
     }
     sync_budget();
-    if (!writing_ && !closed() && outbox_.empty()) {
+    if (!write_.pending && !closed() && outbox_.empty()) {
         if (std::exchange(paused_, false)) {
             unpause_.cancel();
         }
@@ -408,27 +408,21 @@ void Session::write_queued() {
             }
             continue;
         }
-        in_flight_.clear();
-        outbox_.take(in_flight_, kLinesPerWrite);
-        buffers_.clear();
-        in_flight_bytes_ = 0;
-        for (const auto& line : in_flight_) {
-            buffers_.push_back(asio::buffer(*line));
-            in_flight_bytes_ += line->size();
-        }
+        write_.lines.clear();
+        outbox_.take(write_.lines, kLinesPerWrite);
+        write_.cover();
         error_code error;
-        const std::size_t sent = socket_.write_some(buffers_, error);
+        const std::size_t sent = socket_.write_some(write_.buffers, error);
         if (error && error != asio::error::would_block && error != asio::error::try_again) {
             close();  // the client went away
             return;
         }
-        if (sent < in_flight_bytes_) {
+        if (sent < write_.bytes) {
             write_later(sent);
             return;
         }
     }
-    in_flight_.clear();
-    in_flight_bytes_ = 0;
+    write_.clear();
 }
 
 // Sends the front line with its descriptors. True: all of it went out and
@@ -448,7 +442,7 @@ bool Session::send_with_descriptors() {
     if (sent < 0) {
         const int error = errno;
         if (error == EAGAIN || error == EWOULDBLOCK) {
-            wait_writable_ = true;
+            write_.wait_writable = true;
             write_later(0);
         } else if (error == EPIPE || error == ECONNRESET || error == ENOTCONN) {
             close();
@@ -465,27 +459,46 @@ bool Session::send_with_descriptors() {
     if (static_cast<std::size_t>(sent) == line->size()) {
         return true;
     }
-    in_flight_.assign(1, line);
-    in_flight_bytes_ = line->size();
-    buffers_.assign(1, asio::buffer(*line));
+    write_.lines.assign(1, line);
+    write_.cover();
     write_later(static_cast<std::size_t>(sent));
     return false;
 }
 
 // Hands the writer what write_some left of the batch in flight (skipping
-// `sent` bytes), or the wait for room (wait_writable_).
+// `sent` bytes), or the wait for room (write_.wait_writable).
 void Session::write_later(std::size_t sent) {
-    if (!wait_writable_) {
-        auto first = buffers_.begin();
-        while (sent > 0 && sent >= first->size()) {
-            sent -= first->size();
-            ++first;
-        }
-        *first += sent;
-        buffers_.erase(buffers_.begin(), first);
+    if (!write_.wait_writable) {
+        write_.skip(sent);
     }
-    writing_ = true;
+    write_.pending = true;
     wake_writer_.cancel();
+}
+
+void Session::Write::cover() {
+    buffers.clear();
+    bytes = 0;
+    for (const auto& line : lines) {
+        buffers.push_back(asio::buffer(*line));
+        bytes += line->size();
+    }
+}
+
+void Session::Write::skip(std::size_t sent) {
+    auto first = buffers.begin();
+    while (sent > 0 && sent >= first->size()) {
+        sent -= first->size();
+        ++first;
+    }
+    *first += sent;
+    buffers.erase(buffers.begin(), first);
+}
+
+void Session::Write::clear() {
+    pending = wait_writable = false;
+    lines.clear();
+    buffers.clear();
+    bytes = 0;
 }
 
 // The one write in flight: sleeps until write_later hands it something,
@@ -493,18 +506,16 @@ void Session::write_later(std::size_t sent) {
 Session::Awaitable<void> Session::writer() {
     error_code error;
     while (!closed()) {
-        if (!writing_) {
+        if (!write_.pending) {
             co_await wake_writer_.async_wait(with(error));
             continue;
         }
-        if (wait_writable_) {
+        if (write_.wait_writable) {
             co_await socket_.async_wait(Socket::wait_write, with(error));
         } else {
-            co_await asio::async_write(socket_, buffers_, with(error));
+            co_await asio::async_write(socket_, write_.buffers, with(error));
         }
-        writing_ = wait_writable_ = false;
-        in_flight_.clear();
-        in_flight_bytes_ = 0;
+        write_.clear();
         if (closed()) {
             co_return;
         }
@@ -517,14 +528,14 @@ Session::Awaitable<void> Session::writer() {
 }
 
 void Session::finish_if_done() {
-    if (life_ == Life::kClosing && outstanding_ == 0 && !writing_ && outbox_.empty()) {
+    if (life_ == Life::kClosing && outstanding_ == 0 && !write_.pending && outbox_.empty()) {
         close();
     }
 }
 
 // Keeps the server's total of queued bytes (its memory budget) current.
 void Session::sync_budget() {
-    const std::size_t now = closed() ? 0 : outbox_.bytes() + in_flight_bytes_;
+    const std::size_t now = closed() ? 0 : outbox_.bytes() + write_.bytes;
     if (now != accounted_) {
         host_.account(accounted_, now);
         accounted_ = now;

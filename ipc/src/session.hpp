@@ -116,15 +116,27 @@ class Session : public std::enable_shared_from_this<Session> {
     // handled; null between lines.
     std::shared_ptr<std::size_t> attached_;
 
-    // The writer's one wait: the rest of a batch (buffers_), or, when
-    // wait_writable_, room in the socket for a reply with descriptors.
-    bool writing_ = false;
-    bool wait_writable_ = false;
-    bool paused_ = false;  // the reader waits on unpause_
-    std::vector<Line> in_flight_;
-    std::size_t in_flight_bytes_ = 0;
+    // The one write in flight: its lines (kept alive until written), the
+    // buffers of what is left of them, their bytes (counted in the budget).
+    // `pending` while the writer coroutine owns it: the rest of the batch,
+    // or, when `wait_writable`, room in the socket for a reply with
+    // descriptors.
+    struct Write {
+        bool pending = false;
+        bool wait_writable = false;
+        std::vector<Line> lines;
+        std::vector<boost::asio::const_buffer> buffers;
+        std::size_t bytes = 0;
+
+        // The buffers and bytes of `lines`, all of them unsent.
+        void cover();
+        // Skips the first `sent` bytes of the buffers (write_some sent them).
+        void skip(std::size_t sent);
+        void clear();
+    };
+    Write write_;
+    bool paused_ = false;        // the reader waits on unpause_
     std::size_t accounted_ = 0;  // bytes reported to the server's budget
-    std::vector<boost::asio::const_buffer> buffers_;
 
     // Signals, as in Asio's chat server: timers that never expire, cancelled
     // to wake the coroutine waiting on them.
