@@ -28,7 +28,7 @@ Core::Core(asio::io_context& io, const config::Config& config, std::shared_ptr<s
                     [this](const gp::SettingsBlock& block) { settings_.on_report(block); },
                     [this] { settings_.on_ack(); }},
                 [this] { camera_.device_opened(); }, [this](const LinkEvent& e) { on_link(e); }}),
-      motion_(io, config, link_.port(), log_),
+      motion_(io, config, link_, log_),
       settings_(
           io, config.requests, [this](const gp::Frame& f) { return link_.send(f); }, log_),
       camera_(config.camera, log_, [this](const gp::Frame& f) { return link_.send(f); }),

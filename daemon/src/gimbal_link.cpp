@@ -38,8 +38,8 @@ CommandError GimbalLink::link_down(std::string_view consequence) const {
     return link_down_error(port_, stopping_, consequence);
 }
 
-std::optional<CommandError> GimbalLink::send(const protocol::Frame& frame) {
-    if (!stopping_ && port_.send(frame)) {
+std::optional<CommandError> GimbalLink::send(const protocol::Frame& frame, FrameKind kind) {
+    if (!stopping_ && port_.send(frame, kind)) {
         return std::nullopt;
     }
     return link_down();

@@ -40,13 +40,13 @@ std::optional<CommandError> out_of_range_error(const char* name, std::optional<M
 
 }  // namespace
 
-Motion::Motion(boost::asio::io_context& io, const config::Config& config, SerialPort& port,
+Motion::Motion(boost::asio::io_context& io, const config::Config& config, GimbalLink& link,
                std::shared_ptr<spdlog::logger> log)
     : durations_(config.keepalive),
       limits_(config.limits),
       failsafe_(config.failsafe),
       stale_after_(config.link.stale_after),
-      port_(port),
+      link_(link),
       log_(std::move(log)),
       keepalive_(keepalive_period(config.keepalive.rate_hz)),
       keepalive_timer_(io),
@@ -87,7 +87,7 @@ Outcome<SpeedStarted> Motion::speed(const ClientInfo& client, SpeedRequest reque
         return braked.error();
     }
     if (!send(gp::Control::speed_of(braked->speed))) {
-        return link_down_error(port_);
+        return link_.link_down();
     }
     tracker_.end(EndReason::kSuperseded);
     SpeedStarted started;
@@ -193,7 +193,7 @@ Outcome<Done> Motion::position(const ClientInfo& client, const gp::Control& cont
                                std::optional<MotionMode> track_as, MotionEndCallback on_end,
                                std::vector<std::string> clamped) {
     if (!send(control)) {
-        return link_down_error(port_);
+        return link_.link_down();
     }
     end_speed(EndReason::kSuperseded, false);
     if (track_as) {
@@ -277,7 +277,7 @@ void Motion::end_speed(EndReason reason, bool send_zero) {
 // newer position command replaces a waiting one (write_queue.hpp).
 bool Motion::send(const gp::Control& control) {
     const auto kind = control == gp::Control::stop() ? FrameKind::kStop : FrameKind::kMotion;
-    return port_.send(gp::encode(control), kind);
+    return !link_.send(gp::encode(control), kind);
 }
 
 // ---- figures and events ----------------------------------------------------------

@@ -144,7 +144,7 @@ void Motion::failsafe(EndReason reason, config::Failsafe policy, bool send_zero)
     auto action = policy;
     std::string note;
     auto then = failsafe_frame(action, note);
-    if (then && !port_.is_open()) {
+    if (then && !link_.open()) {
         note += fmt::format("; device closed, so {} ({} not sent)",
                             send_zero ? "only the owed zero speed" : "nothing is sent",
                             config::to_string(action));

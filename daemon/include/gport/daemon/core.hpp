@@ -112,7 +112,7 @@ class Core final : public Api {
     std::optional<AttitudeSample> latest_;
     Arbiter arbiter_;
     GimbalLink link_;
-    Motion motion_;  // after link_: it sends through its port
+    Motion motion_;  // after link_: it sends through it
     SettingsExchange settings_;
     std::uint64_t seq_ = 0;
     CameraGate camera_;

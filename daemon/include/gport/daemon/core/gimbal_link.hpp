@@ -1,8 +1,9 @@
 // The gimbal's end of the core: the serial port with its reconnects, the read
 // path (FrameReader) and the link's health (LinkMonitor), and whether gportd
 // is shutting down. Core gives it the messages' handlers, sends its frames
-// through it and reads its figures into the status; Motion sends through
-// port() (stops first, write_queue.hpp).
+// through it and reads its figures into the status; Motion sends its 0x85
+// frames through it too (stops first, write_queue.hpp): the one way to the
+// wire.
 #pragma once
 
 #include <spdlog/logger.h>
@@ -40,13 +41,18 @@ class GimbalLink {
     void shutdown(std::chrono::milliseconds limit, std::function<void()> done);
 
     SerialPort& port() { return port_; }
+    bool open() const { return port_.is_open(); }
     bool ready() const { return port_.is_open() && !stopping_; }
     bool stopping() const { return stopping_; }
     // The one kLinkDown error (link_down_error), then what follows for this
     // request (may be empty).
     CommandError link_down(std::string_view consequence = {}) const;
-    // Queues a frame for the device, or the kLinkDown error.
-    std::optional<CommandError> send(const protocol::Frame& frame);
+    // Queues a frame for the device, or the kLinkDown error (also while
+    // shutting down: only what was queued before goes). `kind` orders the
+    // queue (a stop first; a stop sent while the device is closed is owed to
+    // it: serial_port.hpp).
+    std::optional<CommandError> send(const protocol::Frame& frame,
+                                     FrameKind kind = FrameKind::kOther);
     // An attitude arrived (the core calls this once it holds the sample).
     void attitude_received(SteadyTime now) { monitor_.attitude_received(now); }
 

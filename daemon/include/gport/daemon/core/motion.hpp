@@ -10,7 +10,7 @@
 // Commands come in two steps with Core's admission between them, so that a
 // bad parameter is refused before access and control are (docs/api.md):
 // check_speed() / check_angle(), then speed() / angle() / center() /
-// lock(). The frames go straight to the SerialPort; motion events
+// lock(). The frames go through the GimbalLink, as every frame does; motion events
 // are logged here and go to the observer.
 //
 // Freshness — one rule, for braking, for the hold failsafe and for ending a
@@ -31,10 +31,10 @@
 
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
+#include "gport/daemon/core/gimbal_link.hpp"
 #include "gport/daemon/core/keepalive.hpp"
 #include "gport/daemon/core/motion_limits.hpp"
 #include "gport/daemon/core/motion_tracker.hpp"
-#include "gport/daemon/core/serial_port.hpp"
 #include "gport/daemon/core/soft_brake.hpp"
 
 namespace gport::daemon {
@@ -55,7 +55,7 @@ struct SpeedRequest {
 
 class Motion {
   public:
-    Motion(boost::asio::io_context& io, const config::Config& config, SerialPort& port,
+    Motion(boost::asio::io_context& io, const config::Config& config, GimbalLink& link,
            std::shared_ptr<spdlog::logger> log);
     Motion(const Motion&) = delete;
     Motion& operator=(const Motion&) = delete;
@@ -164,7 +164,7 @@ class Motion {
     config::LimitsConfig limits_;
     config::FailsafeConfig failsafe_;
     Millis stale_after_;
-    SerialPort& port_;
+    GimbalLink& link_;
     std::shared_ptr<spdlog::logger> log_;
     CoreObserver* observer_ = nullptr;
     std::optional<AttitudeSample> latest_;
