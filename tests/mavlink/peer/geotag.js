@@ -125,6 +125,34 @@ async function main() {
     (last.shutter_mono_us - last.mono_us);
   check(v && typeof v.utc_us === 'number' && Math.abs(v.utc_us - shutterUtcUs) < 50000,
     `its UTC is the autopilot's at the shutter (${v && v.utc_us}; ${v && ((v.utc_us - shutterUtcUs) / 1000).toFixed(1)} ms from it)`);
+  // 2b. A ground station (255/190, on the same link) and a stranger
+  //     (system 42) send a position 10 km away, a GPS claiming 1 mm and a
+  //     UTC a year off: none of it reaches gportd's stamp (gport-mavlink
+  //     takes the vehicle's state from the vehicle's autopilot only).
+  const stranger = new Peer({ sysid: 42, compid: 1 });
+  const spoofs = () => {
+    for (const peer of [gcs, stranger]) {
+      const far = position();
+      far.lat = POSITION.lat + 900000; // 0.09 degrees: 10 km north
+      const sharp = gps();
+      sharp.hAcc = 1;
+      sharp.lat = far.lat;
+      const late = systemTime();
+      late.timeUnixUsec += 365n * 86400n * 1000000n;
+      for (const m of [far, sharp, late]) autopilot.sendBytes(peer.frame(m));
+    }
+  };
+  const spoofing = setInterval(spoofs, 20);
+  await sleep(500);
+  t = Date.now();
+  autopilot.sendBytes(gcs.frame(cam([0, 0, 1])));
+  await until(() => autopilot.since(t, 'CAMERA_IMAGE_CAPTURED')[0], 5000, 'CAMERA_IMAGE_CAPTURED').catch(() => null);
+  clearInterval(spoofing);
+  const spoofed = await h.rpc(sock, 'captures', { limit: 100 }).catch(() => null);
+  const sv = spoofed && spoofed.result && ((spoofed.result.captures || []).filter((c) => c.kind === 'photo').pop() || {}).vehicle;
+  check(sv && sv.tagged && Math.abs(sv.lat - POSITION.lat / 1e7) < 1e-6 && Math.abs(sv.h_acc_m - 0.9) < 0.05 &&
+    v && Math.abs(sv.utc_us - v.utc_us) < 60 * 1000000,
+  `a ground station's and a stranger's position, GPS accuracy and UTC (50 Hz for 0.5 s) ignored: the stamp is the autopilot's (${sv && sv.lat}, ±${sv && sv.h_acc_m} m)`);
   const before = requests.length;
   await sleep(3500);
   check(requests.length === before, `no request while the streams come (${requests.length - before} more)`);
