@@ -126,7 +126,10 @@ const sameAxes = (raw, degrees, tol = 0) => Array.isArray(raw) && raw.length ===
 const angleFrames = (since, degrees, tol = 0) => controlFrames(since)
   .filter((f) => f.j.mode === 'angle' && sameAxes(f.j.angle, degrees, tol));
 
-async function startGimbal(workRoot, gportdPath, simPath, gportdConfig) {
+// `simArgs`: more options for gport-sim (sitl.js's geotag mode: `--baud
+// 115200`, a line drained as a UART's, so a frame's trace time is its last
+// byte's).
+async function startGimbal(workRoot, gportdPath, simPath, gportdConfig, simArgs = []) {
   const link = path.join(workRoot, 'gimbal');
   const sock = path.join(workRoot, 'gportd.sock');
   const config = path.join(workRoot, 'gportd.json');
@@ -136,7 +139,7 @@ async function startGimbal(workRoot, gportdPath, simPath, gportdConfig) {
     camera: { max_commands_per_s: 1000 },
   }));
   const simClock = { offset: Infinity };
-  const sim = start(workRoot, 'gport-sim', simPath, ['--link', link, '--trace', '--form', '24'],
+  const sim = start(workRoot, 'gport-sim', simPath, ['--link', link, '--trace', '--form', '24'].concat(simArgs),
     { onLine: (line) => onTrace(line, simClock) });
   await until(() => fs.existsSync(link), 10000, 'the simulator link');
   const gportd = start(workRoot, 'gportd', gportdPath,

@@ -40,6 +40,13 @@
 // SITL's: discovery, a pitch/yaw command, a request to the gimbal (1/154)
 // answered, all through the router.
 //
+// MODE "geotag" (issue 43; the 7th argument is GPORTCTL): SITL flown in
+// GUIDED at 15 m/s, straight and in a 30°/s turn, photos every 0.617 s
+// from `gportctl photo` and IMAGE_START_CAPTURE to 1/100; each capture's
+// position (gportd's stamp, and the meta: gport-mavlink's newest sample)
+// against SITL's 50 Hz track at the instant gport-sim read the photo
+// frame's last byte (sitl_geotag.js).
+//
 // Exits 77 (skipped, saying why) when SITL_DIR has no arducopter, or in
 // "router" mode when MAVLINK_ROUTER (the 7th argument) is not there.
 const fs = require('fs');
@@ -49,8 +56,11 @@ const { execFileSync } = require('child_process');
 const { PassThrough } = require('stream');
 const { MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, ardupilotmega } = require('node-mavlink');
 const h = require('./harness');
+const { geotagPrepare, geotagRun } = require('./sitl_geotag');
 
-const [sitlDir, gportdPath, simPath, bridgePath, workRoot, mode = 'gimbal', routerPath] = process.argv.slice(2);
+const [sitlDir, gportdPath, simPath, bridgePath, workRoot, mode = 'gimbal', extra] = process.argv.slice(2);
+const routerPath = mode === 'router' ? extra : undefined;
+const gportctlPath = mode === 'geotag' ? extra : undefined;
 const { check, figures, sleep, until, commandLong, heartbeat } = h;
 const MAV_CMD_DO_DIGICAM_CONTROL = 203;
 const MAV_CMD_DO_MOUNT_CONTROL = 205;
@@ -93,7 +103,8 @@ class GroundStation {
         const clazz = REGISTRY[packet.header.msgid];
         if (!clazz) return;
         const data = packet.protocol.data(packet.payload, clazz);
-        this.received.push({ t: Date.now(), name: clazz.MSG_NAME, header: packet.header, data });
+        // mono: CLOCK_MONOTONIC in µs (geotag mode's clock)
+        this.received.push({ t: Date.now(), mono: Number(process.hrtime.bigint() / 1000n), name: clazz.MSG_NAME, header: packet.header, data });
         if (clazz.MSG_NAME === 'STATUSTEXT') this.texts.push({ t: Date.now(), text: data.text.replace(/\0+$/, '') });
         if (clazz.MSG_NAME === 'COMMAND_ACK') this.acks.push({ t: Date.now(), command: data.command, result: data.result });
         if (clazz.MSG_NAME === 'ATTITUDE') this.headings.push(h.deg(data.yaw));
@@ -471,7 +482,10 @@ async function main() {
   }
   fs.rmSync(workRoot, { recursive: true, force: true });
   fs.mkdirSync(workRoot, { recursive: true });
-  const { sim, gportd, sock } = await h.startGimbal(workRoot, gportdPath, simPath);
+  // geotag: gport-sim drains the line at 115200 baud, as a UART, so its
+  // trace gives a frame's last byte's time.
+  const { sim, gportd, sock } = await h.startGimbal(workRoot, gportdPath, simPath, undefined,
+    mode === 'geotag' ? ['--baud', '115200'] : []);
   const udpPort = await h.freeUdpPort();
   // Router mode: SITL's SERIAL1 goes to the router (udpPort), the router to
   // gport-mavlink (bridgePort).
@@ -503,6 +517,7 @@ async function main() {
     beat();
     const beats = setInterval(beat, 1000);
     if (mode === 'signed') await setUpSigning(gcs, key);
+    if (mode === 'geotag') await geotagPrepare(gcs);
     let [since, mark] = [0, 0];
     if (mode === 'camera') {
       ({ rebooted: since, mark } = await setUpCamera(gcs, gcsPort, bridge));
@@ -517,6 +532,7 @@ async function main() {
       else if (mode === 'signed') await signedChecks(gcs, bridge);
       else if (mode === 'camera') await cameraChecks(gcs, bridge, sock, mark);
       else if (mode === 'router') await routerChecks(gcs, bridge);
+      else if (mode === 'geotag') await geotagRun({ gcs, sock, gportctl: gportctlPath, workRoot, started });
       else {
         await rangeChecks(gcs);
         await gimbalChecks(gcs, sitl, sim);
