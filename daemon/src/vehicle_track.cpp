@@ -188,23 +188,36 @@ void VehicleTrack::reset() {
     ++status_.resets;
 }
 
+// A sample's offset aged to an instant t is offset + kAgingPpm x (t -
+// arrival): what it is kept as, offset - kAgingPpm x arrival, differs from
+// that by the same kAgingPpm x t for every sample, so their order never
+// changes and one minimum serves every instant.
+namespace {
+nanoseconds aging(SteadyTime t) {
+    return nanoseconds(duration_cast<nanoseconds>(t.time_since_epoch()).count() /
+                       (1'000'000 / VehicleTrack::kAgingPpm));
+}
+}  // namespace
+
 void VehicleTrack::observe_latency(std::uint32_t boot_ms, SteadyTime now) {
-    // A minimum queue: a sample no less delayed than a newer one can never
-    // be the window's least delayed, so the front is the minimum and each
-    // report costs O(1) amortised, whatever the publisher sends.
+    // A minimum queue: a sample no less delayed (once aged) than a newer one
+    // can never be the window's least delayed, so the front is the minimum
+    // and each report costs O(1) amortised, whatever the publisher sends.
     const auto offset = now.time_since_epoch() - duration_cast<nanoseconds>(Millis(boot_ms));
-    while (!latencies_.empty() && latencies_.back().second >= offset) {
+    const auto kept = offset - aging(now);
+    while (!latencies_.empty() && latencies_.back().second >= kept) {
         latencies_.pop_back();
     }
-    latencies_.emplace_back(now, offset);
+    latencies_.emplace_back(now, kept);
     while (latencies_.size() > 1 && now - latencies_.front().first > kOffsetWindow) {
         latencies_.pop_front();
     }
 }
 
+// Through the least delayed sample aged to the newest sample's arrival.
 SteadyTime VehicleTrack::steady_of(std::uint32_t boot_ms) const {
-    return SteadyTime(
-        duration_cast<SteadyTime::duration>(latencies_.front().second + Millis(boot_ms)));
+    const auto offset = latencies_.front().second + aging(latencies_.back().first);
+    return SteadyTime(duration_cast<SteadyTime::duration>(offset + Millis(boot_ms)));
 }
 
 std::optional<std::int64_t> VehicleTrack::utc_at(SteadyTime instant) const {

@@ -7,7 +7,11 @@
 // themselves: each arrives some latency after its boot time, so the
 // smallest (arrival - boot time) seen in the last kOffsetWindow maps boot
 // time onto the steady clock (the fastest sample's latency is the floor of
-// the others'; the window follows the two crystals' drift). UTC is the
+// the others'), each sample's counted kAgingPpm of its age against it: the
+// two crystals drift apart, and where the autopilot's runs slow the least
+// delayed sample of a plain window would be its oldest, the map lagging by
+// the drift times the window (4.5-8.9 ms against ArduCopter SITL, whose
+// clock fell 149-296 ppm behind: docs/performance.md). UTC is the
 // autopilot's: the median of the last kUtcSamples SYSTEM_TIME offsets
 // (utc - boot time, taken at one instant on the autopilot, so no transit
 // delay enters it) added to the boot time at the instant. Neither depends
@@ -33,6 +37,9 @@ namespace gport::daemon {
 class VehicleTrack {
   public:
     static constexpr auto kOffsetWindow = std::chrono::seconds(30);
+    // Above any crystal's drift (an autopilot's about ±50 ppm; SITL's under
+    // load up to ~300): 1 ms per second of a sample's age.
+    static constexpr std::int64_t kAgingPpm = 1000;
     static constexpr std::size_t kUtcSamples = 9;
     // A boot time this far behind the newest: the autopilot rebooted (the
     // track starts again); less: a sample out of order, refused.
@@ -79,10 +86,12 @@ class VehicleTrack {
     SteadyTime source_seen_{};
     std::optional<VehiclePosition> position_;
     std::optional<VehicleTime> time_;
-    std::deque<std::pair<SteadyTime, std::chrono::nanoseconds>> latencies_;  // increasing offsets
-    std::deque<std::int64_t> utc_offsets_us_;                                // utc - boot time
-    VehicleStatus status_;                                                   // its counters
-    bool rebooted_ = false;  // since the last reset, no position yet
+    // (arrival, offset - its aging at arrival): increasing, so the front is
+    // the least delayed once aged (observe_latency).
+    std::deque<std::pair<SteadyTime, std::chrono::nanoseconds>> latencies_;
+    std::deque<std::int64_t> utc_offsets_us_;  // utc - boot time
+    VehicleStatus status_;                     // its counters
+    bool rebooted_ = false;                    // since the last reset, no position yet
 };
 
 }  // namespace gport::daemon
