@@ -17,6 +17,7 @@ from typing import Callable
 
 import pytest
 from conftest import Daemon, link_up
+from test_vehicle import position
 
 import gport
 
@@ -50,18 +51,9 @@ class Autopilot:
 
     def publish(self) -> None:
         boot_ms = self.boot_ms()
-        utc_us = real_utc_us()
-        position = gport.VehiclePosition(
-            boot_ms=boot_ms,
-            lat=47.0,
-            lon=8.0,
-            alt_msl_m=500.0,
-            velocity_ned=(0.0, 0.0, 0.0),
-            fix=3,
-            h_acc_m=1.0,
-        )
+        standing = position(boot_ms, velocity_ned=(0.0, 0.0, 0.0))
         self.client.publish_vehicle(
-            position=position, time=gport.VehicleTime(boot_ms=boot_ms, utc_us=utc_us)
+            position=standing, time=gport.VehicleTime(boot_ms=boot_ms, utc_us=real_utc_us())
         )
 
 
