@@ -265,6 +265,10 @@ TEST(CapturePosition, UntaggedByGportdIsNoPositionNeverTheMetas) {
     EXPECT_EQ(row[19], "2026-11-24T23:33:03.012345Z");
     EXPECT_EQ(capture_geojson_feature(stamped(untagged).dump()), "")
         << "no point on the map from a stale or absent position";
+    // gportd's reason is text from the log: shown as gportctl shows text
+    // from others, never a control byte in the file.
+    const json hostile = {{"tagged", false}, {"why", "\x1b[2J\r\n=cmd"}};
+    EXPECT_EQ(fields_of(row_of(stamped(hostile)))[12], "untagged: \\x1b[2J\\x0d\\x0a=cmd");
     EXPECT_EQ(capture_position(stamped({{"tagged", "yes"}}).dump()).untagged, "untagged by gportd");
 }
 

@@ -265,6 +265,23 @@ async function main() {
     const fraction = await refusal([263, 1.5, 0]);
     check(never === 4 && fraction === 2,
       `REQUEST_MESSAGE(263) for an image never taken: ${never} (FAILED); for image 1.5: ${fraction} (DENIED)`);
+    // The attack: 300 requests for every image in one burst. What is sent
+    // again stays within the re-send budget (128 a second, a burst of 128),
+    // past it TEMPORARILY_REJECTED (gport-mavlink's own command limits may
+    // drop some of the burst before the camera sees it: fewer ACKs).
+    await sleep(1100); // the budget full again
+    t0 = Date.now();
+    const burst = [];
+    for (let i = 0; i < 300; i += 1) burst.push(gcs.frame(cam(REQUEST_MESSAGE, [263, -1, 0])));
+    for (let i = 0; i < burst.length; i += 30) gcs.sendBytes(Buffer.concat(burst.slice(i, i + 30)));
+    await sleep(2000);
+    const elapsedS = (Date.now() - t0) / 1000;
+    const acks = fromCamera(gcs, t0, 'COMMAND_ACK').filter((a) => a.data.command === REQUEST_MESSAGE);
+    const resent = fromCamera(gcs, t0, 'CAMERA_IMAGE_CAPTURED').length;
+    const rejected = acks.filter((a) => a.data.result === 1).length;
+    check(rejected > 0 && resent <= 128 + 128 * elapsedS + 3,
+      `300 requests for every image at once: ${acks.length} ACKs, ${rejected} TEMPORARILY_REJECTED, ` +
+      `${resent} images sent again in ${elapsedS.toFixed(2)} s (budget 128 + 128/s)`);
   }
   // An unlimited one, stopped.
   t0 = Date.now();
