@@ -18,8 +18,8 @@
 #include <thread>
 #include <variant>
 
-#include "gport/app/capture_writer.hpp"
-#include "gport/ipc/capture_log.hpp"
+#include "gport/capture/capture_log.hpp"
+#include "gport/capture/capture_writer.hpp"
 #include "process.hpp"
 
 namespace {
@@ -54,13 +54,13 @@ gport::testing::TempDir bench_dir() {
 // in the background, so the queue never fills here).
 void BM_CaptureOnTheLoop(benchmark::State& state) {
     const auto dir = bench_dir();
-    gport::app::CaptureWriter writer({dir.path(), 64 << 20, 2}, 1001, quiet(), 1 << 20);
-    gport::ipc::CaptureLog log;
+    gport::capture::CaptureWriter writer({dir.path(), 64 << 20, 2}, 1001, quiet(), 1 << 20);
+    gport::capture::CaptureLog log;
     log.set_sink(&writer);
     const auto capture = sample_capture();
     for (auto _ : state) {
         auto prepared = log.prepare(capture);
-        if (!std::holds_alternative<gport::ipc::CaptureLog::Prepared>(prepared)) {
+        if (!std::holds_alternative<gport::capture::CaptureLog::Prepared>(prepared)) {
             // Faster than the writer moves the durable mark (a real camera
             // takes a few a second): let it catch up, untimed.
             state.PauseTiming();
@@ -69,7 +69,7 @@ void BM_CaptureOnTheLoop(benchmark::State& state) {
             prepared = log.prepare(capture);
         }
         benchmark::DoNotOptimize(
-            log.add(std::get<gport::ipc::CaptureLog::Prepared>(std::move(prepared)), "photo"));
+            log.add(std::get<gport::capture::CaptureLog::Prepared>(std::move(prepared)), "photo"));
     }
     writer.drain();
 }
@@ -79,15 +79,15 @@ BENCHMARK(BM_CaptureOnTheLoop);
 // with 1 KiB metas: the page is spliced from the kept text and bounded by
 // bytes (CaptureLog::kMaxPageBytes), whatever the log holds.
 void BM_CapturesPageOnTheLoop(benchmark::State& state) {
-    gport::ipc::CaptureLog log;
+    gport::capture::CaptureLog log;
     auto capture = sample_capture();
     capture["meta"]["note"] = std::string(960, 'x');
     for (int i = 0; i < 1000; ++i) {
-        log.add(std::get<gport::ipc::CaptureLog::Prepared>(log.prepare(capture)), "photo");
+        log.add(std::get<gport::capture::CaptureLog::Prepared>(log.prepare(capture)), "photo");
     }
     std::size_t bytes = 0;
     for (auto _ : state) {
-        const auto page = log.list(0, gport::ipc::CaptureLog::kMaxLimit);
+        const auto page = log.list(0, gport::capture::CaptureLog::kMaxLimit);
         bytes = page.size();
         benchmark::DoNotOptimize(page.data());
     }
@@ -101,7 +101,7 @@ BENCHMARK(BM_CapturesPageOnTheLoop);
 void BM_CaptureToDisk(benchmark::State& state) {
     constexpr int kBurst = 1000;
     const auto dir = bench_dir();
-    gport::app::CaptureWriter writer({dir.path(), 64 << 20, 2}, 1001, quiet(), kBurst);
+    gport::capture::CaptureWriter writer({dir.path(), 64 << 20, 2}, 1001, quiet(), kBurst);
     const auto line = json(sample_capture()).dump();
     for (auto _ : state) {
         for (int i = 0; i < kBurst; ++i) {
@@ -125,7 +125,7 @@ void BM_CaptureFlood(benchmark::State& state) {
     const auto line = json(sample_capture()).dump();
     std::uint64_t dropped = 0;
     for (auto _ : state) {
-        gport::app::CaptureWriter writer({dir.path(), 64 << 20, 2}, 1001, quiet());
+        gport::capture::CaptureWriter writer({dir.path(), 64 << 20, 2}, 1001, quiet());
         auto next = std::chrono::steady_clock::now();
         for (int i = 0; i < kPerSecond * kSeconds; ++i) {
             writer.write(line);

@@ -79,15 +79,15 @@ makes_deb() { [[ "$deb_arches" == *" $1 "* ]]; }
 # and gportctl monitor's terminal drawing (cli_monitor_tests). Both took 84
 # s of the armhf stage's CPU (49 s to build, 35 s under qemu).
 declare -A labels=(
-  [armhf]='^(base|protocol|config|daemon|ipc|client|cli|app)$'
+  [armhf]='^(base|protocol|config|daemon|capture|ipc|client|cli|app)$'
   [arm64]='^(base|protocol)$'
 )
 declare -A parts=(
-  [armhf]='base;protocol;config;daemon;ipc;systemd;app;client;cli'
+  [armhf]='base;protocol;config;daemon;capture;ipc;systemd;app;client;cli'
   [arm64]='base;protocol;systemd'
 )
 declare -A suites=(
-  [armhf]='base_tests;protocol_tests;config_tests;daemon_tests;ipc_tests;app_tests;client_tests;client_channel_tests;client_codec_tests;client_hostile_tests;cli_tests'
+  [armhf]='base_tests;protocol_tests;config_tests;daemon_tests;capture_tests;ipc_tests;app_tests;client_tests;client_channel_tests;client_codec_tests;client_hostile_tests;cli_tests'
   [arm64]='base_tests;protocol_tests'
 )
 

@@ -12,10 +12,10 @@
 #include <memory>
 #include <optional>
 
-#include "gport/app/capture_writer.hpp"
 #include "gport/app/realtime.hpp"
 #include "gport/app/reload.hpp"
 #include "gport/base/log_context.hpp"
+#include "gport/capture/capture_writer.hpp"
 #include "gport/config/advisories.hpp"
 #include "gport/config/loader.hpp"
 #include "gport/daemon/core.hpp"
@@ -199,8 +199,9 @@ class Daemon {
                       "directory (--state-dir, captures.dir or the unit's StateDirectory=)");
             return;
         }
-        const CaptureFiles files{dir, config_.captures.max_file_bytes, config_.captures.keep_files};
-        auto opened = open_capture_log(files, server_->captures(), log_);
+        const capture::CaptureFiles files{dir, config_.captures.max_file_bytes,
+                                          config_.captures.keep_files};
+        auto opened = capture::open_capture_log(files, server_->captures(), log_);
         capture_sink_ = std::move(opened.sink);
         capture_writer_ = opened.writer;
         server_->captures().set_sink(capture_sink_.get());
@@ -303,8 +304,8 @@ class Daemon {
     asio::signal_set signals_;
     std::optional<sim::PtySimulator> simulator_;
     std::optional<Core> core_;
-    std::unique_ptr<ipc::CaptureSink> capture_sink_;  // outlives the server, its user
-    CaptureWriter* capture_writer_ = nullptr;         // the sink, when it writes files
+    std::unique_ptr<capture::CaptureSink> capture_sink_;  // outlives the server, its user
+    capture::CaptureWriter* capture_writer_ = nullptr;    // the sink, when it writes files
     std::optional<ipc::Server> server_;
     int exit_status_ = kExitFailure;
     bool stopping_ = false;

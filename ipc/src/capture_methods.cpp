@@ -40,12 +40,12 @@ const json* checked_meta(const json& params) {
         throw InvalidParams(
             fmt::format("meta must be a JSON object (at most {} bytes as compact "
                         "JSON), not {}",
-                        CaptureLog::kMetaMaxBytes, it->type_name()));
+                        capture::CaptureLog::kMetaMaxBytes, it->type_name()));
     }
     const auto size = json_text(*it).size();
-    if (size > CaptureLog::kMetaMaxBytes) {
+    if (size > capture::CaptureLog::kMetaMaxBytes) {
         throw InvalidParams(fmt::format("meta is {} bytes as compact JSON; at most {} are allowed",
-                                        size, CaptureLog::kMetaMaxBytes));
+                                        size, capture::CaptureLog::kMetaMaxBytes));
     }
     return &*it;
 }
@@ -55,7 +55,7 @@ const json* checked_meta(const json& params) {
 // can be given now. `summary` is what the reply carries of it besides the
 // index and kind: utc_us and the attitude logged with it.
 struct Pending {
-    CaptureLog::Prepared prepared;
+    capture::CaptureLog::Prepared prepared;
     json summary;
 };
 
@@ -66,7 +66,7 @@ std::optional<Pending> prepare(MethodContext& c, const json* meta, const Respond
         respond(Reply::error(rpc_error::kInternal, std::move(*why)));
         return std::nullopt;
     }
-    return Pending{std::get<CaptureLog::Prepared>(std::move(prepared)),
+    return Pending{std::get<capture::CaptureLog::Prepared>(std::move(prepared)),
                    {{"utc_us", capture["utc_us"]}, {"attitude", capture["attitude"]}}};
 }
 
@@ -177,8 +177,9 @@ void captures(MethodContext& c, const json& params, Respond respond) {
     const Params p(params);
     p.only({"since", "limit"});
     const auto since = p.integer("since", 0, std::numeric_limits<std::int64_t>::max()).value_or(0);
-    const auto limit = p.integer("limit", 1, static_cast<std::int64_t>(CaptureLog::kMaxLimit))
-                           .value_or(static_cast<std::int64_t>(CaptureLog::kDefaultLimit));
+    const auto limit =
+        p.integer("limit", 1, static_cast<std::int64_t>(capture::CaptureLog::kMaxLimit))
+            .value_or(static_cast<std::int64_t>(capture::CaptureLog::kDefaultLimit));
     respond(Reply::raw(
         c.captures.list(static_cast<std::uint64_t>(since), static_cast<std::size_t>(limit))));
 }

@@ -14,7 +14,7 @@ void record(MethodContext& c, const nlohmann::json& params, Respond respond);
 void captures(MethodContext& c, const nlohmann::json& params, Respond respond);
 
 // The capture as the log keeps it, without its index and kind
-// (CaptureLog::add gives them).
+// (capture::CaptureLog::add gives them).
 nlohmann::json capture_json(const daemon::ClientInfo& client,
                             const std::optional<daemon::AttitudeSample>& attitude,
                             const nlohmann::json* meta);

@@ -40,7 +40,7 @@ struct MethodContext {
     const std::function<ServerStats()>& stats;
     StatusCache& status_cache;
     ChannelHost* channel;  // nullptr: the attitude channel is not served
-    CaptureLog& captures;
+    capture::CaptureLog& captures;
     // The request running is a notification: its reply is never sent.
     bool notification = false;
     // Where the time each request holds the loop is kept (nullptr: not kept).

@@ -179,7 +179,7 @@ std::size_t Server::clients() const {
     return sessions_.size() - closed_ids_.size();
 }
 
-CaptureLog& Server::captures() {
+capture::CaptureLog& Server::captures() {
     return dispatcher_->captures();
 }
 

@@ -25,10 +25,10 @@
 #include <variant>
 
 #include "gport/base/token_bucket.hpp"
+#include "gport/capture/capture_log.hpp"
 #include "gport/contract/errors.hpp"
 #include "gport/contract/limits.hpp"
 #include "gport/daemon/api.hpp"
-#include "gport/ipc/capture_log.hpp"
 #include "gport/ipc/status_cache.hpp"
 
 namespace gport::ipc {
@@ -168,7 +168,7 @@ class Dispatcher {
     const StatusCache& status_cache() const { return status_cache_; }
 
     // The captures of photo and record (capture_log.hpp).
-    CaptureLog& captures() { return captures_; }
+    capture::CaptureLog& captures() { return captures_; }
 
     // The longest one request held the loop, and its method (status "loop").
     struct Worst {
@@ -184,7 +184,7 @@ class Dispatcher {
     Worst worst_;
     StatusCache status_cache_;
     ChannelHost* channel_host_ = nullptr;
-    CaptureLog captures_;
+    capture::CaptureLog captures_;
 };
 
 // Builds an error reply line ("id" null), for the transport's own errors:

@@ -34,9 +34,9 @@
 #include <vector>
 
 #include "gport/base/repeat_limiter.hpp"
+#include "gport/capture/capture_log.hpp"
 #include "gport/config/config.hpp"
 #include "gport/daemon/api.hpp"
-#include "gport/ipc/capture_log.hpp"
 #include "gport/ipc/json_rpc.hpp"
 #include "gport/ipc/session_host.hpp"
 
@@ -84,7 +84,7 @@ class Server final : public daemon::CoreObserver, private SessionHost, private C
     // The configuration file gportd loaded (status's `config_file`), or none.
     void set_config_file(std::optional<std::string> path) { config_file_ = std::move(path); }
     // The capture log (app/ restores it and gives it its writer before start()).
-    CaptureLog& captures();
+    capture::CaptureLog& captures();
     std::uint64_t dropped_notifications() const { return dropped_total_; }
     // socket.max_clients, or fewer when RLIMIT_NOFILE could not be raised to fit.
     std::size_t max_clients() const { return max_clients_; }

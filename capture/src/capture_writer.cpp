@@ -1,10 +1,10 @@
-#include "gport/app/capture_writer.hpp"
+#include "gport/capture/capture_writer.hpp"
 
 #include <utility>
 
 #include "capture_worker.hpp"
 
-namespace gport::app {
+namespace gport::capture {
 
 CaptureWriter::CaptureWriter(CaptureFiles files, std::uint64_t first_mark,
                              std::shared_ptr<spdlog::logger> log, std::size_t queue_limit,
@@ -37,7 +37,7 @@ std::optional<std::uint64_t> CaptureWriter::reserved() const {
     return worker_->reserved();
 }
 
-ipc::CaptureSink::Stats CaptureWriter::stats() const {
+CaptureSink::Stats CaptureWriter::stats() const {
     return worker_->stats();
 }
 
@@ -49,4 +49,4 @@ void CaptureWriter::drain() {
     worker_->drain();
 }
 
-}  // namespace gport::app
+}  // namespace gport::capture

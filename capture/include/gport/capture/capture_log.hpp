@@ -1,17 +1,17 @@
 // The capture log's memory (docs/api.md, "Captures"): every photo and record
 // toggle that reached the wire, as the `captures` method lists it. It gives
-// each capture its index (monotonic, never reused: app/ restores the last one
-// and a durable high-water mark from disk), keeps the newest as the text it
-// serves, tells a listener (the server's `capture` topic) and hands the line
-// to a sink (app/'s writer thread, which owns every disk access). Pure: no
-// I/O here.
+// each capture its index (monotonic, never reused: the last one and a durable
+// high-water mark are restored from disk, capture_writer.hpp), keeps the
+// newest as the text it serves, tells a listener (ipc's `capture` topic) and
+// hands the line to a sink (CaptureWriter's thread, which owns every disk
+// access). Pure: no I/O here.
 //
 // A capture is made in two steps, so that a request either sends its frame
 // and records it, or does neither: prepare() builds the line (any invalid
 // UTF-8 replaced) and checks an index can be given, before the frame is sent;
 // add() gives the index and keeps it, after.
 //
-// Single-threaded, like the rest of ipc: every call is on the loop's thread.
+// Single-threaded: every call is on gportd's event loop.
 // The sink's write() must not block (it queues).
 #pragma once
 
@@ -26,7 +26,7 @@
 #include <variant>
 #include <vector>
 
-namespace gport::ipc {
+namespace gport::capture {
 
 // Where the lines go to be persisted.
 class CaptureSink {
@@ -134,4 +134,4 @@ class CaptureLog {
     std::function<void(std::string_view)> listener_;
 };
 
-}  // namespace gport::ipc
+}  // namespace gport::capture

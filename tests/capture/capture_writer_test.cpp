@@ -1,7 +1,7 @@
-// The capture log's writer thread (app/): what reaches the file, rotation,
+// The capture log's writer thread: what reaches the file, rotation,
 // the index reservation, and the unhappy disks (full, read-only, stalled,
 // a planted symlink), first.
-#include "gport/app/capture_writer.hpp"
+#include "gport/capture/capture_writer.hpp"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -21,7 +21,7 @@
 
 #include "capture_test_files.hpp"
 
-namespace gport::app::test {
+namespace gport::capture::test {
 namespace {
 
 using nlohmann::json;
@@ -329,4 +329,4 @@ TEST_F(CaptureWriterTest, RotatesBySizeKeepingNFiles) {
 }
 
 }  // namespace
-}  // namespace gport::app::test
+}  // namespace gport::capture::test

@@ -1,4 +1,4 @@
-// The capture log's start-up (app/): the state directory checked and the
+// The capture log's start-up: the state directory checked and the
 // kept files read back, bounded and in index order whatever they hold (a
 // crafted file first).
 #include <gtest/gtest.h>
@@ -15,9 +15,9 @@
 #include <vector>
 
 #include "capture_test_files.hpp"
-#include "gport/app/capture_writer.hpp"
+#include "gport/capture/capture_writer.hpp"
 
-namespace gport::app::test {
+namespace gport::capture::test {
 namespace {
 
 bool has_problem(const RestoredCaptures& restored, const std::string& part) {
@@ -206,4 +206,4 @@ TEST_F(CaptureRestoreTest, AMissingDirectoryIsCreatedForGportdAlone) {
 }
 
 }  // namespace
-}  // namespace gport::app::test
+}  // namespace gport::capture::test

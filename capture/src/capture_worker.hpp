@@ -16,9 +16,9 @@
 #include <optional>
 #include <string>
 
-#include "gport/app/capture_writer.hpp"
+#include "gport/capture/capture_writer.hpp"
 
-namespace gport::app {
+namespace gport::capture {
 
 class CaptureWorker {
   public:
@@ -38,7 +38,7 @@ class CaptureWorker {
     void reserve(std::uint64_t upto);
     std::optional<std::uint64_t> reserved() const;
     void finish(std::uint64_t next_index);
-    ipc::CaptureSink::Stats stats() const;
+    CaptureSink::Stats stats() const;
     void drain();
     // Asks the thread to finish and waits up to `wait` for it: true when it
     // finished; false when it was abandoned (the lines not written counted
@@ -86,7 +86,7 @@ class CaptureWorker {
     bool abandoned_ = false;
     std::uint64_t wanted_mark_ = 0;
     std::optional<std::uint64_t> durable_mark_;
-    ipc::CaptureSink::Stats stats_;
+    CaptureSink::Stats stats_;
     std::optional<std::string> sticky_error_;  // no durable storage: status says so for good
     // The error stays until a line queued after it is written: lines
     // accepted into the queue, lines the thread has dealt with, and the
@@ -104,4 +104,4 @@ class CaptureWorker {
     Clock::time_point last_sync_{};
 };
 
-}  // namespace gport::app
+}  // namespace gport::capture

@@ -2,14 +2,14 @@
 // read back into the log, and the writer with its first reservation.
 #include <utility>
 
-#include "gport/app/capture_writer.hpp"
+#include "gport/capture/capture_writer.hpp"
 
-namespace gport::app {
+namespace gport::capture {
 namespace {
 
 // The sink of a log whose directory was refused: nothing written, every
 // line counted as dropped, the reason in status.
-class RefusedSink final : public ipc::CaptureSink {
+class RefusedSink final : public CaptureSink {
   public:
     explicit RefusedSink(std::string reason) { stats_.error = std::move(reason); }
     void write(std::string /*line*/) override { ++stats_.dropped; }
@@ -22,7 +22,7 @@ class RefusedSink final : public ipc::CaptureSink {
 
 }  // namespace
 
-OpenedCaptureLog open_capture_log(const CaptureFiles& files, ipc::CaptureLog& captures,
+OpenedCaptureLog open_capture_log(const CaptureFiles& files, CaptureLog& captures,
                                   const std::shared_ptr<spdlog::logger>& log) {
     if (auto refused = check_capture_dir(files.dir)) {
         log->error(
@@ -32,7 +32,7 @@ OpenedCaptureLog open_capture_log(const CaptureFiles& files, ipc::CaptureLog& ca
         return {
             std::make_unique<RefusedSink>(*refused + "; the capture log is kept in memory only")};
     }
-    const auto restored = read_captures(files, ipc::CaptureLog::kKept);
+    const auto restored = read_captures(files, CaptureLog::kKept);
     for (const auto& problem : restored.problems) {
         log->warn("capture log: {}", problem);
     }
@@ -47,4 +47,4 @@ OpenedCaptureLog open_capture_log(const CaptureFiles& files, ipc::CaptureLog& ca
     return {std::move(writer), raw};
 }
 
-}  // namespace gport::app
+}  // namespace gport::capture

@@ -13,7 +13,7 @@
 
 #include "capture_mark.hpp"
 
-namespace gport::app {
+namespace gport::capture {
 namespace {
 
 constexpr auto kLogInterval = std::chrono::minutes(1);
@@ -103,7 +103,7 @@ std::optional<std::uint64_t> CaptureWorker::reserved() const {
     return durable_mark_;
 }
 
-ipc::CaptureSink::Stats CaptureWorker::stats() const {
+CaptureSink::Stats CaptureWorker::stats() const {
     const std::lock_guard lock(mutex_);
     return stats_;
 }
@@ -361,4 +361,4 @@ void CaptureWorker::report_lost(bool at_exit) {
     log_->error("capture log: {} line(s) lost since the last report (error: {})", count, error);
 }
 
-}  // namespace gport::app
+}  // namespace gport::capture

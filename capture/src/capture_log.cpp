@@ -1,4 +1,4 @@
-#include "gport/ipc/capture_log.hpp"
+#include "gport/capture/capture_log.hpp"
 
 #include <fmt/format.h>
 
@@ -6,14 +6,17 @@
 #include <map>
 
 #include "gport/base/json_depth.hpp"
-#include "json_common.hpp"
 
-namespace gport::ipc {
+namespace gport::capture {
 
-using detail::json_text;
 using nlohmann::json;
 
 namespace {
+
+// Compact, any invalid UTF-8 replaced: a capture's text is always valid JSON.
+std::string json_text(const json& value) {
+    return value.dump(-1, ' ', false, json::error_handler_t::replace);
+}
 
 // A restored line's depth: a capture is an object holding objects (client,
 // attitude.imu) and a meta, itself limited when it was taken.
@@ -170,4 +173,4 @@ json CaptureLog::status() const {
     return out;
 }
 
-}  // namespace gport::ipc
+}  // namespace gport::capture

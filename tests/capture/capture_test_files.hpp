@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "gport/app/capture_writer.hpp"
+#include "gport/capture/capture_writer.hpp"
 #include "process.hpp"
 
-namespace gport::app::test {
+namespace gport::capture::test {
 
 inline std::string capture(std::uint64_t index, std::size_t pad = 0) {
     return nlohmann::json{{"index", index}, {"kind", "photo"}, {"pad", std::string(pad, 'x')}}
@@ -59,4 +59,4 @@ class CaptureFilesTest : public ::testing::Test {
     LogText log_;
 };
 
-}  // namespace gport::app::test
+}  // namespace gport::capture::test

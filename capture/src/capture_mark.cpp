@@ -9,7 +9,7 @@
 #include <charconv>
 #include <cstring>
 
-namespace gport::app {
+namespace gport::capture {
 
 std::string format_mark(std::uint64_t mark) {
     return fmt::format("{:020}\n", mark);
@@ -71,4 +71,4 @@ std::optional<std::string> write_mark(int fd, std::uint64_t mark) {
     return std::nullopt;
 }
 
-}  // namespace gport::app
+}  // namespace gport::capture

@@ -2,7 +2,7 @@
 // in DIR/captures.jsonl, rotated by size to captures.jsonl.1 ... .N-1, and
 // the index high-water mark in DIR/captures.next. Every disk access is here:
 // start-up reads (read_captures) and a writer thread of its own behind a
-// bounded queue (CaptureWriter; ipc::CaptureSink::write never blocks).
+// bounded queue (CaptureWriter; CaptureSink::write never blocks).
 // Lines are written as they come and fdatasync'd in groups, at most every
 // kSyncInterval. Every line lost (queue full, a write that failed, the
 // writer abandoned at exit) is counted, its cause kept for status (until a
@@ -21,9 +21,9 @@
 #include <thread>
 #include <vector>
 
-#include "gport/ipc/capture_log.hpp"
+#include "gport/capture/capture_log.hpp"
 
-namespace gport::app {
+namespace gport::capture {
 
 struct CaptureFiles {
     std::string dir;
@@ -74,13 +74,13 @@ class CaptureWriter;
 // (DIR refused) one that keeps nothing and says why in status. Logs what
 // it found. The caller keeps the sink for as long as `captures` uses it.
 struct OpenedCaptureLog {
-    std::unique_ptr<ipc::CaptureSink> sink;
+    std::unique_ptr<CaptureSink> sink;
     CaptureWriter* writer = nullptr;
 };
-OpenedCaptureLog open_capture_log(const CaptureFiles& files, ipc::CaptureLog& captures,
+OpenedCaptureLog open_capture_log(const CaptureFiles& files, CaptureLog& captures,
                                   const std::shared_ptr<spdlog::logger>& log);
 
-class CaptureWriter final : public ipc::CaptureSink {
+class CaptureWriter final : public CaptureSink {
   public:
     static constexpr std::size_t kQueueLimit = 256;
     // The first mark start-up makes durable: next index + kFirstReservation.
@@ -126,4 +126,4 @@ class CaptureWriter final : public ipc::CaptureSink {
     std::thread thread_;
 };
 
-}  // namespace gport::app
+}  // namespace gport::capture

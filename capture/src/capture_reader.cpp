@@ -16,10 +16,10 @@
 #include <vector>
 
 #include "capture_mark.hpp"
-#include "gport/app/capture_writer.hpp"
 #include "gport/base/json_depth.hpp"
+#include "gport/capture/capture_writer.hpp"
 
-namespace gport::app {
+namespace gport::capture {
 namespace {
 
 constexpr std::size_t kChunkBytes = 65536;
@@ -298,4 +298,4 @@ std::optional<std::string> check_capture_dir(const std::string& dir) {
     return std::nullopt;
 }
 
-}  // namespace gport::app
+}  // namespace gport::capture

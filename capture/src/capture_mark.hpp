@@ -20,7 +20,7 @@
 #include <string>
 #include <string_view>
 
-namespace gport::app {
+namespace gport::capture {
 
 inline constexpr std::size_t kMarkBytes = 21;
 
@@ -41,4 +41,4 @@ int open_mark(const std::string& path);
 // Writes `mark` durably; an error text, or nullopt when it is on the disk.
 std::optional<std::string> write_mark(int fd, std::uint64_t mark);
 
-}  // namespace gport::app
+}  // namespace gport::capture
