@@ -81,14 +81,19 @@ void Session::start() {
     error_code ignored;
     socket_.non_blocking(true, ignored);
     for (auto body : {&Session::reader, &Session::writer, &Session::idle_watch}) {
-        asio::co_spawn(
-            socket_.get_executor(), [self = shared_from_this(), body] { return (*self.*body)(); },
-            [](const std::exception_ptr& thrown) {
-                if (thrown) {
-                    std::rethrow_exception(thrown);
-                }
-            });
+        spawn(body);
     }
+}
+
+// Each coroutine holds the session alive until it returns.
+void Session::spawn(Awaitable<void> (Session::*body)()) {
+    asio::co_spawn(
+        socket_.get_executor(), [self = shared_from_this(), body] { return (*self.*body)(); },
+        [](const std::exception_ptr& thrown) {
+            if (thrown) {
+                std::rethrow_exception(thrown);
+            }
+        });
 }
 
 void Session::close() {
@@ -343,28 +348,36 @@ void Session::deliver_attitude(const AttitudeLine& line) {
         case AttitudePacer::Decision::kHoldAndWake:
             break;
     }
-    if (!rate_timer_) {
-        rate_timer_.emplace(socket_.get_executor());
-    }
-    rate_timer_->expires_at(pacer_.wake_at());
-    rate_timer_->async_wait([self = shared_from_this()](const error_code& error) {
-        if (error) {
-            self->pacer_.disarmed();
-        } else {
-            self->on_rate_timer();
-        }
-    });
-}
-
-void Session::on_rate_timer() {
-    if (!open()) {
-        pacer_.disarmed();
+    if (rate_timer_) {
+        rate_timer_->cancel();  // wakes pace() to sleep until wake_at()
         return;
     }
-    const auto line = pacer_.woken(Clock::now());
-    if (line && state_.subscriptions.attitude) {  // it may have unsubscribed meanwhile
-        queue_attitude(line);
+    rate_timer_.emplace(socket_.get_executor());
+    spawn(&Session::pace);
+}
+
+// The rate limit's wake-ups, from the first sample the pacer held on: sleeps
+// until its wake-up and sends the newest sample held, then waits (the timer
+// as a signal, as wake_writer_) until deliver_attitude holds another.
+Session::Awaitable<void> Session::pace() {
+    error_code error;
+    while (open()) {
+        if (!pacer_.waking()) {
+            rate_timer_->expires_at(Clock::time_point::max());
+            co_await rate_timer_->async_wait(with(error));
+            continue;
+        }
+        rate_timer_->expires_at(pacer_.wake_at());
+        co_await rate_timer_->async_wait(with(error));
+        if (error || !open()) {
+            continue;  // only close() cancels a wake-up under way
+        }
+        const auto line = pacer_.woken(Clock::now());
+        if (line && state_.subscriptions.attitude) {  // it may have unsubscribed meanwhile
+            queue_attitude(line);
+        }
     }
+    pacer_.disarmed();
 }
 
 // Over the server's memory budget, a client that has not read what it has

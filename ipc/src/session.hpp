@@ -78,6 +78,7 @@ class Session : public std::enable_shared_from_this<Session> {
     using Awaitable = boost::asio::awaitable<T>;
 
     bool open() const { return life_ == Life::kOpen; }
+    void spawn(Awaitable<void> (Session::*body)());
 
     // ---- input ----
     Awaitable<void> reader();
@@ -93,7 +94,7 @@ class Session : public std::enable_shared_from_this<Session> {
     // ---- output ----
     void reply(std::string line, std::size_t descriptors = 0);
     void queue_attitude(const AttitudeLine& line);
-    void on_rate_timer();
+    Awaitable<void> pace();
     void queue(const Line& line, std::size_t descriptors);
     void flush();
     void write_queued();
@@ -147,7 +148,8 @@ class Session : public std::enable_shared_from_this<Session> {
     Clock::time_point last_request_;
 
     // Attitude rate limit (only when the client asked for max_rate_hz): the
-    // pacer decides, the timer wakes it for the newest sample held.
+    // pacer decides; pace() sleeps on the timer until the newest sample held
+    // is due (timer and coroutine made at the first sample held).
     AttitudePacer pacer_;
     std::optional<boost::asio::steady_timer> rate_timer_;
 };
