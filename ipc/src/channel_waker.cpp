@@ -78,12 +78,31 @@ std::optional<std::string> ChannelWaker::start() {
 }
 
 void ChannelWaker::set_blocks(Blocks blocks) {
-    auto* fresh = new Blocks(std::move(blocks));
+    all_ = std::move(blocks);
+    split();
+}
+
+void ChannelWaker::split() {
+    inline_.clear();
+    Blocks threaded;
+    for (const auto& block : all_) {
+        if (inline_.size() < kInline && block->strikes() < kStrikes) {
+            inline_.push_back(block);
+        } else {
+            threaded.push_back(block);
+        }
+    }
+    threaded_ = !threaded.empty();
+    auto* fresh = new Blocks(std::move(threaded));
     delete mailbox_.exchange(fresh, std::memory_order_acq_rel);  // one the thread never took
 }
 
 void ChannelWaker::signal() {
     if (!running()) {
+        return;
+    }
+    wake_inline();
+    if (!threaded_) {
         return;
     }
     requested_.fetch_add(1, std::memory_order_acq_rel);
@@ -92,11 +111,29 @@ void ChannelWaker::signal() {
     }
 }
 
+// At most kInline wakes; a connection whose wakes were slow kStrikes times
+// is the thread's from the next sample on.
+void ChannelWaker::wake_inline() {
+    bool hand_over = false;
+    for (const auto& block : inline_) {
+        const auto start = Clock::now();
+        block->bump_and_wake();
+        if (Clock::now() - start > slow_wake_ && block->strike() >= kStrikes) {
+            ++handed_over_;
+            hand_over = true;
+        }
+    }
+    if (hand_over) {
+        split();
+    }
+}
+
 void ChannelWaker::close() {
     if (!started_ || closed_) {
         closed_ = true;
         return;
     }
+    wake_inline();  // their last wake; the thread's round below makes the others'
     closed_ = true;
     stopping_.store(true, std::memory_order_release);
     requested_.fetch_add(1, std::memory_order_acq_rel);
@@ -145,7 +182,7 @@ void ChannelWaker::take_blocks() {
     }
 }
 
-// One bump and FUTEX_WAKE(1) per reader connection.
+// One bump and FUTEX_WAKE(1) per reader connection the loop does not wake.
 void ChannelWaker::round() {
     for (const auto& block : blocks_) {
         block->bump_and_wake();

@@ -339,7 +339,7 @@ void Server::channel_failed(const daemon::ClientInfo& client, const std::string&
 
 void Server::on_attitude(const daemon::AttitudeSample& sample) {
     channel_->publish(sample);
-    channel_->wake();   // the waker thread's, O(1) here: no reader can make it cost more
+    channel_->wake();  // at most ChannelWaker::kInline fast wakes here, the rest the waker thread's
     AttitudeLine line;  // built on first use: nothing is encoded when nobody listens
     for_each_session([&](Session& session) {
         if (session.subscriptions().attitude) {

@@ -29,11 +29,17 @@ class WakeBlock {
     // Closes gportd's copy of the descriptor (the peer has its own).
     void forget_descriptor();
     // Bumps the word and wakes one waiter: what a sample or the close costs
-    // per connection. Returns how many were woken (0 or 1), or -1. Only the
-    // waker thread calls it (channel_waker.hpp); it touches nothing but the
-    // shared word, so the loop may meanwhile forget the descriptor.
+    // per connection. Returns how many were woken (0 or 1), or -1. The loop
+    // or the waker thread calls it (channel_waker.hpp); it touches nothing but the shared word, so
+    // the loop may meanwhile forget the descriptor.
     long bump_and_wake() const;
     const std::atomic<std::uint32_t>& word() const { return block_->wake; }
+
+    // Slow wakes counted against the connection while the loop woke it
+    // (ChannelWaker::kStrikes hand it to the thread). The loop's only: the
+    // thread never reads them.
+    int strikes() const { return strikes_; }
+    int strike() const { return ++strikes_; }
 
   private:
     WakeBlock(int fd, void* memory);
@@ -41,6 +47,7 @@ class WakeBlock {
     int fd_;
     void* memory_;
     base::WakeBlock* block_;
+    mutable int strikes_ = 0;
 };
 
 }  // namespace gport::ipc::detail
