@@ -28,7 +28,7 @@ Core::Core(asio::io_context& io, const config::Config& config, std::shared_ptr<s
                     [this](const gp::SettingsBlock& block) { settings_.on_report(block); },
                     [this] { settings_.on_ack(); }},
                 [this] { camera_.device_opened(); }, [this](const LinkEvent& e) { on_link(e); }}),
-      motion_(io, config, link_, log_),
+      motion_(io, config, link_, log_, latest_),
       settings_(
           io, config.requests, [this](const gp::Frame& f) { return link_.send(f); }, log_),
       camera_(config.camera, log_, [this](const gp::Frame& f) { return link_.send(f); }),
@@ -58,7 +58,7 @@ void Core::add_link_listener(std::function<void(const LinkEvent&)> listener) {
 void Core::on_attitude(const gp::Attitude& attitude, SteadyTime now, WallTime wall) {
     latest_ = AttitudeSample{++seq_, wall, now, attitude};
     link_.attitude_received(now);
-    motion_.on_attitude(*latest_);  // braking: before the sample is published
+    motion_.on_attitude();  // braking: before the sample is published
     if (observer_ != nullptr) {
         observer_->on_attitude(*latest_);
     }

@@ -41,16 +41,19 @@ std::optional<CommandError> out_of_range_error(const char* name, std::optional<M
 }  // namespace
 
 Motion::Motion(boost::asio::io_context& io, const config::Config& config, GimbalLink& link,
-               std::shared_ptr<spdlog::logger> log)
+               std::shared_ptr<spdlog::logger> log, const std::optional<AttitudeSample>& latest)
     : durations_(config.keepalive),
       limits_(config.limits),
       failsafe_(config.failsafe),
       stale_after_(config.link.stale_after),
       link_(link),
       log_(std::move(log)),
+      latest_(latest),
       keepalive_(keepalive_period(config.keepalive.rate_hz)),
       keepalive_timer_(io),
-      tracker_(io, tracker_options(config.motion), [this](const MotionEvent& e) { publish(e); }) {}
+      tracker_(
+          io, tracker_options(config.motion), [this](const MotionEvent& e) { publish(e); },
+          latest) {}
 
 void Motion::reload(const config::Config& config) {
     durations_.default_duration = config.keepalive.default_duration;

@@ -80,8 +80,14 @@ std::string Progress::where() const {
 
 // ---- MotionTracker -------------------------------------------------------------
 
-MotionTracker::MotionTracker(boost::asio::io_context& io, Options options, Emit emit)
-    : io_(io), timer_(io), note_timer_(io), options_(options), emit_(std::move(emit)) {}
+MotionTracker::MotionTracker(boost::asio::io_context& io, Options options, Emit emit,
+                             const std::optional<AttitudeSample>& latest)
+    : io_(io),
+      timer_(io),
+      note_timer_(io),
+      options_(options),
+      emit_(std::move(emit)),
+      latest_(latest) {}
 
 void MotionTracker::start(const ClientInfo& owner, MotionMode mode, protocol::Axes target,
                           MotionEndCallback on_end, std::vector<std::string> clamped) {
@@ -159,7 +165,6 @@ void MotionTracker::arm() {
 }
 
 void MotionTracker::on_attitude(const AttitudeSample& sample) {
-    latest_ = sample;
     if (!motion_) {
         return;
     }

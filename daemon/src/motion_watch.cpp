@@ -27,8 +27,7 @@ std::string axes_text(const gp::Axes& axes) {
 
 // ---- the attitude ------------------------------------------------------------
 
-void Motion::on_attitude(const AttitudeSample& sample) {
-    latest_ = sample;
+void Motion::on_attitude() {
     if (keepalive_.active()) {
         watch_speed(Clock::now());  // braking reacts to every sample, not only to ticks
     }

@@ -58,9 +58,11 @@ class TrackerTest : public ::testing::Test {
         return [this](const MotionEnd& end) { ends.push_back(end); };
     }
 
+    // As Core does: the newest sample first, then the tracker offered it.
     void feed(Axes hall, int times = 1) {
         for (int i = 0; i < times; ++i) {
-            tracker.on_attitude(sample(hall));
+            latest = sample(hall);
+            tracker.on_attitude(*latest);
         }
     }
 
@@ -74,7 +76,9 @@ class TrackerTest : public ::testing::Test {
     boost::asio::io_context io;
     std::vector<MotionEvent> events;
     std::vector<MotionEnd> ends;
-    MotionTracker tracker{io, {0.5, 200ms}, [this](const MotionEvent& e) { events.push_back(e); }};
+    std::optional<AttitudeSample> latest;
+    MotionTracker tracker{
+        io, {0.5, 200ms}, [this](const MotionEvent& e) { events.push_back(e); }, latest};
     ClientInfo alice{1, 1001, 1001, 1001, {}};
     ClientInfo bob{2, 1002, 1002, 1002, {}};
     std::uint64_t seq_ = 0;
@@ -351,13 +355,13 @@ class StallTest : public TrackerTest {
         started = std::chrono::steady_clock::now();
     }
     void offer(Axes hall, std::chrono::milliseconds at) {
-        auto s = sample(hall);
-        s.received = started + at;
-        stalling.on_attitude(s);
+        latest = sample(hall);
+        latest->received = started + at;
+        stalling.on_attitude(*latest);
     }
 
     MotionTracker stalling{
-        io, {0.5, 60000ms, 500ms}, [this](const MotionEvent& e) { events.push_back(e); }};
+        io, {0.5, 60000ms, 500ms}, [this](const MotionEvent& e) { events.push_back(e); }, latest};
     std::chrono::steady_clock::time_point started;
 };
 

@@ -109,7 +109,7 @@ class Core final : public Api {
     SteadyTime started_;
     CoreObserver* observer_ = nullptr;
     std::vector<std::function<void(const LinkEvent&)>> link_listeners_;
-    std::optional<AttitudeSample> latest_;
+    std::optional<AttitudeSample> latest_;  // the newest sample: Motion and its tracker read it
     Arbiter arbiter_;
     GimbalLink link_;
     Motion motion_;  // after link_: it sends through it

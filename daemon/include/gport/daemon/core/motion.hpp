@@ -55,8 +55,10 @@ struct SpeedRequest {
 
 class Motion {
   public:
+    // `latest`: the newest attitude sample, Core's (the one copy gportd
+    // keeps), up to date before on_attitude is called.
     Motion(boost::asio::io_context& io, const config::Config& config, GimbalLink& link,
-           std::shared_ptr<spdlog::logger> log);
+           std::shared_ptr<spdlog::logger> log, const std::optional<AttitudeSample>& latest);
     Motion(const Motion&) = delete;
     Motion& operator=(const Motion&) = delete;
 
@@ -102,8 +104,9 @@ class Motion {
     // down: the motion ends (failsafe.on_link_lost; nothing can be sent);
     // stale: a speed motion that brakes by the attitude ends (no_attitude).
     void on_link(LinkState state);
-    // Every sample, before it is published: braking reacts to each one.
-    void on_attitude(const AttitudeSample& sample);
+    // Every sample (`latest` is it), before it is published: braking reacts
+    // to each one.
+    void on_attitude();
     // Every sample, once published: the tracker may end a motion (reached),
     // which watchers hear of after the sample itself.
     void on_attitude_published(const AttitudeSample& sample);
@@ -167,7 +170,7 @@ class Motion {
     GimbalLink& link_;
     std::shared_ptr<spdlog::logger> log_;
     CoreObserver* observer_ = nullptr;
-    std::optional<AttitudeSample> latest_;
+    const std::optional<AttitudeSample>& latest_;
     Keepalive keepalive_;  // the speed motion
     boost::asio::steady_timer keepalive_timer_;
     MotionTracker tracker_;  // angle and centre motions; at most one of the two runs

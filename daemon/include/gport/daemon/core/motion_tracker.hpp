@@ -100,7 +100,10 @@ class MotionTracker {
 
     static constexpr Millis kUpdateNoteInterval{500};
 
-    MotionTracker(boost::asio::io_context& io, Options options, Emit emit);
+    // `latest`: the newest attitude sample (Core's, the one copy gportd keeps),
+    // which a motion's end reports to its waiter.
+    MotionTracker(boost::asio::io_context& io, Options options, Emit emit,
+                  const std::optional<AttitudeSample>& latest);
 
     // For motions started from now on; a running motion keeps its own.
     void set_options(Options options) { options_ = options; }
@@ -111,8 +114,8 @@ class MotionTracker {
     // soft limits clamped (told in the motion's events).
     void start(const ClientInfo& owner, MotionMode mode, protocol::Axes target,
                MotionEndCallback on_end = {}, std::vector<std::string> clamped = {});
-    // Offers every attitude sample (also between motions: the latest one is
-    // what a waiter is told); may end the motion with kReached.
+    // Offers every attitude sample, once `latest` is it; may end the motion
+    // with kReached or kStalled.
     void on_attitude(const AttitudeSample& sample);
     // Ends the motion, if any, with `reason` (`detail`: see MotionEnd). Emits last.
     void end(EndReason reason, std::string detail = {});
@@ -153,7 +156,7 @@ class MotionTracker {
     Options options_;
     Emit emit_;
     std::optional<Motion> motion_;
-    std::optional<AttitudeSample> latest_;  // the sample the last on_attitude saw
+    const std::optional<AttitudeSample>& latest_;
     std::uint64_t updates_ = 0;
 };
 
