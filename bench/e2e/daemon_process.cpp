@@ -1,19 +1,10 @@
 #include "daemon_process.hpp"
 
-#include <fcntl.h>
-#include <sched.h>
-#include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cerrno>
 #include <chrono>
-#include <cstring>
 #include <fstream>
 #include <stdexcept>
-#include <thread>
-
-#include "posix.hpp"
 
 namespace gport::bench {
 
@@ -48,88 +39,48 @@ void write_daemon_config(const DaemonOptions& options) {
     }
 }
 
-DaemonProcess::DaemonProcess(const DaemonOptions& options) {
-    write_daemon_config(options);
-    if (::access(options.binary.c_str(), X_OK) != 0) {
-        throw std::runtime_error("gportd not executable at " + options.binary +
-                                 " (pass --gportd PATH)");
+namespace {
+
+// The program's path checked, then its argv: a clear error instead of a
+// child exiting 127.
+std::vector<std::string> executable(std::vector<std::string> argv, const std::string& hint) {
+    if (argv.empty() || ::access(argv[0].c_str(), X_OK) != 0) {
+        throw std::runtime_error("not executable: " + (argv.empty() ? std::string() : argv[0]) +
+                                 hint);
     }
+    return argv;
+}
+
+std::vector<std::string> daemon_argv(const DaemonOptions& options) {
+    write_daemon_config(options);
     std::vector<std::string> argv = {options.binary, "--config", options.config_path, "--device",
                                      options.device, "--socket", options.socket};
     argv.insert(argv.end(), options.extra_args.begin(), options.extra_args.end());
-    spawn(argv, options.log_path, options.realtime);
+    return executable(std::move(argv), " (pass --gportd PATH)");
 }
 
-DaemonProcess::DaemonProcess(const std::vector<std::string>& argv, const std::string& log_path) {
-    if (argv.empty() || ::access(argv[0].c_str(), X_OK) != 0) {
-        throw std::runtime_error("not executable: " + (argv.empty() ? std::string() : argv[0]));
-    }
-    spawn(argv, log_path, false);
+testing::Launch to_log(const std::string& log_path, bool realtime) {
+    testing::Launch launch;
+    launch.output = testing::Launch::Output::kFile;
+    launch.file = log_path;
+    launch.realtime = realtime;
+    return launch;
 }
 
-void DaemonProcess::spawn(const std::vector<std::string>& argv, const std::string& log_path,
-                          bool realtime) {
-    std::vector<char*> args;
-    for (const auto& a : argv) {
-        args.push_back(const_cast<char*>(a.c_str()));
-    }
-    args.push_back(nullptr);
-    pid_ = ::fork();
-    if (pid_ < 0) {
-        throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
-    }
-    if (pid_ == 0) {
-        const int log = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (log >= 0) {
-            ::dup2(log, STDOUT_FILENO);
-            ::dup2(log, STDERR_FILENO);
-        }
-        if (realtime) {
-            sched_param param{};
-            param.sched_priority = 5;  // below the benchmark's measuring threads (10)
-            if (::sched_setscheduler(0, SCHED_FIFO, &param) != 0) {
-                ::_exit(126);
-            }
-        }
-        ::execv(args[0], args.data());
-        ::_exit(127);
-    }
-}
+}  // namespace
+
+DaemonProcess::DaemonProcess(const DaemonOptions& options)
+    : process_(daemon_argv(options), to_log(options.log_path, options.realtime)) {}
+
+DaemonProcess::DaemonProcess(const std::vector<std::string>& argv, const std::string& log_path)
+    : process_(executable(argv, ""), to_log(log_path, false)) {}
 
 DaemonProcess::~DaemonProcess() {
-    if (!reaped_ && pid_ > 0) {
-        terminate(2000);
-    }
-}
-
-bool DaemonProcess::running() {
-    if (reaped_) {
-        return false;
-    }
-    if (::waitpid(pid_, &status_, WNOHANG) == pid_) {
-        reaped_ = true;
-        return false;
-    }
-    return true;
+    terminate(2000);
 }
 
 int DaemonProcess::terminate(int timeout_ms) {
-    if (!running()) {
-        return status_ == -1        ? -1
-               : WIFEXITED(status_) ? WEXITSTATUS(status_)
-                                    : 128 + WTERMSIG(status_);
-    }
-    ::kill(pid_, SIGTERM);
-    const auto deadline = now_ns() + std::int64_t{timeout_ms} * 1'000'000;
-    while (running() && now_ns() < deadline) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    if (!reaped_) {
-        ::kill(pid_, SIGKILL);
-        ::waitpid(pid_, &status_, 0);
-        reaped_ = true;
-    }
-    return WIFEXITED(status_) ? WEXITSTATUS(status_) : 128 + WTERMSIG(status_);
+    return process_.terminate(std::chrono::milliseconds(timeout_ms));
 }
 
 }  // namespace gport::bench

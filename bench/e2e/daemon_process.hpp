@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "process.hpp"
+
 namespace gport::bench {
 
 struct DaemonOptions {
@@ -33,6 +35,8 @@ struct DaemonOptions {
 // Writes a gportd config (JSON with comments) for a benchmark run.
 void write_daemon_config(const DaemonOptions& options);
 
+// gportd (or any program) as a child: tests/support's Process, its output
+// in a log file.
 class DaemonProcess {
   public:
     // Writes the config and starts gportd. Throws std::runtime_error when the
@@ -45,20 +49,15 @@ class DaemonProcess {
     DaemonProcess(const DaemonProcess&) = delete;
     DaemonProcess& operator=(const DaemonProcess&) = delete;
 
-    pid_t pid() const { return pid_; }
+    pid_t pid() const { return process_.pid(); }
     // True while the child has not exited.
-    bool running();
+    bool running() { return process_.running(); }
     // Sends SIGTERM and waits (at most timeout_ms, then SIGKILL). Returns the
-    // exit status, or 128 + signal when it was killed by one; -1 if it had
-    // already been reaped.
+    // exit status, or 128 + signal when it was killed by one.
     int terminate(int timeout_ms = 5000);
 
   private:
-    void spawn(const std::vector<std::string>& argv, const std::string& log_path, bool realtime);
-
-    pid_t pid_ = -1;
-    int status_ = -1;
-    bool reaped_ = false;
+    testing::Process process_;
 };
 
 }  // namespace gport::bench

@@ -3,8 +3,6 @@
 #include <fcntl.h>
 #include <grp.h>
 #include <poll.h>
-#include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
@@ -204,10 +202,10 @@ FloodProcess::FloodProcess(const std::string& socket, FloodKind kind, int connec
     auto child = spawn_self({"bench_e2e", "--flood-child", socket, to_string(kind),
                              std::to_string(connections), std::to_string(uid), "3"},
                             "flood");
-    child_ = child.pid;
+    child_ = std::move(child);
     std::string pending;
     std::string line;
-    if (!read_line(child.report.get(), pending, line, 30'000) || line != "ok") {
+    if (!read_line(child_->report(), pending, line, 30'000) || line != "ok") {
         stop();
         throw std::runtime_error("flood (" + std::string(to_string(kind)) + "): " + line);
     }
@@ -218,12 +216,7 @@ FloodProcess::~FloodProcess() {
 }
 
 void FloodProcess::stop() {
-    if (child_ > 0) {
-        ::kill(child_, SIGKILL);
-        int status = 0;
-        ::waitpid(child_, &status, 0);
-        child_ = -1;
-    }
+    child_.reset();  // SIGKILL, and reaped
 }
 
 }  // namespace gport::bench

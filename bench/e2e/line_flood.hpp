@@ -7,7 +7,10 @@
 
 #include <sys/types.h>
 
+#include <memory>
 #include <string>
+
+#include "process.hpp"
 
 namespace gport::bench {
 
@@ -38,7 +41,7 @@ class FloodProcess {
     void stop();
 
   private:
-    pid_t child_ = -1;
+    std::unique_ptr<testing::Process> child_;
 };
 
 // bench_e2e --flood-child SOCKET KIND CONNECTIONS UID REPORT_FD

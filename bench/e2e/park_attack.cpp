@@ -2,9 +2,7 @@
 
 #include <fcntl.h>
 #include <pthread.h>
-#include <signal.h>
 #include <sys/mman.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -150,10 +148,10 @@ ParkAttack::ParkAttack(const std::string& socket, int threads, bool gone, int ke
     auto child = spawn_self({"bench_e2e", "--park-child", socket, std::to_string(threads),
                              gone ? "1" : "0", "3", std::to_string(keys)},
                             "park: the peer");
-    child_ = child.pid;
+    child_ = std::move(child);
     std::string pending;
     std::string line;
-    if (!read_line(child.report.get(), pending, line, 120'000) || line.rfind("parked ", 0) != 0) {
+    if (!read_line(child_->report(), pending, line, 120'000) || line.rfind("parked ", 0) != 0) {
         stop();
         throw std::runtime_error("park: the peer did not park its threads: " + line);
     }
@@ -170,12 +168,7 @@ ParkAttack::~ParkAttack() {
 }
 
 void ParkAttack::stop() {
-    if (child_ > 0) {
-        ::kill(child_, SIGKILL);
-        int status = 0;
-        ::waitpid(child_, &status, 0);
-        child_ = -1;
-    }
+    child_.reset();  // SIGKILL, and reaped
     holder_.reset();
 }
 

@@ -18,6 +18,7 @@
 
 #include <sys/types.h>
 
+#include <memory>
 #include <string>
 
 #include "posix.hpp"
@@ -46,7 +47,7 @@ class ParkAttack {
     bool gone_;
     int keys_;
     int version_ = 0;
-    pid_t child_ = -1;
+    std::unique_ptr<testing::Process> child_;
     Fd holder_;
 };
 

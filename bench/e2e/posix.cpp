@@ -2,7 +2,6 @@
 
 #include <fcntl.h>
 #include <poll.h>
-#include <spawn.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -11,9 +10,11 @@
 #include <cerrno>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 
 #include "unix_connect.hpp"
@@ -185,29 +186,22 @@ void raise_fd_limit() {
     }
 }
 
-SelfChild spawn_self(std::vector<std::string> args, const std::string& what) {
-    int pipe_fds[2];
-    if (::pipe2(pipe_fds, O_CLOEXEC) != 0) {
-        throw std::runtime_error(what + ": pipe failed");
+std::unique_ptr<testing::Process> spawn_self(std::vector<std::string> args,
+                                             const std::string& what) {
+    std::error_code error;
+    const auto self = std::filesystem::read_symlink("/proc/self/exe", error);
+    if (error) {
+        throw std::runtime_error(what + ": cannot start: /proc/self/exe: " + error.message());
     }
-    SelfChild child;
-    child.report = Fd(pipe_fds[0]);
-    posix_spawn_file_actions_t actions;
-    ::posix_spawn_file_actions_init(&actions);
-    ::posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], 3);
-    std::vector<char*> argv;
-    for (auto& a : args) {
-        argv.push_back(a.data());
+    args.at(0) = self.string();
+    testing::Launch launch;
+    launch.output = testing::Launch::Output::kInherit;
+    launch.report = true;
+    try {
+        return std::make_unique<testing::Process>(std::move(args), launch);
+    } catch (const std::system_error& e) {
+        throw std::runtime_error(what + ": cannot start: " + e.what());
     }
-    argv.push_back(nullptr);
-    const int rc =
-        ::posix_spawn(&child.pid, "/proc/self/exe", &actions, nullptr, argv.data(), environ);
-    ::posix_spawn_file_actions_destroy(&actions);
-    ::close(pipe_fds[1]);
-    if (rc != 0) {
-        throw std::runtime_error(what + ": cannot start: " + std::strerror(rc));
-    }
-    return child;
 }
 
 }  // namespace gport::bench

@@ -6,10 +6,13 @@
 #include <sys/types.h>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "process.hpp"
 
 namespace gport::bench {
 
@@ -71,13 +74,12 @@ std::string load_average();
 // a thousand subscribers need a thousand descriptors on both ends.
 void raise_fd_limit();
 
-// This program started again (/proc/self/exe) with `args` (argv[0] first)
-// and a pipe as its descriptor 3, whose read end `report` the parent reads
-// the child's first line from. Throws "WHAT: ..." when it cannot start.
-struct SelfChild {
-    pid_t pid = -1;
-    Fd report;
-};
-SelfChild spawn_self(std::vector<std::string> args, const std::string& what);
+// This program started again (its own path, from /proc/self/exe, as
+// args[0]) with `args` and a pipe as its descriptor 3, whose read end
+// (Process::report()) the parent reads the child's first line from; its
+// output is ours. Throws "WHAT: cannot start: ..." when it cannot start.
+// Destroying the Process kills and reaps the child.
+std::unique_ptr<testing::Process> spawn_self(std::vector<std::string> args,
+                                             const std::string& what);
 
 }  // namespace gport::bench

@@ -1,10 +1,12 @@
 #include "process.hpp"
 
 #include <fcntl.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
@@ -12,30 +14,100 @@
 
 namespace gport::testing {
 
-Process::Process(std::vector<std::string> argv, std::vector<std::string> env) {
-    int fds[2];
-    if (::pipe2(fds, O_CLOEXEC) != 0) {
+namespace {
+
+// A pipe whose both ends close on exec; throws naming the call.
+std::array<int, 2> make_pipe() {
+    std::array<int, 2> fds{};
+    if (::pipe2(fds.data(), O_CLOEXEC) != 0) {
         throw std::system_error(errno, std::generic_category(), "pipe2");
+    }
+    return fds;
+}
+
+// In the child, before exec: `fd` as descriptor `target`, kept across exec.
+void place(int fd, int target) {
+    if (fd == target) {
+        ::fcntl(fd, F_SETFD, 0);
+    } else {
+        ::dup2(fd, target);  // the copy does not close on exec
+    }
+}
+
+}  // namespace
+
+namespace {
+
+Launch with_env(std::vector<std::string> env) {
+    Launch launch;
+    launch.env = std::move(env);
+    return launch;
+}
+
+}  // namespace
+
+Process::Process(std::vector<std::string> argv, std::vector<std::string> env)
+    : Process(std::move(argv), with_env(std::move(env))) {}
+
+Process::Process(std::vector<std::string> argv, const Launch& launch) {
+    using Output = Launch::Output;
+    std::array<int, 2> out{-1, -1};
+    std::array<int, 2> report{-1, -1};
+    int file = -1;
+    if (launch.output == Output::kLines) {
+        out = make_pipe();
+    } else if (launch.output == Output::kFile) {
+        file = ::open(launch.file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+        if (file < 0) {
+            throw std::system_error(errno, std::generic_category(), "open " + launch.file);
+        }
+    }
+    if (launch.report) {
+        report = make_pipe();
     }
     std::vector<char*> args;
     for (auto& a : argv) {
         args.push_back(a.data());
     }
     args.push_back(nullptr);
+    auto env = launch.env;
     pid_ = ::fork();
     if (pid_ < 0) {
         throw std::system_error(errno, std::generic_category(), "fork");
     }
     if (pid_ == 0) {
-        ::dup2(fds[1], STDOUT_FILENO);
+        if (out[1] >= 0) {
+            place(out[1], STDOUT_FILENO);
+        }
+        if (file >= 0) {
+            place(file, STDOUT_FILENO);
+            place(file, STDERR_FILENO);
+        }
+        if (report[1] >= 0) {
+            place(report[1], 3);
+        }
         for (auto& e : env) {
             ::putenv(e.data());
+        }
+        if (launch.realtime) {
+            sched_param param{};
+            param.sched_priority = 5;
+            if (::sched_setscheduler(0, SCHED_FIFO, &param) != 0) {
+                ::_exit(126);
+            }
         }
         ::execv(args[0], args.data());
         ::_exit(127);
     }
-    ::close(fds[1]);
-    reader_ = std::thread([this, fd = fds[0]] { read_loop(fd); });
+    for (const int fd : {out[1], report[1], file}) {
+        if (fd >= 0) {
+            ::close(fd);
+        }
+    }
+    report_ = report[0];
+    if (out[0] >= 0) {
+        reader_ = std::thread([this, fd = out[0]] { read_loop(fd); });
+    }
 }
 
 Process::~Process() {
@@ -46,6 +118,21 @@ Process::~Process() {
     if (reader_.joinable()) {
         reader_.join();
     }
+    if (report_ >= 0) {
+        ::close(report_);
+    }
+}
+
+int Process::terminate(std::chrono::milliseconds timeout) {
+    signal(SIGTERM);
+    if (auto status = wait(timeout)) {
+        return *status;
+    }
+    signal(SIGKILL);
+    while (running()) {
+        std::this_thread::sleep_for(10ms);
+    }
+    return *status_;
 }
 
 void Process::read_loop(int fd) {

@@ -1,5 +1,6 @@
-// Test support: a child process with its stdout read line by line on a
-// background thread, so tests can wait for what it prints.
+// Test support (and the benchmarks'): a child process, by default with its
+// stdout read line by line on a background thread, so tests can wait for
+// what it prints.
 #pragma once
 
 #include <sys/types.h>
@@ -18,11 +19,32 @@ namespace gport::testing {
 
 using namespace std::chrono_literals;
 
+// How a Process starts; the defaults are what the tests need.
+struct Launch {
+    enum class Output {
+        kLines,    // stdout read line by line (next_line ...); stderr is ours
+        kInherit,  // stdout and stderr are ours
+        kFile,     // stdout and stderr go to `file`, truncated
+    };
+    std::vector<std::string> env;  // "NAME=value" entries added to our environment
+    Output output = Output::kLines;
+    std::string file;
+    // SCHED_FIFO at priority 5 (what a unit's CPUSchedulingPolicy=fifo does;
+    // below the benchmarks' measuring threads); it exits 126 when refused.
+    bool realtime = false;
+    // A pipe as its descriptor 3, whose read end report() is: the child's
+    // way to say it is ready (the benchmarks' children).
+    bool report = false;
+};
+
 class Process {
   public:
     // Starts argv[0] with the arguments and, added to our environment, the
     // "NAME=value" entries of env; stderr is passed through to ours.
     explicit Process(std::vector<std::string> argv, std::vector<std::string> env = {});
+    // Starts argv[0] as `launch` says. Throws std::system_error naming the
+    // call that failed (pipe2, fork, open).
+    Process(std::vector<std::string> argv, const Launch& launch);
     ~Process();
     Process(const Process&) = delete;
     Process& operator=(const Process&) = delete;
@@ -33,6 +55,11 @@ class Process {
     // Waits for the exit; returns the exit status (128+N for signal N), or
     // empty when it did not exit in time.
     std::optional<int> wait(std::chrono::milliseconds timeout = 10s);
+    // SIGTERM, then SIGKILL if it has not exited within `timeout`; the exit
+    // status as wait() gives it (already exited: its status).
+    int terminate(std::chrono::milliseconds timeout = 5s);
+    // The read end of the report pipe (Launch::report), else -1.
+    int report() const { return report_; }
 
     // The next line of stdout not yet taken, waiting up to timeout.
     std::optional<std::string> next_line(std::chrono::milliseconds timeout = 10s);
@@ -46,6 +73,7 @@ class Process {
     void read_loop(int fd);
 
     pid_t pid_ = -1;
+    int report_ = -1;
     std::optional<int> status_;
     std::thread reader_;
     std::mutex mutex_;
