@@ -13,6 +13,7 @@
 namespace gport::ipc::detail {
 namespace {
 
+using capture::CaptureLog;
 using nlohmann::json;
 
 std::int64_t micros(std::chrono::nanoseconds since_epoch) {
@@ -40,12 +41,12 @@ const json* checked_meta(const json& params) {
         throw InvalidParams(
             fmt::format("meta must be a JSON object (at most {} bytes as compact "
                         "JSON), not {}",
-                        capture::CaptureLog::kMetaMaxBytes, it->type_name()));
+                        CaptureLog::kMetaMaxBytes, it->type_name()));
     }
     const auto size = json_text(*it).size();
-    if (size > capture::CaptureLog::kMetaMaxBytes) {
+    if (size > CaptureLog::kMetaMaxBytes) {
         throw InvalidParams(fmt::format("meta is {} bytes as compact JSON; at most {} are allowed",
-                                        size, capture::CaptureLog::kMetaMaxBytes));
+                                        size, CaptureLog::kMetaMaxBytes));
     }
     return &*it;
 }
@@ -55,7 +56,7 @@ const json* checked_meta(const json& params) {
 // can be given now. `summary` is what the reply carries of it besides the
 // index and kind: utc_us and the attitude logged with it.
 struct Pending {
-    capture::CaptureLog::Prepared prepared;
+    CaptureLog::Prepared prepared;
     json summary;
 };
 
@@ -66,7 +67,7 @@ std::optional<Pending> prepare(MethodContext& c, const json* meta, const Respond
         respond(Reply::error(rpc_error::kInternal, std::move(*why)));
         return std::nullopt;
     }
-    return Pending{std::get<capture::CaptureLog::Prepared>(std::move(prepared)),
+    return Pending{std::get<CaptureLog::Prepared>(std::move(prepared)),
                    {{"utc_us", capture["utc_us"]}, {"attitude", capture["attitude"]}}};
 }
 
@@ -177,9 +178,8 @@ void captures(MethodContext& c, const json& params, Respond respond) {
     const Params p(params);
     p.only({"since", "limit"});
     const auto since = p.integer("since", 0, std::numeric_limits<std::int64_t>::max()).value_or(0);
-    const auto limit =
-        p.integer("limit", 1, static_cast<std::int64_t>(capture::CaptureLog::kMaxLimit))
-            .value_or(static_cast<std::int64_t>(capture::CaptureLog::kDefaultLimit));
+    const auto limit = p.integer("limit", 1, static_cast<std::int64_t>(CaptureLog::kMaxLimit))
+                           .value_or(static_cast<std::int64_t>(CaptureLog::kDefaultLimit));
     respond(Reply::raw(
         c.captures.list(static_cast<std::uint64_t>(since), static_cast<std::size_t>(limit))));
 }
