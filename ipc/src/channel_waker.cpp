@@ -101,8 +101,12 @@ void ChannelWaker::signal() {
     if (!running()) {
         return;
     }
+    // Read before the loop's wakes: a connection handed to the thread by
+    // them was woken for this sample already, and the thread's round would
+    // wake it twice.
+    const bool threaded = threaded_;
     wake_inline();
-    if (!threaded_) {
+    if (!threaded) {
         return;
     }
     requested_.fetch_add(1, std::memory_order_acq_rel);

@@ -63,10 +63,13 @@ TEST(ChannelWaker, AFewConnectionsNeedNoThreadRound) {
     EXPECT_EQ(waker.rounds(), 0u);
 }
 
-// Every wake counts as slow here (threshold 0): after kStrikes samples the
-// loop hands both connections to the thread, which goes on waking them.
+// Every wake counts as slow here (a threshold below zero, so even a clock
+// that reads the same before and after a wake counts it): after kStrikes
+// samples the loop hands both connections to the thread, which goes on
+// waking them from the next sample on, not twice in the sample that handed
+// them over.
 TEST(ChannelWaker, AConnectionSlowToWakeOnTheLoopIsHandedToTheThreadAndStillWoken) {
-    ChannelWaker waker(ChannelWaker::Clock::duration::zero());
+    ChannelWaker waker(ChannelWaker::Clock::duration(-1));
     ASSERT_FALSE(waker.start());
     const auto blocks = make_blocks(2);
     waker.set_blocks(blocks);
@@ -76,6 +79,8 @@ TEST(ChannelWaker, AConnectionSlowToWakeOnTheLoopIsHandedToTheThreadAndStillWoke
     EXPECT_EQ(waker.handed_over(), 2u);
     EXPECT_EQ(waker.inline_count(), 0u);
     EXPECT_EQ(waker.rounds(), 0u) << "until then the loop woke them";
+    EXPECT_TRUE(waker.idle()) << "the handing-over sample asked the thread for nothing";
+    EXPECT_EQ(bumps(blocks, 0), static_cast<std::uint32_t>(ChannelWaker::kStrikes));
 
     waker.signal();
     ASSERT_TRUE(testing::eventually([&] { return waker.idle(); }));
