@@ -54,6 +54,17 @@ endfunction()
 # programs end to end; every suite runs in its ASan+UBSan stage.
 set(GPORT_GTEST_SUITES "all" CACHE STRING
     "The GoogleTest executables to build and register: all, or a list of names")
+# How CTest runs a GoogleTest executable's tests. 0 (the default): each test
+# is a CTest test of its own, one process per test (gtest_discover_tests), as
+# a developer wants them: ctest -R one test, its own timeout and output. N:
+# the executable is N CTest tests, <name>/<i> of N, each a process that runs
+# every Nth of its tests (GoogleTest's sharding), so that all run once. CI
+# sets it for the sanitizer and ARM builds, where a process costs ~0.1 s of
+# CPU before its first test (ASan's and LSan's set-up and exit; qemu-user
+# translating the loader): over their 2,100 tests, minutes of CPU on two
+# cores. docs/operations.md, "How CI spends its time".
+set(GPORT_TEST_SHARDS 0 CACHE STRING
+    "0: one CTest test per GoogleTest test; N: each GoogleTest executable as N CTest tests")
 
 # gport_add_test(<name> SOURCES ... [LIBS ...] [LABELS ...] [TIMEOUT s])
 # Builds a GoogleTest executable and registers each of its tests with CTest
@@ -71,8 +82,29 @@ function(gport_add_test name)
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 120)
   endif()
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
-                       PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT})
+  if(GPORT_TEST_SHARDS GREATER 0)
+    gport_add_test_shards(${name} "${ARG_LABELS}" ${ARG_TIMEOUT})
+  else()
+    gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
+                         PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT})
+  endif()
+endfunction()
+
+# The executable `name` as GPORT_TEST_SHARDS CTest tests (see above). A shard
+# runs many tests, so it may take as long as several of them: its timeout is
+# ten times a test's. A test GoogleTest skips is counted in the shard's
+# output, not as a skipped CTest test; a failing one fails its shard, whose
+# output (--output-on-failure) names it.
+function(gport_add_test_shards name labels timeout)
+  math(EXPR last "${GPORT_TEST_SHARDS} - 1")
+  math(EXPR shard_timeout "${timeout} * 10")
+  foreach(index RANGE ${last})
+    set(test "${name}/${index}")
+    add_test(NAME ${test} COMMAND ${name})
+    set_tests_properties(${test} PROPERTIES
+      LABELS "${labels}" TIMEOUT ${shard_timeout}
+      ENVIRONMENT "GTEST_TOTAL_SHARDS=${GPORT_TEST_SHARDS};GTEST_SHARD_INDEX=${index}")
+  endforeach()
 endfunction()
 
 # gport_install_program(<target>): installs a program to ${CMAKE_INSTALL_BINDIR}

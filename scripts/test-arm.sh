@@ -91,6 +91,13 @@ declare -A suites=(
   [arm64]='base_tests;protocol_tests'
 )
 
+# Each GoogleTest executable runs under qemu as 8 processes, each a share
+# of its tests, not one process per test (GPORT_TEST_SHARDS, cmake/
+# GportHelpers.cmake): qemu-user spends ~0.1 s of CPU and ~0.2 s translating
+# the loader and start-up of every process. GPORT_TEST_SHARDS=0 gives one
+# per test again (ctest -R a single test).
+shards=${GPORT_TEST_SHARDS:-8}
+
 stage "ARM: cross compilers and qemu-user for ${arches[*]}"
 gport_install_cross_deps "${arches[@]}"
 declare -A by_path=()
@@ -117,7 +124,7 @@ for arch in "${arches[@]}"; do
     stage "$arch: Release build ($triple)"
     cmake -S . -B "$build" -G Ninja -DCMAKE_TOOLCHAIN_FILE="cmake/toolchains/$triple.cmake" \
       -DGPORT_SYSROOT="$sysroot" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="$release_flags" \
-      -DGPORT_WERROR=ON \
+      -DGPORT_WERROR=ON -DGPORT_TEST_SHARDS="$shards" \
       -DGPORT_BUILD_BENCH=OFF -DGPORT_SITL_TESTS=OFF -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 \
       -DGPORT_TEST_PARTS="${parts[$arch]}" -DGPORT_GTEST_SUITES="${suites[$arch]}"
     if makes_deb "$arch"; then
