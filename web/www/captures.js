@@ -53,7 +53,9 @@ async function showPage(from) {
     start = Math.max(0, nextIndex - PAGE);
     result = await fetchPage(start);
   }
-  if (!result) return;
+  if (!result || !Array.isArray(result.captures)) return;
+  // Only objects are rows (gportd writes no other; a lying answer could).
+  result.captures = result.captures.filter((c) => c !== null && typeof c === 'object');
   page = result;
   render(result.captures);
   const first = result.captures.length ? result.captures[0].index : start;
@@ -65,6 +67,9 @@ async function showPage(from) {
 
 // A number when it is a finite one, else null.
 const finite = (value) => (typeof value === 'number' && Number.isFinite(value) ? value : null);
+
+// An accuracy (1σ, metres) when it is one: finite and not negative.
+const accuracyOf = (value) => (finite(value) !== null && value >= 0 ? value : null);
 
 // µs since the epoch as ISO 8601 UTC; null when it is no time a Date holds
 // (the log is read back from files: a utc_us of 1e20 would make
@@ -107,7 +112,7 @@ function stamped(vehicle) {
   if (lat === null || lon === null || Math.abs(lat) > 90 || Math.abs(lon) > 180) {
     return { from: 'untagged', text: 'untagged: no position' };
   }
-  const hAcc = finite(vehicle.h_acc_m);
+  const hAcc = accuracyOf(vehicle.h_acc_m);
   const accuracy = hAcc === null ? '' : ` ±${hAcc.toFixed(1)} m`;
   return { from: 'vehicle', text: `${lat.toFixed(6)}, ${lon.toFixed(6)}${accuracy}`, title: stampTitle(vehicle) };
 }
@@ -115,8 +120,8 @@ function stamped(vehicle) {
 // The rest of the stamp, a line for each member the source published.
 function stampTitle(vehicle) {
   const alt = finite(vehicle.alt_msl_m);
-  const hAcc = finite(vehicle.h_acc_m);
-  const vAcc = finite(vehicle.v_acc_m);
+  const hAcc = accuracyOf(vehicle.h_acc_m);
+  const vAcc = accuracyOf(vehicle.v_acc_m);
   const heading = finite(vehicle.heading_deg);
   const age = finite(vehicle.age_ms);
   const utc = isoTime(vehicle.utc_us);
@@ -180,12 +185,22 @@ let points = []; // {east, north, index}
 async function loadMap() {
   const geo = await attempt('captures.geojson', () => api('GET', '/api/captures.geojson'));
   if (!geo) return;
-  points = localMetres((geo.features || []).filter((f) => f.geometry && f.geometry.type === 'Point'));
+  points = localMetres((Array.isArray(geo.features) ? geo.features : []).filter(placeable));
   $('captures-map-note').textContent = points.length
     ? `${points.length} capture(s) with a position; metres east and north of the first`
     : 'no capture has a position yet: it comes from gportd\'s stamp of the vehicle at the shutter '
       + '(when a source such as gport-mavlink publishes it), else from the photo\'s meta (lat/lon)';
   drawMap();
+}
+
+// A GeoJSON Point the plot can place: a finite longitude and latitude in
+// their ranges. gport-web writes no other; one read back from a file, or a
+// server that lies, never ends the plot or makes its scale NaN.
+function placeable(f) {
+  const c = f && f.geometry && f.geometry.type === 'Point' ? f.geometry.coordinates : null;
+  if (!Array.isArray(c)) return false;
+  const [lon, lat] = [finite(c[0]), finite(c[1])];
+  return lon !== null && lat !== null && Math.abs(lon) <= 180 && Math.abs(lat) <= 90;
 }
 
 // Equirectangular projection around the first point: exact enough over the
@@ -199,7 +214,7 @@ function localMetres(features) {
     return {
       east: (lon - lon0) * k * Math.cos((lat0 * Math.PI) / 180),
       north: (lat - lat0) * k,
-      index: f.properties ? f.properties.index : undefined,
+      index: f.properties && typeof f.properties === 'object' ? f.properties.index : undefined,
     };
   });
 }

@@ -415,6 +415,77 @@ async function stampedInTable(page, sock) {
   check(page.problems.length === 0, `no script error from them (${page.problems.join('; ') || 'none'})`);
 }
 
+// ---- 6d. a server that lies about the stamps (issue 43): gport-web's own
+// answers, rewritten on their way to the page, give the newest captures a
+// `vehicle` of every shape gportd never writes, and the plot's GeoJSON
+// points it cannot place. The table shows each as untagged or as its meta,
+// a reason as text (never markup), and neither the table nor the plot
+// throws; then the real answers come back.
+const ODD_STAMPS = [
+  ['"junk"', 'junk', 'meta'],
+  ['an array', [47, 8], 'meta'],
+  ['tagged "yes"', { tagged: 'yes', lat: 47, lon: 8 }, 'untagged'],
+  ['a string latitude', { tagged: true, lat: '47.1', lon: 8 }, 'untagged'],
+  ['a latitude of 91', { tagged: true, lat: 91, lon: 8 }, 'untagged'],
+  ['odd members beside a position', { tagged: true, lat: 47.25, lon: 8.5, h_acc_m: 'x', v_acc_m: -1e308,
+    utc_us: 1e20, heading_deg: null, age_ms: 'old', alt_msl_m: {} }, 'vehicle'],
+  ['a reason that is markup', { tagged: false, why: '<img src=x onerror="window.injected=1">' }, 'untagged'],
+  ['a reason that is an object', { tagged: false, why: { text: 'no' }, utc_us: -1e300 }, 'untagged'],
+];
+const ODD_FEATURES = [
+  { type: 'Feature', geometry: { type: 'Point', coordinates: null }, properties: null },
+  { type: 'Feature', geometry: { type: 'Point', coordinates: 'x' } },
+  { type: 'Feature', geometry: { type: 'Point', coordinates: [1e308, -1e308] } },
+  { type: 'Feature', geometry: { type: 'Point', coordinates: [8.5] } },
+  { type: 'Feature', geometry: null },
+  null,
+];
+async function lyingStamps(page) {
+  const captures = (u) => u.pathname === '/api/captures';
+  const geojson = (u) => u.pathname === '/api/captures.geojson';
+  let points = 0;
+  await page.route(captures, async (route) => {
+    const response = await route.fetch();
+    const body = await response.json();
+    const rows = body.captures.slice(-ODD_STAMPS.length);
+    rows.forEach((c, i) => { c.vehicle = ODD_STAMPS[i][1]; });
+    body.captures.unshift(null, 'a row', 17); // no row at all: left out
+    return route.fulfill({ response, json: body });
+  });
+  await page.route(geojson, async (route) => {
+    const response = await route.fetch();
+    const body = await response.json();
+    points = body.features.length;
+    body.features = [...ODD_FEATURES, ...body.features, ...ODD_FEATURES];
+    return route.fulfill({ response, json: body });
+  });
+  const problems = page.problems.length;
+  await h.rpc(page.sock, 'photo', {}); // its notification reloads the table and the plot
+  const shown = await until(async () => {
+    const cells = await page.locator(id('capture-row')).evaluateAll((trs) =>
+      trs.slice(0, 8).reverse().map((tr) => ({ text: tr.cells[5].textContent, from: tr.cells[5].dataset.position,
+        title: tr.cells[5].title })));
+    return cells.length === ODD_STAMPS.length && cells.every((c, i) => c.from === ODD_STAMPS[i][2]) ? cells : null;
+  }, 10000, 'the captures with odd stamps in the table');
+  ODD_STAMPS.forEach(([what, , from], i) => check(shown[i].from === from,
+    `a stamp that is ${what}: ${from} ("${shown[i].text}")`));
+  const odd = shown[5];
+  check(odd.text === '47.250000, 8.500000' && !/NaN|undefined|Infinity|\[object|e\+|accuracy|altitude|UTC/.test(odd.title),
+    `its odd members left out (no accuracy, altitude or UTC from them): "${odd.text}" (${JSON.stringify(odd.title)})`);
+  check(shown[6].text === 'untagged: <img src=x onerror="window.injected=1">' &&
+    await page.evaluate(() => window.injected === undefined && !document.querySelector('#captures-table img')),
+  'a reason that is markup is shown as its text, never run');
+  check(shown[7].text === 'untagged: untagged by gportd', `a reason that is no text: "${shown[7].text}"`);
+  await until(async () => new RegExp(`^${points} capture`).test(await page.textContent(id('captures-map-note'))), 10000,
+    'the plot with the points it can place');
+  check(true, `the plot places the ${points} real points and none of the ${2 * ODD_FEATURES.length} it cannot`);
+  const thrown = page.problems.slice(problems);
+  check(thrown.length === 0, `no script error from the lies (${thrown.join('; ') || 'none'})`);
+  await page.unroute(captures);
+  await page.unroute(geojson);
+  await page.click(id('captures-latest'));
+}
+
 // ---- 7. screenshots
 async function screenshots(page) {
   const shots = [];
@@ -671,6 +742,7 @@ async function main() {
     await positionsAndPose(page, sock);
     await oddMetaInTable(page, sock);
     await stampedInTable(page, sock);
+    await lyingStamps(page);
     await screenshots(page);
     check(page.problems.length === 0, `no script errors in the page (${page.problems.join('; ') || 'none'})`);
     await recordOnOff(page);
