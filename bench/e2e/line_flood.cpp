@@ -7,6 +7,7 @@
 
 #include <array>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -58,6 +59,28 @@ Round every_method(unsigned round) {
     return {methods[round % (methods.size() + 1)] + "\n", 1};
 }
 
+// The vehicle's source gone wrong (a bridge in a loop): publish_vehicle back
+// to back, each sample 1 ms of boot time after the last, so that every one
+// is taken, moving north at 15 m/s; the UTC with every 10th; and every 50th
+// round a photo, stamped against the track that moves under it.
+Round vehicle_report(unsigned round) {
+    if (round % 50 == 49) {
+        return {one("photo") + "\n", 1};
+    }
+    const unsigned long long boot_ms = 1000ULL + round;
+    char position[320];
+    std::snprintf(position, sizeof position,
+                  R"({"boot_ms":%llu,"lat":%.7f,"lon":8.5456,"alt_msl_m":488.0,)"
+                  R"("velocity_ned":[15,0,0],"heading_deg":0,"fix":3,"h_acc_m":0.8})",
+                  boot_ms, 47.3978 + round * 1.35e-7);
+    std::string params = std::string(R"({"position":)") + position;
+    if (round % 10 == 0) {
+        params += R"(,"time":{"boot_ms":)" + std::to_string(boot_ms) + R"(,"utc_us":)" +
+                  std::to_string(1'763'770'000'000'000ULL + boot_ms * 1000ULL) + "}";
+    }
+    return {one("publish_vehicle", params + "}") + "\n", 1};
+}
+
 Round round_of(FloodKind kind, unsigned round) {
     switch (kind) {
         case FloodKind::kPhoto:
@@ -68,6 +91,8 @@ Round round_of(FloodKind kind, unsigned round) {
             return batch_of(one("captures", R"({"limit":800})"));
         case FloodKind::kEvery:
             return every_method(round);
+        case FloodKind::kVehicle:
+            return vehicle_report(round);
     }
     return {};
 }
@@ -144,8 +169,8 @@ void reconnect(FloodConn& f, FloodKind kind, const std::string& socket) {
 }  // namespace
 
 bool parse_flood_kind(const std::string& name, FloodKind& kind) {
-    for (auto k :
-         {FloodKind::kPhoto, FloodKind::kCaptures, FloodKind::kBatches, FloodKind::kEvery}) {
+    for (auto k : {FloodKind::kPhoto, FloodKind::kCaptures, FloodKind::kBatches, FloodKind::kEvery,
+                   FloodKind::kVehicle}) {
         if (name == to_string(k)) {
             kind = k;
             return true;
@@ -164,6 +189,8 @@ const char* to_string(FloodKind kind) {
             return "batches";
         case FloodKind::kEvery:
             return "every";
+        case FloodKind::kVehicle:
+            return "vehicle";
     }
     return "?";
 }

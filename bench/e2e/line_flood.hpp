@@ -19,9 +19,10 @@ enum class FloodKind {
     kCaptures,  // `captures` limit 1000
     kBatches,   // batches of 32 `captures` limit 800
     kEvery,     // every read-only method in turn, batches included
+    kVehicle,   // the trusted source gone wrong: publish_vehicle back to back
 };
 
-// "photo", "captures", "batches", "every"; false for anything else.
+// "photo", "captures", "batches", "every", "vehicle"; false for anything else.
 bool parse_flood_kind(const std::string& name, FloodKind& kind);
 const char* to_string(FloodKind kind);
 

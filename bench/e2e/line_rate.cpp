@@ -40,6 +40,9 @@ struct LineResult {
     std::uint64_t backlog_max = 0;
     std::uint64_t worst_request_us = 0;  // gportd's own figure (status.loop)
     std::string worst_method;
+    std::uint64_t vehicle_published = 0;  // status.vehicle: reports taken and refused
+    std::uint64_t vehicle_refused = 0;
+    double seconds = 0;  // the stops' probe, for the reports' rate
     std::string error;
 };
 
@@ -73,8 +76,9 @@ DaemonOptions daemon_options(const std::string& gportd, const std::string& dir,
     return d;
 }
 
-// gportd's longest request on its loop since start (status.loop).
-void read_worst_request(const std::string& socket, LineResult& r) {
+// gportd's longest request on its loop since start (status.loop), and the
+// vehicle's reports it took and refused (status.vehicle).
+void read_status_figures(const std::string& socket, LineResult& r) {
     auto fd = connect_unix_retry(socket, 5'000);
     std::string pending;
     std::string line;
@@ -88,6 +92,12 @@ void read_worst_request(const std::string& socket, LineResult& r) {
         r.worst_request_us = loop.value("worst_request_us", std::uint64_t{0});
         r.worst_method = loop["worst_method"].is_string() ? loop["worst_method"].get<std::string>()
                                                           : std::string("-");
+    }
+    if (status.contains("result") && status["result"].contains("vehicle") &&
+        status["result"]["vehicle"].is_object()) {
+        const auto& vehicle = status["result"]["vehicle"];
+        r.vehicle_published = vehicle.value("published", std::uint64_t{0});
+        r.vehicle_refused = vehicle.value("refused", std::uint64_t{0});
     }
 }
 
@@ -136,14 +146,16 @@ LineResult run_scenario(const Options& options, const LineScenario& s) {
     watch.restart();
     const int stops = options.stops > 0 ? options.stops : 20;
     LineStopProbe probe(d.socket, sim, stops, kStopPeriodMs);
+    const auto probe_start = now_ns();
     probe.start();
     probe.join();
+    r.seconds = static_cast<double>(now_ns() - probe_start) / 1e9;
     r.attitude_gap_ms = watch.longest_gap_ms();
     r.delays_ms = probe.delays_ms();
     r.lost = probe.lost();
     r.error = probe.error();
     r.backlog_max = sim.backlog_max();
-    read_worst_request(d.socket, r);
+    read_status_figures(d.socket, r);
     if (flood) {
         flood->stop();
     }
@@ -179,6 +191,7 @@ std::vector<LineScenario> line_scenarios(const std::string& names) {
         {"captures", "captures", 32, true, true},
         {"batches", "batches", 1, true, true},
         {"every", "every", 16, true, true},
+        {"vehicle", "vehicle", 1, false, false},
     };
     std::vector<LineScenario> chosen;
     std::stringstream list(names);
@@ -192,7 +205,7 @@ std::vector<LineScenario> line_scenarios(const std::string& names) {
         }
         if (!found) {
             throw std::runtime_error("--line-rate: unknown scenario '" + name +
-                                     "' (idle, photo, captures, batches, every, all)");
+                                     "' (idle, photo, captures, batches, every, vehicle, all)");
         }
     }
     return chosen;
@@ -227,7 +240,15 @@ int run_line_rate(const Options& options) {
     int failures = 0;
     for (const auto& s : scenarios) {
         auto r = run_scenario(options, s);
-        std::cout << row(r) << std::flush;
+        std::cout << row(r);
+        if (r.vehicle_published + r.vehicle_refused > 0) {
+            std::cout << fmt::format(
+                "          the vehicle's reports: {} taken ({:.0f}/s over the "
+                "stops), {} refused\n",
+                r.vehicle_published, static_cast<double>(r.vehicle_published) / r.seconds,
+                r.vehicle_refused);
+        }
+        std::cout << std::flush;
         if (!r.error.empty() || r.lost > 0) {
             std::cerr << "bench_e2e: " << s.name << ": " << r.lost << " stops never reached the "
                       << "gimbal within " << kLineStopTimeoutMs << " ms"

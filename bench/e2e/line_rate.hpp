@@ -14,7 +14,7 @@ namespace gport::bench {
 
 // One scenario: a flood (or none) from some connections, as some uid.
 struct LineScenario {
-    std::string name;   // "idle", "photo", "captures", "batches"
+    std::string name;   // "idle", "photo", "captures", "batches", "every", "vehicle"
     std::string flood;  // a FloodKind name; "" = none
     int connections = 0;
     bool read_only = false;  // the flood runs as the reader uid
