@@ -22,6 +22,7 @@
 #include "lines.hpp"
 #include "posix.hpp"
 #include "process.hpp"
+#include "shm_readers.hpp"
 
 namespace gport::bench {
 namespace {
@@ -30,6 +31,8 @@ constexpr unsigned kBaud = 115200;
 constexpr double kAttitudeHz = 100;
 constexpr int kSeedCaptures = 1000;
 constexpr int kStopPeriodMs = 250;
+// The samples a --shm reader's receipts are sized for: a minute at 100 Hz.
+constexpr std::size_t kShmSamples = 6000;
 
 struct LineResult {
     LineScenario scenario;
@@ -42,7 +45,8 @@ struct LineResult {
     std::string worst_method;
     std::uint64_t vehicle_published = 0;  // status.vehicle: reports taken and refused
     std::uint64_t vehicle_refused = 0;
-    double seconds = 0;  // the stops' probe, for the reports' rate
+    double seconds = 0;           // the stops' probe, for the reports' rate
+    std::uint64_t shm_wakes = 0;  // --shm: the readers' futex waits that ended in a wake
     std::string error;
 };
 
@@ -57,14 +61,14 @@ bool log_mentions(const std::string& path, const std::string& text) {
 }
 
 DaemonOptions daemon_options(const std::string& gportd, const std::string& dir,
-                             const std::string& device, double camera_rate) {
+                             const std::string& device, double camera_rate, int shm_readers) {
     DaemonOptions d;
     d.binary = gportd;
     d.device = device;
     d.socket = dir + "/gportd.sock";
     d.config_path = dir + "/gportd.json";
     d.log_path = dir + "/gportd.log";
-    d.max_clients = 100;
+    d.max_clients = 100 + shm_readers;
     d.log_level = "info";      // `link stale` is an info line
     d.max_requests_per_s = 0;  // gportd's own per-client limit, as shipped
     d.socket_mode = "0666";
@@ -132,10 +136,19 @@ LineResult run_scenario(const Options& options, const LineScenario& s) {
         seed_capture_log(dir + "/state", kSeedCaptures);
     }
     LineSim sim(kBaud, kAttitudeHz, dir + "/gimbal");
-    const auto d = daemon_options(options.gportd, dir, sim.device(), options.camera_rate);
+    const auto d =
+        daemon_options(options.gportd, dir, sim.device(), options.camera_rate, options.shm_readers);
     DaemonProcess daemon(d);
     wait_device_open(d.socket);
     AttitudeWatch watch(d.socket);
+    // --shm: channel readers, which the loop wakes per sample beside its
+    // writes to the line (the first few inline, the rest by its thread).
+    std::unique_ptr<ShmReaders> shm;
+    if (options.shm_readers > 0) {
+        shm = std::make_unique<ShmReaders>(d.socket, options.shm_readers, kShmSamples,
+                                           options.shm_threads);
+        shm->start();
+    }
     std::optional<FloodProcess> flood;
     if (!s.flood.empty()) {
         FloodKind kind{};
@@ -158,6 +171,10 @@ LineResult run_scenario(const Options& options, const LineScenario& s) {
     read_status_figures(d.socket, r);
     if (flood) {
         flood->stop();
+    }
+    if (shm) {
+        shm->stop();
+        r.shm_wakes = shm->wakes();
     }
     watch.stop();
     daemon.terminate();
@@ -247,6 +264,10 @@ int run_line_rate(const Options& options) {
                 "stops), {} refused\n",
                 r.vehicle_published, static_cast<double>(r.vehicle_published) / r.seconds,
                 r.vehicle_refused);
+        }
+        if (options.shm_readers > 0) {
+            std::cout << fmt::format("          {} shared-memory readers: {} wakes\n",
+                                     options.shm_readers, r.shm_wakes);
         }
         std::cout << std::flush;
         if (!r.error.empty() || r.lost > 0) {
