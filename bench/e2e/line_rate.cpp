@@ -45,7 +45,7 @@ struct LineResult {
     std::string worst_method;
     std::uint64_t vehicle_published = 0;  // status.vehicle: reports taken and refused
     std::uint64_t vehicle_refused = 0;
-    double seconds = 0;           // the stops' probe, for the reports' rate
+    double flood_seconds = 0;     // from the flood's start to status read, for the rate
     std::uint64_t shm_wakes = 0;  // --shm: the readers' futex waits that ended in a wake
     std::string error;
 };
@@ -150,6 +150,7 @@ LineResult run_scenario(const Options& options, const LineScenario& s) {
         shm->start();
     }
     std::optional<FloodProcess> flood;
+    const auto flood_start = now_ns();
     if (!s.flood.empty()) {
         FloodKind kind{};
         parse_flood_kind(s.flood, kind);
@@ -159,16 +160,15 @@ LineResult run_scenario(const Options& options, const LineScenario& s) {
     watch.restart();
     const int stops = options.stops > 0 ? options.stops : 20;
     LineStopProbe probe(d.socket, sim, stops, kStopPeriodMs);
-    const auto probe_start = now_ns();
     probe.start();
     probe.join();
-    r.seconds = static_cast<double>(now_ns() - probe_start) / 1e9;
     r.attitude_gap_ms = watch.longest_gap_ms();
     r.delays_ms = probe.delays_ms();
     r.lost = probe.lost();
     r.error = probe.error();
     r.backlog_max = sim.backlog_max();
     read_status_figures(d.socket, r);
+    r.flood_seconds = static_cast<double>(now_ns() - flood_start) / 1e9;
     if (flood) {
         flood->stop();
     }
@@ -261,8 +261,8 @@ int run_line_rate(const Options& options) {
         if (r.vehicle_published + r.vehicle_refused > 0) {
             std::cout << fmt::format(
                 "          the vehicle's reports: {} taken ({:.0f}/s over the "
-                "stops), {} refused\n",
-                r.vehicle_published, static_cast<double>(r.vehicle_published) / r.seconds,
+                "flood), {} refused\n",
+                r.vehicle_published, static_cast<double>(r.vehicle_published) / r.flood_seconds,
                 r.vehicle_refused);
         }
         if (options.shm_readers > 0) {
