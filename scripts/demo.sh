@@ -8,12 +8,9 @@ cd "$(dirname "$0")/.."
 source scripts/deps.sh
 gport_install_deps build   # only what building needs: not the tests' toolchain
 
-# A unity build (each library's sources compiled as one unit): on two cores
-# it takes 140 s instead of 361 (266 CPU-s instead of 712), and CI checks
-# that every source also compiles on its own (scripts/test.sh).
-echo "== building (Release, unity; the programs only, no tests, benchmarks or man pages)"
+echo "== building (Release; the programs only, no tests, benchmarks or man pages)"
 cmake -S . -B build/demo -G Ninja -DCMAKE_BUILD_TYPE=Release -DGPORT_BUILD_TESTS=OFF \
-  -DGPORT_BUILD_BENCH=OFF -DGPORT_BUILD_MAN=OFF -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 >/dev/null
+  -DGPORT_BUILD_BENCH=OFF -DGPORT_BUILD_MAN=OFF >/dev/null
 cmake --build build/demo -j "$(nproc)" --target gportd gportctl gport-sim
 
 workdir=$(mktemp -d)

@@ -2,7 +2,7 @@
 # Runs the README's demo, checks the layering, installs what is missing, then
 # builds and runs every test:
 #   D. scripts/demo.sh, the README's first command, on the clean checkout as a
-#      newcomer runs it (its own packages, its unity build, no warning);
+#      newcomer runs it (its own packages, its plain build, no warning);
 #   0. scripts/check-layering.sh: every include and CMake link is on its folder's
 #      allow-list (docs/architecture.md, "Layout"; seconds);
 #   1. Release build (warnings are errors): first, alone, the
@@ -31,10 +31,12 @@
 # (npm ci: node-mavlink, playwright-core).
 # docs/operations.md, "How CI spends its time", has the figures behind these
 # choices.
-# Used word for word by .ci/run. The demo's, Release and ARM builds are unity
-# builds (each target's sources compiled as one unit), which halves the
-# compile time on a 2-core machine; the sanitizer build compiles every
-# source file by file, so every source compiles on its own somewhere.
+# Used word for word by .ci/run. The builds are unity builds (each target's
+# sources compiled as one unit), which halves the compile time on a 2-core
+# machine, but for the Release build's production code (shared with the
+# demo's plain build through ccache) and the sanitizer build's tests: every
+# source compiles on its own in one of the two (GPORT_PLAIN_PRODUCTION,
+# GPORT_PLAIN_TESTS; cmake/GportPlainProduction.cmake).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$(date +%s)
@@ -129,18 +131,18 @@ prepare_rest() {
 
 # ---- the README's first command, first, as a newcomer runs it --------------
 # scripts/demo.sh on the clean checkout, before anything else is installed:
-# its own package set (gport_install_deps build), its unity build of gportd,
-# gportctl and gport-sim, the daemon on its simulated gimbal, and an output
-# with no warning in it. The one thing added is ccache, through CMake's
-# CMAKE_CXX_COMPILER_LAUNCHER environment variable: the Release build below
-# compiles the programs' units with the same commands (the same unity
-# batches) and gets the demo's objects from the cache instead of compiling
-# them again. The
+# its own package set (gport_install_deps build), its plain build (every
+# source of gportd, gportctl and gport-sim compiled on its own), the daemon
+# on its simulated gimbal, and an output with no warning in it. The one
+# thing added is ccache, through CMake's CMAKE_CXX_COMPILER_LAUNCHER
+# environment variable: the Release build below compiles the programs' sources
+# file by file too, with the same commands (GPORT_PLAIN_PRODUCTION), and gets
+# the demo's objects from the cache instead of compiling them again. The
 # cache is this run's own (build/ccache), so nothing from another run counts.
 # Once the demo compiles (its packages installed, its build configured:
 # nothing installed after that changes what it found), what waits on the
 # network starts beside it (prepare_rest).
-stage "README demo (scripts/demo.sh: its own packages, its unity build)"
+stage "README demo (scripts/demo.sh: its own packages, its plain build)"
 rm -f "$logs"/installed-*
 command -v ccache >/dev/null || {
   DEBIAN_FRONTEND=noninteractive apt-get update -qq
@@ -177,11 +179,11 @@ scripts/check-layering.sh
 # again on armhf: in the Release build they would only repeat the check.
 release_suites='integration_tests;client_tests;client_hostile_tests;web_tests'
 
-# The programs and their libraries are compiled with the demo's compile
-# commands (the same unity batches): ccache gives back the demo's objects.
-# So that those commands are the demo's, -Werror is not among them; a
-# warning fails the stage all the same (a cached object's warnings are
-# printed again).
+# The programs and their libraries are compiled file by file
+# (GPORT_PLAIN_PRODUCTION; the tests in unity units), with the demo's compile
+# commands: ccache gives back the demo's objects. So that those commands are
+# the demo's, -Werror is not among them; a warning fails the stage all the
+# same (a cached object's warnings are printed again).
 stage "Release build"
 # What it compiles with, installed beside the demo (prepare_rest).
 until [ -e "$logs/installed-release-build" ]; do
@@ -189,7 +191,8 @@ until [ -e "$logs/installed-release-build" ]; do
   sleep 1
 done
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
-  -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_GTEST_SUITES="$release_suites"
+  -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_PLAIN_PRODUCTION=ON \
+  -DGPORT_GTEST_SUITES="$release_suites"
 cmake --build build/release -j "$jobs" 2>&1 | tee "$logs/release-build.log"
 if grep -n ": warning:" "$logs/release-build.log" | grep -v "^[0-9]*:ninja: "; then
   echo "error: the Release build has the warnings above (log $logs/release-build.log)" >&2
@@ -217,10 +220,10 @@ ctest --test-dir build/release --output-on-failure -j "$jobs" -L "$interop_label
 # but for the code the fuzzers run, which fuzz/CMakeLists.txt keeps at -O1;
 # its targets share one precompiled header of the third-party headers
 # (GPORT_PCH, cmake/GportPch.cmake: at -O0 the front end is half of a unit).
-# It is the one build compiled file by file (no unity units): every source
-# of the project compiles on its own there, which a newcomer's plain build
-# ("Building by hand" in README.md) relies on and the unity builds would
-# hide (the shared header holds only third-party and standard headers, so a
+# Its tests, benchmarks and fuzzers are compiled file by file
+# (GPORT_PLAIN_TESTS), the production code in unity units: with the Release
+# build's plain production code, every source compiles on its own somewhere
+# (the shared header holds only third-party and standard headers, so a
 # missing include of the project's own still fails). Each GoogleTest
 # executable runs as 8 processes, not one per test (GPORT_TEST_SHARDS,
 # cmake/GportHelpers.cmake): a process under ASan and LSan costs ~0.1 s of
@@ -228,6 +231,7 @@ ctest --test-dir build/release --output-on-failure -j "$jobs" -L "$interop_label
 asan_build() {
   CC=clang-14 CXX=clang++-14 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DGPORT_SANITIZE=ON -DGPORT_BUILD_FUZZ=ON -DGPORT_BUILD_BENCH=OFF -DGPORT_WERROR=ON \
+    -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DGPORT_PLAIN_TESTS=ON \
     -DGPORT_SITL_TESTS=OFF -DGPORT_PCH=ON -DGPORT_TEST_SHARDS=8 \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O0 -g1"
   # node-mavlink: the Release tree's install, copied (the same lock file), so
