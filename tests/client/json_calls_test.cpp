@@ -173,11 +173,16 @@ TEST_F(ClientJson, AnInterruptEndsAWaitAndLeavesTheConnection) {
     client().set_interrupt([&] { return stop; });
     client().call_json("subscribe", R"({"topics": ["attitude"]})");
     stop = true;
+    // What the subscribe's reply brought with it (attitude samples read in the
+    // same read) is still handed out; the interrupt ends the wait after it.
     const auto start = std::chrono::steady_clock::now();
-    EXPECT_EQ(client().dispatch(10s), 0U) << "returns at once";
-    EXPECT_LT(std::chrono::steady_clock::now() - start, 5s);
-    EXPECT_EQ(error_code_of([&] { client().next_notification(); }),
-              static_cast<int>(gc::ErrorCode::kInterrupted));
+    client().dispatch(10s);
+    EXPECT_LT(std::chrono::steady_clock::now() - start, 5s) << "returns at once";
+    int code = 0;
+    for (int taken = 0; code == 0 && taken < 1000; ++taken) {
+        code = error_code_of([&] { client().next_notification(); });
+    }
+    EXPECT_EQ(code, static_cast<int>(gc::ErrorCode::kInterrupted));
     // A call waiting for its reply: interrupted, the late reply dropped.
     EXPECT_EQ(error_code_of([&] { client().call_json("center", R"({"wait": true})"); }),
               static_cast<int>(gc::ErrorCode::kInterrupted));
