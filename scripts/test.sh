@@ -16,8 +16,8 @@
 #      test (but the source checks and the browser test of stage 1);
 #   3. each fuzzer for $GPORT_FUZZ_SECONDS (20) on its corpus, one per core
 #      at a time;
-#   4. ARM (scripts/test-arm.sh): armhf cross build, the unit suites under
-#      qemu-user and its .deb; arm64 cross build of its base and protocol
+#   4. ARM (scripts/test-arm.sh): armhf cross build, the suites of the code
+#      a 32-bit ABI changes under qemu-user and its .deb; arm64 cross build of its base and protocol
 #      suites, run under qemu-user (no arm64 .deb: GPORT_ARM_DEB=armhf below;
 #      GPORT_ARM=skip leaves both out).
 # The builds of stages 2 and 4 run in the background at idle priority from
