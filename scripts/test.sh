@@ -14,7 +14,7 @@
 #      out, =require fails if this machine cannot run it);
 #   2. ASan+UBSan build with clang-14, the libFuzzer targets in it; every
 #      test (but the source checks and the browser test of stage 1);
-#   3. each fuzzer for $GPORT_FUZZ_SECONDS (20) on its corpus, one per core
+#   3. each fuzzer for $GPORT_FUZZ_SECONDS (12) on its corpus, one per core
 #      at a time;
 #   4. ARM (scripts/test-arm.sh): armhf cross build, the suites of the code
 #      a 32-bit ABI changes under qemu-user and its .deb; arm64 cross build of its base and protocol
@@ -78,7 +78,7 @@ mapfile -t cross_packages < <(gport_cross_packages "${arm_arches[@]}")
 export GPORT_ARM_DEB=armhf
 
 jobs=$(nproc)
-fuzz_seconds=${GPORT_FUZZ_SECONDS:-20}
+fuzz_seconds=${GPORT_FUZZ_SECONDS:-12}
 
 # beside NAME CMD...: runs CMD in the background, its output in
 # build/ci-logs/NAME.log; await NAME waits for it and fails, printing the log,
