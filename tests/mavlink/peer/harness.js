@@ -145,9 +145,16 @@ async function startGimbal(workRoot, gportdPath, simPath, gportdConfig, simArgs 
   const gportd = start(workRoot, 'gportd', gportdPath,
     ['--config', config, '--socket', sock, '--device', link, '--log-level', 'info']);
   await until(() => fs.existsSync(sock), 10000, "gportd's socket");
+  // The socket's file exists from gportd's bind(); connections are accepted
+  // from its listen(), a moment later: one refused before is tried again.
+  const status = () => rpc(sock, 'status').catch((e) => {
+    if (e.code === 'ECONNREFUSED' || e.code === 'ENOENT') return null;
+    throw e;
+  });
   let up = false;
   for (let i = 0; i < 200 && !up; i += 1) {
-    up = (await rpc(sock, 'status')).result.link.state === 'up';
+    const reply = await status();
+    up = reply !== null && reply.result.link.state === 'up';
     if (!up) await sleep(50);
   }
   check(up, "gportd's link to gport-sim is up");
