@@ -220,6 +220,9 @@ ctest --test-dir build/release --output-on-failure -j "$jobs" -L "$interop_label
 # but for the code the fuzzers run, which fuzz/CMakeLists.txt keeps at -O1;
 # its targets share one precompiled header of the third-party headers
 # (GPORT_PCH, cmake/GportPch.cmake: at -O0 the front end is half of a unit).
+# Code that only tests keeps ASan but not UBSan's checks, but for the suites
+# on wire bytes, records and numbers (gport_test_code, cmake/GportHelpers.cmake):
+# the libraries and programs under test keep both.
 # Its tests, benchmarks and fuzzers are compiled file by file
 # (GPORT_PLAIN_TESTS), the production code in unity units: with the Release
 # build's plain production code, every source compiles on its own somewhere
