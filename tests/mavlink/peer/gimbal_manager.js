@@ -17,6 +17,8 @@ const readline = require('readline');
 const { PassThrough } = require('stream');
 const { MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, minimal, common } =
   require('node-mavlink');
+// The one helper shared with the other peer tests (harness.js).
+const { statusOnceListening } = require('./harness');
 
 const REGISTRY = Object.assign({}, minimal.REGISTRY, common.REGISTRY);
 const [gportdPath, simPath, bridgePath, workRoot] = process.argv.slice(2);
@@ -169,15 +171,9 @@ async function main() {
   await until(() => fs.existsSync(link), 10000, 'the simulator link');
   const gportd = start('gportd', gportdPath, ['--config', config, '--socket', sock, '--device', link, '--log-level', 'info']);
   await until(() => fs.existsSync(sock), 10000, "gportd's socket");
-  // The socket's file exists from gportd's bind(); connections are accepted
-  // from its listen(), a moment later: one refused before is tried again.
-  const status = () => rpc(sock, 'status').catch((e) => {
-    if (e.code === 'ECONNREFUSED' || e.code === 'ENOENT') return null;
-    throw e;
-  });
   let up = false;
   for (let i = 0; i < 200 && !up; i += 1) {
-    const reply = await status();
+    const reply = await statusOnceListening(sock);
     up = reply !== null && reply.result.link.state === 'up';
     if (!up) await sleep(50);
   }

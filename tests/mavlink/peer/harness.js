@@ -102,6 +102,16 @@ function rpc(socketPath, method, params) {
   });
 }
 
+// gportd's status, or null while its socket refuses connections: the
+// socket's file exists from gportd's bind(), connections are accepted from
+// its listen(), a moment later.
+function statusOnceListening(sock) {
+  return rpc(sock, 'status').catch((e) => {
+    if (e.code === 'ECONNREFUSED' || e.code === 'ENOENT') return null;
+    throw e;
+  });
+}
+
 // ---- gport-sim (with --trace) and gportd on it
 // {t: our clock when read, hr: performance.now(), j: trace JSON, sim: its clock}
 const trace = [];
@@ -145,15 +155,9 @@ async function startGimbal(workRoot, gportdPath, simPath, gportdConfig, simArgs 
   const gportd = start(workRoot, 'gportd', gportdPath,
     ['--config', config, '--socket', sock, '--device', link, '--log-level', 'info']);
   await until(() => fs.existsSync(sock), 10000, "gportd's socket");
-  // The socket's file exists from gportd's bind(); connections are accepted
-  // from its listen(), a moment later: one refused before is tried again.
-  const status = () => rpc(sock, 'status').catch((e) => {
-    if (e.code === 'ECONNREFUSED' || e.code === 'ENOENT') return null;
-    throw e;
-  });
   let up = false;
   for (let i = 0; i < 200 && !up; i += 1) {
-    const reply = await status();
+    const reply = await statusOnceListening(sock);
     up = reply !== null && reply.result.link.state === 'up';
     if (!up) await sleep(50);
   }
@@ -291,7 +295,7 @@ function setParam(gcs, name, value, type) {
 
 module.exports = {
   REGISTRY, check, failures, figures, finish, sleep, until, deg, rad, toQuaternion, toEuler, wrap, start, children,
-  rpc, trace, sentAt, controlFrames, cameraFrames, sameAxes, angleFrames, startGimbal, freeUdpPort, udpSocket,
+  rpc, statusOnceListening, trace, sentAt, controlFrames, cameraFrames, sameAxes, angleFrames, startGimbal, freeUdpPort, udpSocket,
   nowTimestamp, signBuffer, Peer, heartbeat, setAttitude, commandLong, minimal, common,
   MavLinkPacketSignature, readParam, setParam,
 };
