@@ -17,9 +17,9 @@
 #   3. each fuzzer for $GPORT_FUZZ_SECONDS (12) on its corpus, one per core
 #      at a time;
 #   4. ARM (scripts/test-arm.sh): armhf cross build, the suites of the code
-#      a 32-bit ABI changes under qemu-user and its .deb; arm64 cross build of its base and protocol
-#      suites, run under qemu-user (no arm64 .deb: GPORT_ARM_DEB=armhf below;
-#      GPORT_ARM=skip leaves both out).
+#      a 32-bit ABI changes under qemu-user and its .deb; arm64 cross build
+#      of its base and protocol suites, run under qemu-user (no arm64 .deb:
+#      GPORT_ARM_DEB=armhf below; GPORT_ARM=skip leaves both out).
 # The builds of stages 2 and 4 run in the background at idle priority from
 # the end of stage 1's interoperability tests, while the tests of the stages
 # before theirs run (see "the later builds" below).
