@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <tuple>
 #include <utility>
 
+#include "gport/base/civil_time.hpp"
 #include "gport/client/capture_files.hpp"
 
 namespace gport::cli {
@@ -31,17 +31,19 @@ std::optional<double> number_at(const json& object, const char* key) {
 // "2026:11:27 14:03:05" (EXIF's local time) -> seconds since the epoch as
 // if it were UTC; empty when it is not that shape.
 std::optional<std::int64_t> exif_seconds(const std::string& text) {
-    std::tm tm{};
+    int year = 0;
+    unsigned month = 0;
+    unsigned day = 0;
+    unsigned hour = 0;
+    unsigned minute = 0;
+    unsigned second = 0;
     char tail = 0;
-    if (std::sscanf(text.c_str(), "%4d:%2d:%2d %2d:%2d:%2d%c", &tm.tm_year, &tm.tm_mon, &tm.tm_mday,
-                    &tm.tm_hour, &tm.tm_min, &tm.tm_sec, &tail) != 6 ||
-        tm.tm_year < 1970 || tm.tm_mon < 1 || tm.tm_mon > 12 || tm.tm_mday < 1 || tm.tm_mday > 31 ||
-        tm.tm_hour > 23 || tm.tm_min > 59 || tm.tm_sec > 60) {
+    if (std::sscanf(text.c_str(), "%4d:%2u:%2u %2u:%2u:%2u%c", &year, &month, &day, &hour, &minute,
+                    &second, &tail) != 6 ||
+        year < 1970 || hour > 23 || minute > 59 || second > 60) {
         return std::nullopt;
     }
-    tm.tm_year -= 1900;
-    tm.tm_mon -= 1;
-    return static_cast<std::int64_t>(::timegm(&tm));
+    return base::epoch_seconds(year, month, day, hour, minute, second);
 }
 
 // "+01:00" / "-05:30" -> seconds east of UTC.
@@ -79,14 +81,15 @@ std::string name_of(const std::string& path) {
     return std::filesystem::path(path).filename().string();
 }
 
-// exiftool's GPSDateStamp and GPSTimeStamp values for a UTC.
-std::pair<std::string, std::string> gps_date_time(std::int64_t utc_us) {
-    const std::time_t seconds = static_cast<std::time_t>(utc_us / 1000000);
-    std::tm tm{};
-    ::gmtime_r(&seconds, &tm);
-    const double second = tm.tm_sec + static_cast<double>(utc_us % 1000000) / 1e6;
-    return {fmt::format("{:04}:{:02}:{:02}", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday),
-            fmt::format("{:02}:{:02}:{:09.6f}", tm.tm_hour, tm.tm_min, second)};
+// exiftool's GPSDateStamp and GPSTimeStamp values for a UTC; none past the
+// four digits EXIF's date has for the year (a captures file may hold any).
+std::optional<std::pair<std::string, std::string>> gps_date_time(std::int64_t utc_us) {
+    const auto t = base::civil_time(utc_us);
+    if (t.year < 1 || t.year > 9999) {
+        return std::nullopt;
+    }
+    return std::pair{fmt::format("{:04}:{:02}:{:02}", t.year, t.month, t.day),
+                     fmt::format("{:02}:{:02}:{:02}.{:06}", t.hour, t.minute, t.second, t.micros)};
 }
 
 }  // namespace
@@ -296,14 +299,19 @@ Matching match_in_order(const std::vector<ImageFile>& images,
 
 std::vector<std::string> tag_arguments(const PhotoCapture& c) {
     std::vector<std::string> args;
+    // Signed values, each reference from the same number: exiftool stores
+    // EXIF's magnitude and S, W or below sea level from the sign, and a
+    // signed XMP-exif GPS tag already in the image gets the same value. (An
+    // unsigned value with "-GPSLatitudeRef=S" left an existing XMP latitude
+    // north, and "-GPSAltitudeRef=1" was read as "above sea level".)
     if (c.lat && c.lon) {
-        args.push_back(fmt::format("-GPSLatitude={:.7f}", std::abs(*c.lat)));
-        args.push_back(fmt::format("-GPSLatitudeRef={}", *c.lat < 0 ? "S" : "N"));
-        args.push_back(fmt::format("-GPSLongitude={:.7f}", std::abs(*c.lon)));
-        args.push_back(fmt::format("-GPSLongitudeRef={}", *c.lon < 0 ? "W" : "E"));
+        args.push_back(fmt::format("-GPSLatitude={:.7f}", *c.lat));
+        args.push_back(fmt::format("-GPSLatitudeRef={:.7f}", *c.lat));
+        args.push_back(fmt::format("-GPSLongitude={:.7f}", *c.lon));
+        args.push_back(fmt::format("-GPSLongitudeRef={:.7f}", *c.lon));
         if (c.alt_m) {
-            args.push_back(fmt::format("-GPSAltitude={:.3f}", std::abs(*c.alt_m)));
-            args.push_back(fmt::format("-GPSAltitudeRef={}", *c.alt_m < 0 ? 1 : 0));
+            args.push_back(fmt::format("-GPSAltitude={:.3f}", *c.alt_m));
+            args.push_back(fmt::format("-GPSAltitudeRef={:.3f}", *c.alt_m));
         }
     }
     if (c.pitch) {
@@ -324,10 +332,10 @@ std::vector<std::string> tag_arguments(const PhotoCapture& c) {
     if (c.lat && c.lon && c.v_acc_m) {
         args.push_back(fmt::format("-XMP-Camera:GPSZAccuracy={:.3f}", *c.v_acc_m));
     }
-    if (c.lat && c.lon && c.gps_utc_us) {
-        const auto [date, time] = gps_date_time(*c.gps_utc_us);
-        args.push_back("-GPSDateStamp=" + date);
-        args.push_back("-GPSTimeStamp=" + time);
+    if (const auto stamp =
+            c.lat && c.lon && c.gps_utc_us ? gps_date_time(*c.gps_utc_us) : std::nullopt) {
+        args.push_back("-GPSDateStamp=" + stamp->first);
+        args.push_back("-GPSTimeStamp=" + stamp->second);
     }
     return args;
 }

@@ -4,10 +4,10 @@
 
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "gport/base/civil_time.hpp"
 #include "gport/client/printable.hpp"
 
 namespace gport::client {
@@ -199,22 +199,11 @@ std::string capture_geojson_feature(std::string_view text) {
 }
 
 std::string utc_text(std::int64_t utc_us) {
-    constexpr std::int64_t kPerSecond = 1000000;
-    auto seconds = utc_us / kPerSecond;  // toward zero: one second late before 1970
-    auto micros = utc_us % kPerSecond;
-    if (micros < 0) {
-        seconds -= 1;
-        micros += kPerSecond;
-    }
-    const auto time = static_cast<std::time_t>(seconds);
-    std::tm tm{};
-    if (gmtime_r(&time, &tm) == nullptr) {
-        return "";
-    }
+    const auto t = base::civil_time(utc_us);
     char out[64];
-    std::snprintf(out, sizeof(out), "%04lld-%02d-%02dT%02d:%02d:%02d.%06lldZ",
-                  static_cast<long long>(tm.tm_year) + 1900, tm.tm_mon + 1, tm.tm_mday, tm.tm_hour,
-                  tm.tm_min, tm.tm_sec, static_cast<long long>(micros));
+    std::snprintf(out, sizeof(out), "%04lld-%02u-%02uT%02u:%02u:%02u.%06lldZ",
+                  static_cast<long long>(t.year), t.month, t.day, t.hour, t.minute, t.second,
+                  static_cast<long long>(t.micros));
     return out;
 }
 

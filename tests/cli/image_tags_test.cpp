@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <limits>
 
 #include "clock_offset.hpp"
 
@@ -32,13 +33,19 @@ TEST(ImageTime, LocalTimeWithItsOffsetOrTheClockOffsetAndSubseconds) {
                                      -19800);  // a camera set to UTC-05:30
     ASSERT_TRUE(by_clock.utc_us);
     EXPECT_EQ(*by_clock.utc_us, kT * 1000000 + 500000);
-    for (const char* bad : {"", "2026-11-27 07:00:00", "2026:13:27 07:00:00", "0000:00:00 00:00:00",
-                            "2026:11:27 07:00:00 trailing"}) {
+    for (const char* bad :
+         {"", "2026-11-27 07:00:00", "2026:13:27 07:00:00", "0000:00:00 00:00:00",
+          "2026:11:27 07:00:00 trailing", "2026:02:30 07:00:00", "2026:11:27 -1:00:00"}) {
         EXPECT_FALSE(
             image_file(json{{"SourceFile", "/d/C.JPG"}, {"DateTimeOriginal", bad}}, 0).utc_us)
             << bad;
     }
     EXPECT_FALSE(image_file(json{{"SourceFile", "/d/D.JPG"}}, 0).utc_us) << "no time at all";
+    // Past a 32-bit time_t's end (Debian 12's armhf), the same on every target.
+    const auto later = image_file(
+        json{{"SourceFile", "/d/E.JPG"}, {"DateTimeOriginal", "2040:01:01 00:00:00"}}, 0);
+    ASSERT_TRUE(later.utc_us);
+    EXPECT_EQ(*later.utc_us, 2208988800LL * 1000000);
 }
 
 PhotoCapture capture_at(std::uint64_t index, std::int64_t utc_s) {
@@ -104,8 +111,8 @@ TEST(PhotoCapture, PositionAnglesAndYawOnlyWithAHeading) {
     EXPECT_EQ(
         tag_arguments(*p),
         (std::vector<std::string>{
-            "-GPSLatitude=35.3632610", "-GPSLatitudeRef=S", "-GPSLongitude=149.1652299",
-            "-GPSLongitudeRef=E", "-GPSAltitude=584.090", "-GPSAltitudeRef=0",
+            "-GPSLatitude=-35.3632610", "-GPSLatitudeRef=-35.3632610", "-GPSLongitude=149.1652299",
+            "-GPSLongitudeRef=149.1652299", "-GPSAltitude=584.090", "-GPSAltitudeRef=584.090",
             "-XMP-drone-dji:GimbalPitchDegree=-30.05", "-XMP-drone-dji:GimbalRollDegree=0.12"}));
     auto with_heading = capture;
     with_heading["meta"]["heading_deg"] = 350;
@@ -151,6 +158,20 @@ TEST(PhotoCapture, GportdsStampWinsOverTheMetaAndUntaggedMeansNoPosition) {
     EXPECT_FALSE(u->lat) << "never the meta's position when gportd said untagged";
     EXPECT_EQ(u->untagged, "no 3D GPS fix (GPS_FIX_TYPE 1)");
     EXPECT_FALSE(u->yaw);
+    auto in_2040 = capture;
+    in_2040["vehicle"]["utc_us"] = 2208988800LL * 1000000 + 500000;
+    const auto args_2040 = tag_arguments(*photo_capture(in_2040));
+    EXPECT_NE(std::find(args_2040.begin(), args_2040.end(), "-GPSDateStamp=2040:01:01"),
+              args_2040.end());
+    EXPECT_NE(std::find(args_2040.begin(), args_2040.end(), "-GPSTimeStamp=00:00:00.500000"),
+              args_2040.end());
+    auto in_far_future = capture;
+    in_far_future["vehicle"]["utc_us"] = std::numeric_limits<std::int64_t>::max();
+    const auto args_far = tag_arguments(*photo_capture(in_far_future));
+    EXPECT_TRUE(std::none_of(args_far.begin(), args_far.end(), [](const std::string& a) {
+        return a.starts_with("-GPSDateStamp");
+    })) << "a year of more than four digits is no EXIF date";
+
     const auto bare = tag_arguments(*u);
     EXPECT_TRUE(std::none_of(bare.begin(), bare.end(), [](const std::string& a) {
         return a.starts_with("-GPS") || a.starts_with("-XMP-Camera");

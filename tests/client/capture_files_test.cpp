@@ -172,6 +172,9 @@ TEST(CaptureCsv, TimesAtTheEndsOfInt64AreWrittenAndPastThemLeftOut) {
     EXPECT_EQ(utc_cell(std::uint64_t{kMax} + 1), "") << "no int64: no time";
     EXPECT_EQ(utc_cell(1.7955631830854e15), "") << "not an integer";
     EXPECT_EQ(utc_text(1795563183085470), "2026-11-24T23:33:03.085470Z");
+    // Past a 32-bit time_t's end (Debian 12's armhf): the same text there.
+    EXPECT_EQ(utc_text(2147483648LL * 1000000 + 5), "2038-01-19T03:14:08.000005Z");
+    EXPECT_EQ(utc_text(-1), "1969-12-31T23:59:59.999999Z");
 }
 
 TEST(CaptureGeoJson, AFeatureIsAPointAtLonLatAlt) {

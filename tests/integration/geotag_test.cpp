@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -163,10 +164,60 @@ TEST_F(Geotag, AFileNameThatWouldInjectAnExiftoolOptionIsRefused) {
     const auto evil = image("EVIL\n-GPSLatitude=0\n-overwrite_original\n.JPG", t2, 0);
     const auto r = gportctl({images_, "--clock-offset", "3600", "--write"});
     EXPECT_EQ(r.status, 1) << r.out;
-    EXPECT_NE(r.out.find("a file name holds a newline"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("a path holds a line break"), std::string::npos) << r.out;
     EXPECT_FALSE(tags(good).contains("GPSLatitude")) << "nothing written";
     EXPECT_FALSE(tags(evil).contains("GPSLatitude")) << "nothing written";
     EXPECT_FALSE(fs::exists(good + "_original"));
+}
+
+// The same through a folder's name: a dry run in a folder whose name holds
+// line breaks, `-if` and Perl (beside a folder named as its first line)
+// would have exiftool run that Perl while it reads the images' times. It is
+// refused before exiftool starts.
+TEST_F(Geotag, AFolderNameThatWouldRunPerlInExiftoolIsRefused) {
+    const auto t1 = photo({{"lat", 47.0}, {"lon", 8.0}});
+    const auto marker = dir_.file("PWNED");
+    std::string marker_in_perl = "q{";  // a name holds no '/': chr(47) instead
+    for (const char c : marker) {
+        marker_in_perl += c == '/' ? std::string("}.chr(47).q{") : std::string(1, c);
+    }
+    marker_in_perl += "}";
+    images_ = dir_.file("x");  // the first line's folder, with an image for -if to test
+    fs::create_directory(images_);
+    image("A.JPG", t1, 0);
+    images_ = dir_.file("x\n-if\nsystem(q{touch }." + marker_in_perl + ") or 1\ny");
+    fs::create_directory(images_);
+    image("A.JPG", t1, 0);
+    const auto r = gportctl({images_, "--clock-offset", "3600"});
+    EXPECT_EQ(r.status, 1) << r.out;
+    EXPECT_NE(r.out.find("a path holds a line break"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(marker)) << "exiftool ran the folder name's Perl";
+}
+
+// South, west and below sea level (the Dead Sea's shore is 430 m below), into
+// an image whose camera already wrote an XMP position in the north: EXIF gets
+// S, W and "below sea level", and the XMP position the same signed values.
+TEST_F(Geotag, SouthWestAndBelowSeaLevelAgreeInExifAndXmp) {
+    const auto t1 = photo({{"lat", -33.4489}, {"lon", -70.6693}, {"alt_m", -12.5}});
+    const auto a = image("S.JPG", t1, 0);
+    ASSERT_EQ(run({"exiftool", "-q", "-overwrite_original", "-XMP-exif:GPSLatitude=10",
+                   "-XMP-exif:GPSLongitude=20", a})
+                  .status,
+              0);
+    const auto r = gportctl({images_, "--clock-offset", "3600", "--write"});
+    EXPECT_EQ(r.status, 0) << r.out;
+    const auto read = run({"exiftool", "-json", "-n", "-G1", "-a", "-GPS:all", "-XMP-exif:all",
+                           "-Composite:GPSAltitude", a});
+    auto j = Json::parse(read.out, nullptr, false);
+    ASSERT_TRUE(j.is_array() && !j.empty()) << read.out;
+    const auto t = j[0];
+    EXPECT_EQ(t.value("GPS:GPSLatitudeRef", ""), "S") << t.dump();
+    EXPECT_EQ(t.value("GPS:GPSLongitudeRef", ""), "W") << t.dump();
+    EXPECT_EQ(t.value("GPS:GPSAltitudeRef", -1), 1) << "below sea level: " << t.dump();
+    EXPECT_NEAR(t.value("GPS:GPSAltitude", 0.0), 12.5, 1e-3) << t.dump();
+    EXPECT_NEAR(t.value("Composite:GPSAltitude", 0.0), -12.5, 1e-3) << t.dump();
+    EXPECT_NEAR(t.value("XMP-exif:GPSLatitude", 0.0), -33.4489, 1e-6) << t.dump();
+    EXPECT_NEAR(t.value("XMP-exif:GPSLongitude", 0.0), -70.6693, 1e-6) << t.dump();
 }
 
 TEST_F(Geotag, InOrderAndFromCaptureLogFiles) {
