@@ -1,5 +1,6 @@
 #include "gport/daemon/device_holders.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -77,13 +78,30 @@ bool alive(pid_t pid) {
     return pid > 0 && (::kill(pid, 0) == 0 || errno == EPERM);
 }
 
+// The first bytes of a lock file. /run/lock is writable by every user
+// (mode 1777), and the probe runs as root: a link is not followed (it could
+// name /dev/watchdog, which opening arms), a FIFO does not block, and
+// anything but a regular file is no lock.
+std::string lock_bytes(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0) {
+        return "";
+    }
+    struct stat st {};
+    std::string bytes(64, '\0');
+    ssize_t n = -1;
+    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) {
+        n = ::read(fd, bytes.data(), bytes.size());
+    }
+    ::close(fd);
+    bytes.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
+    return bytes;
+}
+
 // The PID in a lock file: ASCII digits with blanks around them, or a
 // native binary 32-bit int (exactly 4 bytes that are not all ASCII).
 std::optional<pid_t> lock_pid(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::string bytes(64, '\0');
-    in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    bytes.resize(static_cast<std::size_t>(in.gcount()));
+    const auto bytes = lock_bytes(path);
     const auto first = bytes.find_first_not_of(" \t\r\n");
     const auto last = bytes.find_last_not_of(" \t\r\n");
     if (first != std::string::npos) {

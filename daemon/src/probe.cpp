@@ -49,6 +49,7 @@ std::string open_problem(int error) {
 // One device being listened on: its descriptor, whether we made it
 // exclusive, its settings as found and as we set them, its decoder.
 struct Listener {
+    std::string device;
     int fd = -1;
     bool exclusive = false;
     std::optional<termios> saved;
@@ -66,6 +67,7 @@ void fail(ProbeResult& result, std::string detail) {
 // or already exclusive: someone holds it. Changes no setting; fills
 // `result` on failure (returns false).
 bool open_exclusive(const std::string& device, Listener& l, ProbeResult& result) {
+    l.device = device;
     l.fd = ::open(device.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
     if (l.fd < 0) {
         fail(result, open_problem(errno));
@@ -131,14 +133,27 @@ void restore(Listener& l) {
     ::tcsetattr(l.fd, TCSANOW, &*l.saved);
 }
 
+// TIOCEXCL is the line's flag, not the descriptor's: a program that opened
+// the device before the probe held it (or root, whom it does not stop) may
+// have set it for itself since. Cleared only while nobody else has the
+// device open; a flag left on a line nobody holds goes with its last close
+// (a pty's stays while its master is open, hence the clearing).
+void release_exclusive(const Listener& l) {
+    if (!l.exclusive) {
+        return;
+    }
+    const auto others = device_holders({l.device}, ::getpid());
+    if (!others.empty() && others.front().holders.empty()) {
+        ::ioctl(l.fd, TIOCNXCL);
+    }
+}
+
 void close_listener(Listener& l) {
     if (l.fd < 0) {
         return;
     }
     restore(l);
-    if (l.exclusive) {
-        ::ioctl(l.fd, TIOCNXCL);
-    }
+    release_exclusive(l);
     ::close(l.fd);
     l.fd = -1;
 }
@@ -161,27 +176,37 @@ void read_available(Listener& l, ProbeResult& result) {
         });
 }
 
-void listen_all(std::vector<Listener>& listeners, std::vector<ProbeResult>& results,
-                std::chrono::milliseconds listen) {
-    const auto deadline = Clock::now() + listen;
+// Until `listen` has passed, or `interrupt` is readable; how long it listened.
+std::chrono::milliseconds listen_all(std::vector<Listener>& listeners,
+                                     std::vector<ProbeResult>& results,
+                                     std::chrono::milliseconds listen, int interrupt) {
+    const auto start = Clock::now();
+    const auto deadline = start + listen;
+    const auto listened = [&] {
+        return std::min(
+            listen, std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start));
+    };
     for (auto now = Clock::now(); now < deadline; now = Clock::now()) {
-        std::vector<pollfd> fds;
-        std::vector<std::size_t> which;
+        std::vector<pollfd> fds{{interrupt, POLLIN, 0}};  // a negative fd is skipped
+        std::vector<std::size_t> which{0};
         for (std::size_t i = 0; i < listeners.size(); ++i) {
             if (listeners[i].fd >= 0) {
                 fds.push_back({listeners[i].fd, POLLIN, 0});
                 which.push_back(i);
             }
         }
-        if (fds.empty()) {
-            return;
+        if (fds.size() == 1) {
+            return listened();
         }
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now);
         if (::poll(fds.data(), fds.size(), static_cast<int>(left.count()) + 1) < 0 &&
             errno != EINTR) {
-            return;
+            return listened();
         }
-        for (std::size_t k = 0; k < fds.size(); ++k) {
+        if (fds[0].revents != 0) {
+            return listened();
+        }
+        for (std::size_t k = 1; k < fds.size(); ++k) {
             if ((fds[k].revents & POLLIN) != 0) {
                 read_available(listeners[which[k]], results[which[k]]);
             } else if ((fds[k].revents & (POLLHUP | POLLERR | POLLNVAL)) != 0) {
@@ -189,6 +214,7 @@ void listen_all(std::vector<Listener>& listeners, std::vector<ProbeResult>& resu
             }
         }
     }
+    return listen;
 }
 
 std::string canonical_of(const std::string& device) {
@@ -309,7 +335,7 @@ std::string unchecked_note(const std::vector<ProbeResult>& results) {
 }  // namespace
 
 std::vector<ProbeResult> probe_devices(const std::vector<std::string>& devices,
-                                       std::chrono::milliseconds listen) {
+                                       std::chrono::milliseconds listen, int interrupt) {
     auto results = unique_results(devices, listen);
     std::vector<Listener> listeners(results.size());
     open_free(results, listeners);
@@ -318,10 +344,11 @@ std::vector<ProbeResult> probe_devices(const std::vector<std::string>& devices,
             close_listener(listeners[i]);
         }
     }
-    listen_all(listeners, results, listen);
+    const auto listened = listen_all(listeners, results, listen, interrupt);
     for (std::size_t i = 0; i < listeners.size(); ++i) {
         close_listener(listeners[i]);
         auto& r = results[i];
+        r.listened = listened;
         r.settings_left = listeners[i].settings_left;
         if (r.kind != ProbeResult::Kind::kFailed && r.kind != ProbeResult::Kind::kInUse) {
             r.kind = r.frames >= kProbeFramesNeeded ? ProbeResult::Kind::kGport

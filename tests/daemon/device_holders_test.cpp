@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <pty.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -142,6 +143,20 @@ TEST_F(FakeProc, AStaleOrUnreadableLockIsNoHolderAndIsLeftInPlace) {
         EXPECT_TRUE(f.holders.empty());
     }
     EXPECT_TRUE(fs::exists(lock("null"))) << "a stale lock is ignored, never removed";
+}
+
+// The attacker: /run/lock is writable by every user, and the probe runs as
+// root. A FIFO named as a lock would block its read forever, a link could
+// make root open any file (/dev/watchdog, which an open arms): neither is
+// opened through, and neither is a lock, even one naming a live PID.
+TEST_F(FakeProc, AFifoOrALinkPlantedAsALockIsNeitherOpenedThroughNorALock) {
+    ASSERT_EQ(::mkfifo(lock("null").c_str(), 0600), 0);
+    const auto target = (root_ / "pid").string();
+    std::ofstream(target) << ::getpid() << "\n";
+    fs::create_symlink(target, lock("zero"));
+    const auto found = holders({"/dev/null", "/dev/zero"});  // returns: the FIFO is not waited on
+    EXPECT_TRUE(found[0].holders.empty());
+    EXPECT_TRUE(found[1].holders.empty()) << "a link to a file naming a live PID is no lock";
 }
 
 TEST_F(FakeProc, NoDeviceNoHolders) {

@@ -380,6 +380,61 @@ TEST(Probe, AFreeDeviceHasItsSettingsPutBack) {
         << p.text();
     EXPECT_EQ(p.text().find("left as they are"), std::string::npos) << p.text();
     EXPECT_TRUE(same_settings(settings_of(pty.master), before));
+    // Its exclusive hold went with it (a pty's line outlives the probe's
+    // close while the master is open): the next program opens it.
+    const int fd = ::open(::ptsname(pty.master), O_RDWR | O_NOCTTY | O_CLOEXEC);
+    ASSERT_GE(fd, 0) << std::strerror(errno);
+    int exclusive = -1;
+    EXPECT_EQ(::ioctl(fd, TIOCGEXCL, &exclusive), 0);
+    EXPECT_EQ(exclusive, 0);
+    ::close(fd);
+}
+
+// TIOCEXCL is the line's flag: root opens the line while the probe listens
+// (TIOCEXCL does not stop root) and holds it exclusively for itself. When
+// the probe lets go, another program still has the line open, and its
+// exclusive hold stays.
+TEST(Probe, AnExclusiveHoldTakenWhileItListensIsKept) {
+    if (::geteuid() != 0) {
+        GTEST_SKIP() << "only root opens a line the probe holds exclusively";
+    }
+    TempDir dir;
+    FreePty pty(dir.file("radio"));
+    Process process(probe_argv({dir.file("radio")}));
+    ASSERT_TRUE(eventually([&] { return speed_of(pty.master) == B115200; }))
+        << "the probe never set 115200";
+    const int fd = ::open(::ptsname(pty.master), O_RDWR | O_NOCTTY | O_CLOEXEC);
+    ASSERT_GE(fd, 0) << std::strerror(errno);
+    ASSERT_EQ(::ioctl(fd, TIOCEXCL), 0);
+    const auto p = finish(process);
+    EXPECT_EQ(p.status, 1) << p.text();
+    int exclusive = -1;
+    EXPECT_EQ(::ioctl(fd, TIOCGEXCL, &exclusive), 0);
+    EXPECT_EQ(exclusive, 1) << "the probe took the other program's exclusive hold away";
+    ::close(fd);
+}
+
+// Ctrl-C (or a hang-up, or a kill) while it listens: a USB adapter's tty
+// keeps its settings across closes, so dying at once would leave the next
+// program 115200 raw. The listening stops, the settings are put back, the
+// report says so, and then the signal ends the probe.
+TEST(Probe, CtrlCWhileItListensPutsTheSettingsBackFirst) {
+    TempDir dir;
+    FreePty pty(dir.file("gps"));
+    set_autopilot_line(pty.master);
+    const auto before = settings_of(pty.master);
+    Process process(probe_argv({dir.file("gps")}));
+    ASSERT_TRUE(eventually([&] { return speed_of(pty.master) == B115200; }))
+        << "the probe never set 115200";
+    process.signal(SIGINT);
+    const auto p = finish(process);
+    EXPECT_EQ(p.status, 128 + SIGINT) << p.text();
+    EXPECT_NE(p.text().find("interrupted (SIGINT): stopped listening, settings put back"),
+              std::string::npos)
+        << p.text();
+    EXPECT_NE(p.line_of(dir.file("gps")).find("silent (nothing received)"), std::string::npos)
+        << p.text();
+    EXPECT_TRUE(same_settings(settings_of(pty.master), before)) << "the line was left 115200 raw";
 }
 
 TEST(Probe, SettingsSomeoneElseChangesWhileItListensAreKept) {

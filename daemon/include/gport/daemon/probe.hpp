@@ -45,9 +45,11 @@ struct ProbeResult {
 inline constexpr std::uint64_t kProbeFramesNeeded = 3;
 
 // Listens on `devices` (two names of one device are listened on once, under
-// the first name) for `listen`.
+// the first name) for `listen`, or until `interrupt` (a descriptor; -1 for
+// none) is readable: a signalfd of Ctrl-C, say, so that the settings are put
+// back before the signal ends the process.
 std::vector<ProbeResult> probe_devices(const std::vector<std::string>& devices,
-                                       std::chrono::milliseconds listen);
+                                       std::chrono::milliseconds listen, int interrupt = -1);
 
 // The report: one line per device, then what to set. `by_id` is where the
 // stable names of USB adapters are (/dev/serial/by-id).
