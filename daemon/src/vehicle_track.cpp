@@ -118,6 +118,10 @@ std::optional<CommandError> VehicleTrack::publish(const ClientInfo& client,
                                         "source at a time (taken over after {} s of silence)",
                                         source_name(*source_), kSourceSilence.count())};
     }
+    if (boot_clock_restarted(report.position ? report.position->boot_ms : report.time->boot_ms,
+                             now)) {
+        reset();
+    }
     if (report.position) {
         if (auto error = take_position(*report.position)) {
             ++status_.refused;
@@ -154,6 +158,16 @@ std::optional<CommandError> VehicleTrack::check_order(std::uint32_t boot_ms,
                     "order or repeated (boot times must increase; one more than {} ms "
                     "back means the autopilot rebooted)",
                     what, boot_ms, *last, kRebootBackMs));
+}
+
+// A sample arriving more than kRebootBackMs after the clock mapping puts its
+// boot time: the autopilot's boot clock started again, and its boot times
+// have not yet passed the last one taken (it rebooted within about a second
+// of it, as in a brown-out loop), or a sample was held up that long on its
+// way. Either way the mapping, the UTC offsets and the position are no
+// longer to be trusted.
+bool VehicleTrack::boot_clock_restarted(std::uint32_t boot_ms, SteadyTime now) const {
+    return !latencies_.empty() && now - steady_of(boot_ms) > Millis(kRebootBackMs);
 }
 
 std::optional<CommandError> VehicleTrack::take_position(const VehiclePosition& position) {
@@ -268,7 +282,7 @@ void VehicleTrack::stamp_position(VehicleStamp& stamp, SteadyTime instant) const
         std::clamp(p.lat_deg + dn / kEarthRadiusM * 180.0 / std::numbers::pi, -90.0, 90.0);
     double lon = p.lon_deg + de / (kEarthRadiusM * std::max(std::cos(lat_rad), 1e-6)) * 180.0 /
                                  std::numbers::pi;
-    stamp.lon_deg = lon > 180 ? lon - 360 : (lon < -180 ? lon + 360 : lon);
+    stamp.lon_deg = std::remainder(lon, 360.0);  // near a pole a carry spans many turns
     stamp.alt_msl_m = p.alt_msl_m - vd * t;
     if (p.alt_rel_m) {
         stamp.alt_rel_m = *p.alt_rel_m - vd * t;

@@ -120,19 +120,23 @@ std::optional<std::int64_t> Params::integer(std::string_view name, std::int64_t 
     if (!value->is_number()) {
         throw refuse();
     }
+    std::int64_t i = 0;
     if (value->is_number_float()) {
+        // A whole number inside int64's range, then checked as any integer:
+        // 2^63 is outside although it equals double(INT64_MAX), and casting
+        // it would be undefined.
+        constexpr double kTwoTo63 = 9223372036854775808.0;
         const double d = value->get<double>();
-        if (!std::isfinite(d) || std::floor(d) != d || d < static_cast<double>(min) ||
-            d > static_cast<double>(max)) {
+        if (!std::isfinite(d) || std::floor(d) != d || d < -kTwoTo63 || d >= kTwoTo63) {
             throw refuse();
         }
-        return static_cast<std::int64_t>(d);
-    }
-    if (value->is_number_unsigned() &&
-        value->get<std::uint64_t>() > static_cast<std::uint64_t>(max)) {
+        i = static_cast<std::int64_t>(d);
+    } else if (value->is_number_unsigned() &&
+               value->get<std::uint64_t>() > static_cast<std::uint64_t>(max)) {
         throw refuse();
+    } else {
+        i = value->get<std::int64_t>();
     }
-    const auto i = value->get<std::int64_t>();
     if (i < min || i > max) {
         throw refuse();
     }

@@ -116,6 +116,24 @@ TEST_F(VehicleTrackTest, CarriesOnAnArcWhenTheYawRateIsKnown) {
     EXPECT_NEAR(*stamp->heading_deg, 15.0, 1e-9);
 }
 
+// At a pole a metre east is many degrees of longitude: a carry there still
+// gives a longitude from -180 to 180 (once it came out as 2335, and
+// CAMERA_IMAGE_CAPTURED's degE7 overflowed).
+TEST_F(VehicleTrackTest, ACarryAtAPoleKeepsTheLongitudeInRange) {
+    for (const double lat : {90.0, -89.99999, 89.9999}) {
+        auto p = north(1000);
+        p.lat_deg = lat;
+        p.lon_deg = 179.0;
+        p.velocity_ned = {0.0, 300.0, 0.0};
+        VehicleTrack pole{config};
+        ASSERT_FALSE(pole.publish(client(1), report(p), t0));
+        const auto stamp = pole.at(t0 + milliseconds(900));
+        ASSERT_TRUE(stamp && stamp->tagged);
+        EXPECT_GE(stamp->lon_deg, -180.0) << lat;
+        EXPECT_LE(stamp->lon_deg, 180.0) << lat;
+    }
+}
+
 TEST_F(VehicleTrackTest, APositionTooOldOrWithoutAFixIsUntaggedNeverStale) {
     ASSERT_FALSE(track.publish(client(1), report(north(1000)), t0));
     auto stamp = track.at(t0 + milliseconds(1500));
@@ -152,6 +170,26 @@ TEST_F(VehicleTrackTest, RefusesASampleOutOfOrderAndStartsAgainWhenTheAutopilotR
     const auto stamp = track.at(t0 + milliseconds(120));
     ASSERT_TRUE(stamp && stamp->tagged) << stamp->why;
     EXPECT_EQ(stamp->age, milliseconds(100));
+}
+
+// An autopilot that rebooted 4 s after its boot (a brown-out loop): its
+// first samples' boot times are not 1000 ms behind the last one taken, but
+// they arrive seconds after the clock mapping puts them. The track starts
+// again instead of refusing them, and then mapping UTC a reboot late.
+TEST_F(VehicleTrackTest, AQuickRebootIsSeenByTheClockMappingAndStartsAgain) {
+    ASSERT_FALSE(track.publish(client(1), report(north(4000)), t0));
+    const auto later = t0 + milliseconds(5000);  // rebooted, 3.5 s up again
+    ASSERT_FALSE(track.publish(client(1), report(north(3500)), later));
+    const auto status = track.status(later);
+    ASSERT_TRUE(status);
+    EXPECT_EQ(status->resets, 1u);
+    EXPECT_EQ(status->refused, 0u);
+    const auto stamp = track.at(later + milliseconds(100));
+    ASSERT_TRUE(stamp && stamp->tagged) << stamp->why;
+    EXPECT_EQ(stamp->age, milliseconds(100)) << "mapped through the new boot, not the old";
+    // A sample on time is no reboot.
+    ASSERT_FALSE(track.publish(client(1), report(north(3600)), later + milliseconds(100)));
+    EXPECT_EQ(track.status(later + milliseconds(100))->resets, 1u);
 }
 
 TEST_F(VehicleTrackTest, OneSourceAtATimeUntilItLeavesOrFallsSilent) {

@@ -216,8 +216,11 @@ TEST_F(CapturesTest, SinceAndLimitPageThroughAndAreChecked) {
     EXPECT_TRUE(page["captures"].empty());
     EXPECT_EQ(page["next"], 6) << "the index the next capture will get";
 
-    for (const auto& bad : {json{{"limit", 0}}, json{{"limit", 1001}}, json{{"since", -1}},
-                            json{{"since", "1"}}, json{{"from", 1}}}) {
+    for (const auto& bad :
+         {json{{"limit", 0}}, json{{"limit", 1001}}, json{{"since", -1}}, json{{"since", "1"}},
+          json{{"from", 1}},
+          // 2^63, which equals double(INT64_MAX): out of range, not UB
+          json{{"since", 9223372036854775808.0}}, json{{"since", 1e300}}, json{{"since", 2.5}}}) {
         EXPECT_EQ(call("captures", bad)["error"]["code"], -32602) << bad.dump();
     }
     EXPECT_THAT(call("captures", {{"limit", 1001}})["error"]["message"].get<std::string>(),

@@ -74,6 +74,7 @@ class VehicleTrack {
     std::optional<CommandError> check_order(std::uint32_t boot_ms,
                                             std::optional<std::uint32_t> last, const char* what);
     void reset();
+    bool boot_clock_restarted(std::uint32_t boot_ms, SteadyTime now) const;
     void observe_latency(std::uint32_t boot_ms, SteadyTime now);
     // The steady instant of a boot time; needs a latency sample.
     SteadyTime steady_of(std::uint32_t boot_ms) const;
