@@ -45,16 +45,30 @@ TEST(Tokens, LinesGiveRolesAndBadLinesAreNamed) {
 TEST(Sessions, AreBoundedAndExpire) {
     Sessions sessions;
     const auto t0 = Sessions::Clock::now();
-    const auto first = sessions.open(Role::kView, t0);
+    const auto first = sessions.open(Role::kControl, t0);
     EXPECT_EQ(first.size(), 64U);
-    EXPECT_EQ(sessions.find(first, t0), Role::kView);
+    EXPECT_EQ(sessions.find(first, t0), Role::kControl);
     for (std::size_t i = 0; i < kMaxSessions; ++i) {
-        sessions.open(Role::kControl, t0 + std::chrono::seconds(1));
+        sessions.open(i % 2 == 0 ? Role::kControl : Role::kView, t0 + std::chrono::seconds(1));
     }
     EXPECT_EQ(sessions.size(), kMaxSessions);
     EXPECT_FALSE(sessions.find(first, t0 + std::chrono::seconds(2)));  // the oldest went
     const auto late = sessions.open(Role::kControl, t0);
     EXPECT_FALSE(sessions.find(late, t0 + kSessionIdle + std::chrono::seconds(1)));
+}
+
+// The attacker: a view token's holder logs in 1,000 times. The sessions stay
+// bounded, and the operator's control session, unused meanwhile (the page
+// talks over its WebSocket), is still there for its Stop.
+TEST(Sessions, AViewLoginFloodNeverEndsAControlSession) {
+    Sessions sessions;
+    const auto t0 = Sessions::Clock::now();
+    const auto operator_session = sessions.open(Role::kControl, t0);
+    for (int i = 0; i < 1000; ++i) {
+        sessions.open(Role::kView, t0 + std::chrono::milliseconds(1 + i));
+    }
+    EXPECT_LE(sessions.size(), kMaxSessions);
+    EXPECT_EQ(sessions.find(operator_session, t0 + std::chrono::seconds(2)), Role::kControl);
 }
 
 // A one-time code logs in once, with its token's role, until it expires;
@@ -221,6 +235,38 @@ TEST(Registry, ANewcomerTakesTheRoomOfTheOldestUnauthenticatedNeverATrustedOne) 
     EXPECT_EQ(registry.size(), kMaxUnauthenticatedConnections + 1);
     idle.erase(idle.begin());
     EXPECT_EQ(registry.size(), kMaxUnauthenticatedConnections);
+}
+
+// The attacker without a token: the operator's page and two viewers hold 21
+// logged-in connections, the attacker 43 idle ones from three addresses,
+// fewer than the 48 not-yet-logged-in ones that make room. Every slot is
+// taken: the operator's new connection (its Stop, its live socket again)
+// still gets in, in place of the oldest idle one.
+TEST(Registry, WhenFullANewcomerStillTakesTheRoomOfAnUnauthenticatedOne) {
+    Registry registry;
+    std::vector<Joined> held;
+    for (std::size_t i = 0; i < 21; ++i) {
+        held.push_back(join(registry, "192.168.1." + std::to_string(2 + i % 3)));
+        held.back().membership->authenticate();
+    }
+    std::vector<Joined> idle;
+    for (std::size_t i = 0; i < kMaxConnections - 21; ++i) {
+        idle.push_back(join(registry, "10.0." + std::to_string(i % 3) + "." + std::to_string(i)));
+    }
+    ASSERT_EQ(registry.size(), kMaxConnections);
+    ASSERT_LT(registry.unauthenticated(), kMaxUnauthenticatedConnections);
+    EXPECT_EQ(registry.admit("192.168.1.2"), Admission::kServe);
+    EXPECT_TRUE(idle.front().member->closed) << "the oldest idle connection makes room";
+    for (const auto& h : held) {
+        EXPECT_FALSE(h.member->closed);
+    }
+    // Only when every slot is logged in is a newcomer refused.
+    idle.clear();
+    while (registry.size() < kMaxConnections) {
+        held.push_back(join(registry, "172.16.0." + std::to_string(registry.size())));
+        held.back().membership->authenticate();
+    }
+    EXPECT_EQ(registry.admit("10.0.9.9"), Admission::kFull);
 }
 
 TEST(Registry, BroadcastsToListeningMembersAndClosesAll) {

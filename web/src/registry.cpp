@@ -25,8 +25,14 @@ Admission Registry::admit(const std::string& peer) {
     if (from(peer) >= kMaxConnectionsPerAddress) {
         return Admission::kTooManyFromPeer;
     }
-    if (unauthenticated_ >= kMaxUnauthenticatedConnections) {
-        evict_oldest_new();  // its count ends when its operations do
+    // The oldest connection not yet logged in makes room when their share
+    // is used up, and also when every slot is taken while one of them is
+    // there: no one without a token can keep a logged-in browser's new
+    // connection (its Stop, its live socket again) out by holding fewer
+    // than 48 slots beside them. Its count ends when its operations do.
+    if (unauthenticated_ >= kMaxUnauthenticatedConnections ||
+        (members_.size() >= kMaxConnections && unauthenticated_ > 0)) {
+        evict_oldest_new();
         return Admission::kServe;
     }
     return members_.size() >= kMaxConnections ? Admission::kFull : Admission::kServe;

@@ -9,11 +9,21 @@
 
 namespace gport::web {
 
+// Each role has half of kMaxSessions, and a login ends only its own role's
+// least recently used session: a view token's holder logging in again and
+// again never ends the operator's control session (its Stop then answered
+// 401), whose use moves only with its HTTP requests.
 std::string Sessions::open(Role role, Clock::time_point now) {
-    while (sessions_.size() >= kMaxSessions) {
-        const auto oldest = std::min_element(
-            sessions_.begin(), sessions_.end(),
-            [](const auto& a, const auto& b) { return a.second.used < b.second.used; });
+    const auto same_role = [role](const auto& entry) { return entry.second.role == role; };
+    while (static_cast<std::size_t>(std::count_if(sessions_.begin(), sessions_.end(), same_role)) >=
+           kMaxSessions / 2) {
+        auto oldest = sessions_.end();
+        for (auto it = sessions_.begin(); it != sessions_.end(); ++it) {
+            if (same_role(*it) &&
+                (oldest == sessions_.end() || it->second.used < oldest->second.used)) {
+                oldest = it;
+            }
+        }
         sessions_.erase(oldest);
     }
     auto id = random_hex(32);
