@@ -62,6 +62,25 @@ TEST(Trust, AGroundStationCannotPoseAsTheVehiclesState) {
     EXPECT_EQ(trust.judge({0, 1, 1}, GlobalPositionInt::kId), TrustVerdict::kTrusted);
 }
 
+// Our own frames sent back: the vehicle's system id with our component ids
+// (the gimbal's 154, the camera's 100). A signed one passes the signature
+// check (its stream was never received), so without this rule anyone who
+// sees our frames could make themselves the reply peer by returning them.
+TEST(Trust, OurOwnFramesSentBackAreNoPeers) {
+    TrustPolicy policy = defaults();
+    policy.own_components.set(154);
+    policy.own_components.set(100);
+    const Trust trust(policy);
+    for (auto concern : {Concern::kCommand, Concern::kVehicleState, Concern::kOther}) {
+        EXPECT_EQ(trust.judge({0, 1, 154}, concern), TrustVerdict::kOwnEcho);
+        EXPECT_EQ(trust.judge({0, 1, 100}, concern), TrustVerdict::kOwnEcho);
+    }
+    EXPECT_EQ(trust.judge({0, 1, 1}, Concern::kCommand), TrustVerdict::kTrusted);
+    EXPECT_EQ(trust.judge({0, 255, 154}, Concern::kCommand), TrustVerdict::kTrusted)
+        << "a ground station's component ids are its own";
+    EXPECT_EQ(to_string(TrustVerdict::kOwnEcho), "our own frame, sent back");
+}
+
 TEST(Trust, ARogueHeartbeatFirstIsNotAdoptedWithAFixedSysid) {
     Trust trust(defaults());
     EXPECT_FALSE(trust.on_heartbeat({0, 99, 1}, autopilot_heartbeat()));

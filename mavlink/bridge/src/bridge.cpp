@@ -24,6 +24,10 @@ TrustPolicy policy_of(const Options& o) {
     for (auto id : o.gcs_sysids) {
         policy.ground_stations.set(id);
     }
+    policy.own_components.set(o.compid);
+    if (o.camera) {
+        policy.own_components.set(kCameraCompid);
+    }
     return policy;
 }
 

@@ -7,6 +7,7 @@
 
 #include "bridge.hpp"
 #include "gport/mavlink/attitude.hpp"
+#include "gport/mavlink/bridge/camera.hpp"
 #include "gport/mavlink/bridge/position.hpp"
 #include "gport/mavlink/enums.hpp"
 
@@ -112,6 +113,16 @@ void Bridge::refuse(const FrameView& frame, TrustVerdict verdict) {
                   "system id (--sysid auto)");
         return;
     }
+    if (verdict == TrustVerdict::kOwnEcho) {
+        log_.warn("mavlink: own frames sent back", [&] {
+            return fmt::format(
+                "mavlink: ignoring a frame from system {} component {} ({}): that is us, so it "
+                "is our own frame sent back (a routing loop, or a replay); further ones are "
+                "counted, one line a minute",
+                frame.header.sysid, frame.header.compid, message_name(frame.msgid));
+        });
+        return;
+    }
     log_.warn("mavlink: untrusted frames ignored", [&] {
         return fmt::format(
             "mavlink: ignoring system {} component {} ({}): it is neither the vehicle "
@@ -184,7 +195,9 @@ void Bridge::on_command(const Requester& from, const CommandLong& command) {
 }
 
 void Bridge::request_message(const Requester& from, const CommandLong& command) {
-    const auto id = static_cast<std::uint32_t>(command.param[0]);
+    // A whole number from 0 to 2^24-1; anything else (NaN, -1, 5e9, 283.7)
+    // is no message id: DENIED.
+    const auto id = requested_message(command).value_or(0xFFFFFFFF);
     spdlog::debug("mavlink: REQUEST_MESSAGE({}) from system {} component {} to {}/{}", id,
                   from.header.sysid, from.header.compid, command.target_system,
                   command.target_component);

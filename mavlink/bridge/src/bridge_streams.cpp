@@ -45,11 +45,20 @@ void Bridge::on_ack(const Header& from, const CommandAck& message) {
     if (message.command != mav_cmd::kSetMessageInterval || from.sysid != trust_.vehicle()) {
         return;
     }
-    spdlog::log(
-        message.result == mav_result::kAccepted ? spdlog::level::debug : spdlog::level::warn,
-        "mavlink: system {} component {} answered SET_MESSAGE_INTERVAL with result {}{}",
-        from.sysid, from.compid, message.result,
-        message.result == mav_result::kAccepted ? " (ACCEPTED)" : "");
+    if (message.result == mav_result::kAccepted) {
+        spdlog::debug(
+            "mavlink: system {} component {} answered SET_MESSAGE_INTERVAL with result "
+            "{} (ACCEPTED)",
+            from.sysid, from.compid, message.result);
+        return;
+    }
+    // Through the log book: the vehicle's system may send as many as it likes.
+    log_.warn("mavlink: SET_MESSAGE_INTERVAL refused", [&] {
+        return fmt::format(
+            "mavlink: system {} component {} answered SET_MESSAGE_INTERVAL with result {}; "
+            "further refusals are counted, one line a minute",
+            from.sysid, from.compid, message.result);
+    });
 }
 
 }  // namespace gport::mavlink::bridge

@@ -31,6 +31,8 @@ std::string_view to_string(TrustVerdict verdict) {
             return "a ground station, not the vehicle";
         case TrustVerdict::kStranger:
             return "neither the vehicle nor a ground station";
+        case TrustVerdict::kOwnEcho:
+            return "our own frame, sent back";
     }
     return "unknown";
 }
@@ -42,7 +44,8 @@ bool is_autopilot(const Heartbeat& heartbeat) {
 Trust::Trust(const TrustPolicy& policy)
     : vehicle_(policy.vehicle),
       adopts_(!policy.vehicle.has_value()),
-      ground_stations_(policy.ground_stations) {
+      ground_stations_(policy.ground_stations),
+      own_components_(policy.own_components) {
     ground_stations_.reset(0);  // 0 is the broadcast id, never a sender's
 }
 
@@ -59,7 +62,7 @@ TrustVerdict Trust::judge(const Header& from, Concern concern) const {
         return TrustVerdict::kNoVehicle;
     }
     if (from.sysid == *vehicle_) {
-        return TrustVerdict::kTrusted;
+        return own_components_.test(from.compid) ? TrustVerdict::kOwnEcho : TrustVerdict::kTrusted;
     }
     if (!is_ground_station(from.sysid)) {
         return TrustVerdict::kStranger;

@@ -5,6 +5,8 @@
 // checked before it (verifier.hpp), addressing after it (addressed_to).
 //
 //   sender's system id       commands      vehicle state
+//   our vehicle's, from one  ignored (kOwnEcho): our own frames, sent back
+//     of our components
 //   our vehicle's            obeyed        used
 //   a ground station's       obeyed        ignored (kNotVehicle)
 //   anyone else's            ignored (kStranger)
@@ -44,6 +46,10 @@ enum class TrustVerdict {
     kNoVehicle,   // auto mode before the vehicle's heartbeat: nothing is obeyed
     kNotVehicle,  // a ground station's frame claiming vehicle state
     kStranger,    // a system id that is neither the vehicle nor a ground station
+    // The vehicle's system id with one of our own component ids: our own
+    // frames sent back (a routing loop, or a replay: a signed one passes the
+    // signature check as a stream never received), never a peer's.
+    kOwnEcho,
 };
 
 std::string_view to_string(TrustVerdict verdict);
@@ -51,6 +57,7 @@ std::string_view to_string(TrustVerdict verdict);
 struct TrustPolicy {
     std::optional<std::uint8_t> vehicle = 1;  // nullopt: adopt (auto)
     std::bitset<256> ground_stations{};       // system ids; 0 is never one
+    std::bitset<256> own_components{};        // our component ids (154, 100)
 };
 
 class Trust {
@@ -74,6 +81,7 @@ class Trust {
     std::optional<std::uint8_t> vehicle_;
     bool adopts_;
     std::bitset<256> ground_stations_;
+    std::bitset<256> own_components_;
 };
 
 // A heartbeat that comes from a flight controller (a gimbal manager): not a
