@@ -67,6 +67,33 @@ TEST_F(WebLive, AJogMovesTheGimbalAndAStopStopsIt) {
     EXPECT_TRUE(eventually([&] { return !gportd_status().at("motion").is_object(); }, 5s));
 }
 
+// A logout ends the session for good: a live socket opened with its cookie
+// (a stolen one, say) can no longer jog, and is closed when it tries. A stop
+// is still taken.
+TEST_F(WebLive, ALogoutEndsTheJogsOfTheSocketsOfItsSession) {
+    const auto login = request(http::verb::get, "/?token=" + kControlToken);
+    const std::string set(login[http::field::set_cookie]);
+    const auto cookie = set.substr(0, set.find(';'));
+    ASSERT_TRUE(cookie.starts_with("gport_session=")) << set;
+    auto ws = live({{"Cookie", cookie}});
+    ASSERT_TRUE(next_method(*ws, "hello"));
+    send(*ws, R"({"type":"stop"})");
+    ASSERT_EQ(
+        request(http::verb::post, "/logout", {{"Cookie", cookie}, {"Origin", "http://" + host()}})
+            .result(),
+        http::status::see_other);
+    send(*ws, R"({"type":"jog","yaw":20})");
+    // Attitude and status until the close, for 10 s at most.
+    for (const auto end = std::chrono::steady_clock::now() + 10s;
+         std::chrono::steady_clock::now() < end && next(*ws);) {
+    }
+    EXPECT_EQ(ws->reason().code, boost::beast::websocket::close_code::policy_error);
+    EXPECT_NE(std::string(ws->reason().reason.c_str()).find("logged out"), std::string::npos)
+        << ws->reason().reason.c_str();
+    std::this_thread::sleep_for(300ms);
+    EXPECT_FALSE(moving()) << "the jog of a logged-out session moved the gimbal";
+}
+
 TEST_F(WebLive, ClosingAJoggingSocketStopsTheGimbal) {
     ASSERT_EQ(gportd_->call("subscribe", {{"topics", {"motion"}}}).count("result"), 1U);
     auto ws = live_as();

@@ -5,6 +5,7 @@
 #include "gport/contract/names.hpp"
 #include "gport/version.hpp"
 #include "gport/web/limits.hpp"
+#include "http_rules.hpp"
 #include "json_text.hpp"
 
 namespace gport::web {
@@ -39,6 +40,7 @@ LiveSocket::~LiveSocket() {
 }
 
 void LiveSocket::accept(Request request) {
+    session_ = bearer_of(request) ? std::string() : session_of(request);
     ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
         if (ec) {
             return;
@@ -69,9 +71,9 @@ void LiveSocket::deliver(const Message& message, bool attitude) {
 
 // One write at a time; a close waits for the write in flight.
 void LiveSocket::write() {
-    if (close_code_) {
-        const auto code = *close_code_;
-        close_code_.reset();
+    if (close_) {
+        const auto code = *close_;
+        close_.reset();
         writing_ = nullptr;
         ws_.async_close(code, [self = shared_from_this()](beast::error_code) {});
         return;
@@ -86,7 +88,7 @@ void LiveSocket::write() {
                         if (ec) {
                             self->open_ = false;
                             self->writing_ = nullptr;
-                            self->close_code_.reset();
+                            self->close_.reset();
                             return;
                         }
                         self->write();
@@ -115,6 +117,13 @@ void LiveSocket::on_message() {
     const auto type = message.is_object() ? message.value("type", json()) : json();
     if (role_ != Role::kControl && (type == "jog" || type == "stop")) {
         reply_error("a view login cannot move the gimbal");
+    } else if (type == "jog" && session_ended()) {
+        // A logout ends a session for good, its open sockets' jogs included
+        // (a stop is still taken: stopping is never refused). The reason
+        // goes with the close (at most 123 bytes).
+        close_with({websocket::close_code::policy_error,
+                    "logged out: this page's session has ended; log in again"});
+        return;
     } else if (type == "jog") {
         jog(message);
     } else if (type == "stop") {
@@ -123,6 +132,10 @@ void LiveSocket::on_message() {
         reply_error(R"(expected {"type":"jog","pitch":P,"yaw":Y,"roll":R} or {"type":"stop"})");
     }
     read();
+}
+
+bool LiveSocket::session_ended() {
+    return !session_.empty() && !context_.sessions.find(session_);
 }
 
 void LiveSocket::jog(const json& message) {
@@ -167,10 +180,10 @@ void LiveSocket::close() {
     beast::get_lowest_layer(ws_).socket().close(ignored);
 }
 
-void LiveSocket::close_with(websocket::close_code code) {
+void LiveSocket::close_with(websocket::close_reason reason) {
     open_ = false;
     membership_->listen(false);
-    close_code_ = code;
+    close_ = std::move(reason);
     if (!writing_) {
         write();
     }

@@ -36,10 +36,12 @@ class LiveSocket : public Member, public std::enable_shared_from_this<LiveSocket
     void read();
     void on_message();
     void jog(const nlohmann::json& message);  // parsed once, by on_message
+    // Opened with a session cookie that a logout (or 12 h unused) has ended.
+    bool session_ended();
     void stop();
     void write();
     void reply_error(const std::string& message);
-    void close_with(boost::beast::websocket::close_code code);
+    void close_with(boost::beast::websocket::close_reason reason);
 
     Context& context_;
     std::unique_ptr<Registry::Membership> membership_;
@@ -51,9 +53,10 @@ class LiveSocket : public Member, public std::enable_shared_from_this<LiveSocket
     Message writing_;  // the message being written (kept alive until written)
     base::TokenBucket rate_;
     Role role_;
+    std::string session_;  // the cookie's session id; empty for a token
     bool open_ = false;
     bool jogging_ = false;
-    std::optional<boost::beast::websocket::close_code> close_code_;  // a close to send
+    std::optional<boost::beast::websocket::close_reason> close_;  // a close to send
 };
 
 }  // namespace gport::web
